@@ -1,0 +1,105 @@
+// The case file (TOML) as a plain C++ value. docs/case-format.md documents every key;
+// io/case_reader.cpp is the only place that knows the TOML spelling.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fdem::io {
+
+struct MeshConfig {
+  std::string file;         // .msh path, resolved relative to the case file ("" when geo is used)
+  std::string geo;          // .geo path, resolved relative to the case file ("" when file is used)
+  double size = 0.0;        // element size passed to gmsh (-setnumber size); 0 = the .geo's default
+  double scale = 1.0;       // coordinates × scale → metres
+  double thickness = 1.0;   // out-of-plane thickness [m]
+};
+
+struct TimeConfig {
+  bool dt_auto = false;     // dt = "auto": safety × stable estimate
+  double dt = 0.0;          // [s] when not auto
+  double safety = 0.5;      // used by dt = "auto"
+  double end = -1.0;        // [s]; < 0 when steps is given instead
+  long steps = -1;          // number of steps; < 0 when end is given instead
+};
+
+struct OutputConfig {
+  std::string dir = "out";  // resolved relative to the current working directory
+  std::string name;         // base name of the output files; default: case file stem
+  int frames = -1;          // number of frames (first and last included); < 0 when every is given
+  double every = -1.0;      // [s] time between frames; < 0 when frames is given
+  double history_every = -1.0;  // [s]; < 0 → every step... see docs (default: end/1000)
+};
+
+enum class Elasticity { NeoHookean, Hyperelastic };
+enum class Plane { Strain, Stress };
+
+// Anisotropic constants in the material frame (Voigt on xx, yy, xy with engineering
+// shear strain), and the angle [deg] from the global x axis to the material's 1 axis,
+// counter-clockwise.
+struct Stiffness {
+  double c11 = 0, c22 = 0, c12 = 0, c66 = 0, c16 = 0, c26 = 0;
+  double angle = 0.0;
+};
+
+struct MaterialConfig {
+  std::string name;
+  std::vector<std::string> regions;  // Gmsh physical surfaces
+  double density = 0.0;              // [kg/m³]
+  double young = 0.0;                // [Pa]
+  double poisson = 0.0;
+  Elasticity elasticity = Elasticity::NeoHookean;
+  Plane plane = Plane::Strain;
+  std::optional<Stiffness> stiffness;  // only with elasticity = hyperelastic
+  bool viscosity_critical = false;     // viscosity = "critical": 2 h √(ρE)
+  double viscosity = 0.0;              // [Pa·s] when not critical
+};
+
+struct GravityConfig {
+  std::array<double, 2> g{0.0, 0.0};  // [m/s²]
+};
+
+struct DampingConfig {
+  bool local_enabled = false;  // [damping] local given
+  double local = 0.0;          // Cundall α
+  bool mass_scaling = false;
+};
+
+struct BoundaryConfig {
+  std::string region;                          // Gmsh physical curve or surface
+  bool fix_x = false, fix_y = false;           // fix = ["x"], ["y"] or ["x", "y"]
+  std::optional<std::array<double, 2>> velocity;  // prescribed velocity [m/s]
+  double rise = 0.0;                           // ramp time [s] for velocity, traction, pressure
+  std::optional<std::array<double, 2>> traction;  // [Pa] on a physical curve
+  std::optional<double> pressure;              // [Pa], positive pushes into the body
+};
+
+struct InitialConfig {
+  std::string region;                 // Gmsh physical surface or curve
+  std::array<double, 2> velocity{0.0, 0.0};  // [m/s]
+};
+
+struct CaseConfig {
+  std::string path;  // the case file as given
+  std::string dir;   // its directory (relative paths in the case resolve against it)
+  std::string title;
+  MeshConfig mesh;
+  TimeConfig time;
+  OutputConfig output;
+  std::vector<MaterialConfig> materials;
+  GravityConfig gravity;
+  DampingConfig damping;
+  std::vector<BoundaryConfig> boundaries;
+  std::vector<InitialConfig> initials;
+};
+
+// Reads and validates a case file. `overrides` are "key.path=value" strings from
+// --set, applied before validation (value parsed as TOML; arrays of tables by index,
+// e.g. "material.0.young=2e9"). Throws fdem::InputError naming the file, line and key
+// for: unreadable file, TOML syntax error, unknown key or table (with the nearest valid
+// name as a suggestion), missing required key (naming its table), wrong type, value out
+// of range, and a bad --set.
+CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace fdem::io

@@ -1,0 +1,49 @@
+// Exodus II output written with plain netCDF-C (classic 64-bit-offset format, synced
+// after every frame so that a killed run leaves every finished frame readable).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace fdem::io {
+
+struct ExodusBlock {
+  std::string name;               // element block name (material name for TRI3 blocks)
+  std::string elem_type;          // "TRI3", "QUAD4", ...
+  int nodes_per_elem = 3;
+  std::vector<int> connectivity;  // 0-based node indices, nodes_per_elem per element
+};
+
+class ExodusWriter {
+ public:
+  // Creates (overwrites) `path` and writes the fixed part: coordinates, blocks, names.
+  // Throws fdem::OutputError naming the path on any netCDF failure.
+  ExodusWriter(const std::string& path, const std::string& title,
+               const std::vector<double>& x, const std::vector<double>& y,
+               const std::vector<ExodusBlock>& blocks,
+               const std::vector<std::string>& nodal_var_names,
+               const std::vector<std::string>& elem_var_names);
+  ~ExodusWriter();
+  ExodusWriter(const ExodusWriter&) = delete;
+  ExodusWriter& operator=(const ExodusWriter&) = delete;
+
+  // Appends one frame. nodal[k] has num_nodes values of nodal variable k; elem[k][b]
+  // has the values of element variable k on block b. Syncs the file to disk.
+  void write_frame(double time, const std::vector<std::vector<double>>& nodal,
+                   const std::vector<std::vector<std::vector<double>>>& elem);
+
+  int frames_written() const { return frames_; }
+  const std::string& path() const { return path_; }
+  void close();  // idempotent; the destructor calls it and never throws
+
+ private:
+  std::string path_;
+  int ncid_ = -1;
+  int frames_ = 0;
+  size_t num_nodes_ = 0;
+  std::vector<size_t> block_sizes_;
+  int time_var_ = -1;
+  std::vector<int> nodal_var_ids_;
+  std::vector<std::vector<int>> elem_var_ids_;  // [var][block]
+};
+
+}  // namespace fdem::io

@@ -1,0 +1,33 @@
+// Gmsh MSH 2.2 and 4.1 reader (ASCII and binary), and meshing of .geo files via the gmsh CLI.
+#pragma once
+#include <string>
+#include <vector>
+#include "io/mesh.hpp"
+
+namespace fdem::io {
+
+// Reads a .msh file. Keeps 3-node triangles (type 2), 2-node lines (type 1) and points
+// (type 15); other element types are skipped and counted in `skipped_types` messages
+// (returned through `notes`). Throws fdem::InputError naming the file (and line, for
+// ASCII files) for: missing file, unknown version, malformed or truncated section,
+// element referring to an unknown node tag, a triangle outside any physical group
+// (only when the file has no physical groups at all does every triangle form group
+// "" of dim 2), and other inconsistencies.
+Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes = nullptr);
+
+// Checks every triangle's signed area. Clockwise triangles are re-oriented to
+// counter-clockwise (swapping their 2nd and 3rd node); the count is returned and one
+// note per triangle (at most 10, then a summary) is added to `notes`. A triangle whose
+// area is below `degenerate_tol` × (longest edge)² throws fdem::InputError naming the
+// file and the Gmsh element tag.
+int orient_triangles(Mesh& mesh, std::vector<std::string>* notes = nullptr,
+                     double degenerate_tol = 1e-10);
+
+// Meshes a .geo file with the gmsh CLI (2D, MSH 4.1 ASCII), passing `size` as
+// -setnumber size <size> when size > 0, and writes the mesh under `cache_dir`.
+// The cached file name includes a hash of the .geo text and the size, so an unchanged
+// input reuses the mesh. Returns the .msh path. Throws fdem::InputError when gmsh is
+// missing (naming the apt package), fails (with its output), or writes no triangles.
+std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir);
+
+}  // namespace fdem::io

@@ -1,0 +1,38 @@
+// Time history in a CF-style netCDF file (classic 64-bit-offset, synced after each row).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace fdem::io {
+
+struct HistoryVariable {
+  std::string name;       // netCDF variable name, e.g. "kinetic_energy", "top_force_y"
+  std::string units;      // CF units string, e.g. "J", "N", "m"
+  std::string long_name;  // human-readable description
+};
+
+class HistoryWriter {
+ public:
+  // Creates (overwrites) `path` with an unlimited `time` coordinate (units "s") and one
+  // double variable per entry of `variables`. Throws fdem::OutputError naming the path.
+  HistoryWriter(const std::string& path, const std::string& title,
+                const std::vector<HistoryVariable>& variables);
+  ~HistoryWriter();
+  HistoryWriter(const HistoryWriter&) = delete;
+  HistoryWriter& operator=(const HistoryWriter&) = delete;
+
+  // Appends one row (values in the order of `variables`) and syncs.
+  void append(double time, const std::vector<double>& values);
+  int rows_written() const { return rows_; }
+  const std::string& path() const { return path_; }
+  void close();  // idempotent; the destructor calls it and never throws
+
+ private:
+  std::string path_;
+  int ncid_ = -1;
+  int rows_ = 0;
+  int time_var_ = -1;
+  std::vector<int> var_ids_;
+};
+
+}  // namespace fdem::io
