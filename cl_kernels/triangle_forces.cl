@@ -1,0 +1,87 @@
+// TRI3 internal forces. One work-item per triangle: the Cauchy stress from the current
+// and reference shape (Eq. 1 Neo-Hookean or Eqs. 2-3 hyperelastic, plus the viscous
+// η D), and the internal force f_a = -A t σ ∇N_a of its three corners, written to the
+// triangle's three corner slots (the node gather sums them; no atomics).
+// Inputs: node positions [m] and velocities [m/s]; per triangle the inverse of its
+// reference edge matrix X = [x1-x0, x2-x0]. Outputs: corner forces [N]; on request the
+// stress (σxx, σyy, σxy [Pa], J).
+
+inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
+  // σ = λ/2 (J - 1/J) I + μ/J (F Fᵀ - I)
+  const real4 B = mul2(F, transpose2(F));
+  const real p = (real)0.5 * lambda * (J - (real)1 / J);
+  const real s = mu / J;
+  return (real4)(p + s * (B.x - (real)1), s * B.y, s * B.z, p + s * (B.w - (real)1));
+}
+
+inline real4 hyperelastic_stress(real4 F, real J, __global const real* m) {
+  // Green-Lagrange E = ½(FᵀF - I); S = C : E in Voigt form; σ = F S Fᵀ / J
+  const real4 Ct = mul2(transpose2(F), F);
+  const real exx = (real)0.5 * (Ct.x - (real)1);
+  const real eyy = (real)0.5 * (Ct.w - (real)1);
+  const real gxy = Ct.y;  // engineering shear 2 E_xy
+  const real sxx = m[MAT_C11] * exx + m[MAT_C12] * eyy + m[MAT_C16] * gxy;
+  const real syy = m[MAT_C12] * exx + m[MAT_C22] * eyy + m[MAT_C26] * gxy;
+  const real sxy = m[MAT_C16] * exx + m[MAT_C26] * eyy + m[MAT_C66] * gxy;
+  const real4 S = (real4)(sxx, sxy, sxy, syy);
+  const real4 sigma = mul2(mul2(F, S), transpose2(F));
+  return sigma / J;
+}
+
+__kernel void triangle_forces(const uint n_triangles,
+                              __global const uint* restrict tri_nodes,
+                              __global const real4* restrict ref_inverse,
+                              __global const uint* restrict tri_material,
+                              __global const real* restrict materials,
+                              __global const real2* restrict position,
+                              __global const real2* restrict velocity,
+                              const real thickness,
+                              const int write_stress,
+                              const int step,
+                              __global real2* restrict corner_force,
+                              __global real4* restrict stress,
+                              __global int* restrict conditions) {
+  const uint t = get_global_id(0);
+  if (t >= n_triangles) return;
+  const uint n0 = tri_nodes[3 * t], n1 = tri_nodes[3 * t + 1], n2 = tri_nodes[3 * t + 2];
+  const real2 x0 = position[n0], x1 = position[n1], x2 = position[n2];
+  const real2 e1 = x1 - x0, e2 = x2 - x0;
+  const real4 Dx = (real4)(e1.x, e2.x, e1.y, e2.y);  // current edge matrix, columns e1, e2
+  const real4 F = mul2(Dx, ref_inverse[t]);
+  const real J = det2(F);
+  __global const real* m = materials + MATERIAL_STRIDE * tri_material[t];
+
+  if (!(J > (real)0)) {  // inverted, degenerate, or NaN
+    atomic_min(&conditions[COND_INVERTED_TRI], (int)t);
+    atomic_min(&conditions[COND_INVERTED_STEP], step);
+    corner_force[3 * t] = corner_force[3 * t + 1] = corner_force[3 * t + 2] = (real2)(0, 0);
+    return;
+  }
+
+  real4 sigma = (m[MAT_MODEL] == (real)0) ? neo_hookean_stress(F, J, m[MAT_LAMBDA], m[MAT_MU])
+                                          : hyperelastic_stress(F, J, m);
+
+  // Current shape-function gradients: rows of Dx⁻¹ are ∇N1, ∇N2; ∇N0 = -(∇N1 + ∇N2).
+  const real4 Dinv = inverse2(Dx);
+  const real2 g1 = (real2)(Dinv.x, Dinv.y), g2 = (real2)(Dinv.z, Dinv.w);
+  const real2 g0 = -(g1 + g2);
+
+  const real eta = m[MAT_VISCOSITY];
+  if (eta != (real)0) {
+    // L = Σ v_a ⊗ ∇N_a; D = sym(L)
+    const real2 v0 = velocity[n0], v1 = velocity[n1], v2 = velocity[n2];
+    const real lxx = v0.x * g0.x + v1.x * g1.x + v2.x * g2.x;
+    const real lxy = v0.x * g0.y + v1.x * g1.y + v2.x * g2.y;
+    const real lyx = v0.y * g0.x + v1.y * g1.x + v2.y * g2.x;
+    const real lyy = v0.y * g0.y + v1.y * g1.y + v2.y * g2.y;
+    const real dxy = (real)0.5 * (lxy + lyx);
+    sigma += eta * (real4)(lxx, dxy, dxy, lyy);
+  }
+
+  const real area_t = (real)0.5 * det2(Dx) * thickness;  // current area × thickness
+  // f_a = -A t σ ∇N_a
+  corner_force[3 * t] = -area_t * (real2)(sigma.x * g0.x + sigma.y * g0.y, sigma.z * g0.x + sigma.w * g0.y);
+  corner_force[3 * t + 1] = -area_t * (real2)(sigma.x * g1.x + sigma.y * g1.y, sigma.z * g1.x + sigma.w * g1.y);
+  corner_force[3 * t + 2] = -area_t * (real2)(sigma.x * g2.x + sigma.y * g2.y, sigma.z * g2.x + sigma.w * g2.y);
+  if (write_stress) stress[t] = (real4)(sigma.x, sigma.w, (real)0.5 * (sigma.y + sigma.z), J);
+}

@@ -1,0 +1,186 @@
+#include "engine/cl_context.hpp"
+
+#include <boost/compute/exception.hpp>
+#include <cstdlib>
+#include <sstream>
+
+#include "engine/errors.hpp"
+#include "engine/real.hpp"
+
+namespace fdem {
+
+namespace {
+
+DeviceInfo describe(const compute::platform& platform, const compute::device& device,
+                    int p, int d) {
+  DeviceInfo info;
+  info.platform_index = p;
+  info.device_index = d;
+  info.platform_name = platform.name();
+  info.device_name = device.name();
+  info.version = device.version();
+  info.is_gpu = (device.type() & CL_DEVICE_TYPE_GPU) != 0;
+  info.has_fp64 = device.supports_extension("cl_khr_fp64");
+  info.global_memory = device.global_memory_size();
+  info.max_allocation = device.get_info<cl_ulong>(CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  info.compute_units = device.compute_units();
+  return info;
+}
+
+std::string device_list_text() {
+  std::ostringstream out;
+  for (const auto& d : list_devices())
+    out << "\n  " << d.platform_index << ":" << d.device_index << "  " << d.device_name << " ("
+        << d.platform_name << (d.has_fp64 ? ", fp64" : ", no fp64") << ")";
+  return out.str();
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> out;
+  std::vector<compute::platform> platforms;
+  try {
+    platforms = compute::system::platforms();
+  } catch (const compute::opencl_error&) {
+    return out;  // no ICD installed: an empty list, the caller explains
+  }
+  for (size_t p = 0; p < platforms.size(); ++p) {
+    std::vector<compute::device> devices;
+    try {
+      devices = platforms[p].devices();
+    } catch (const compute::opencl_error&) {
+      continue;
+    }
+    for (size_t d = 0; d < devices.size(); ++d)
+      out.push_back(describe(platforms[p], devices[d], static_cast<int>(p), static_cast<int>(d)));
+  }
+  return out;
+}
+
+ClContext::ClContext(const std::string& requested, bool profiling) {
+  std::string choice = requested;
+  if (choice.empty()) {
+    const char* env = std::getenv("FDEM_DEVICE");
+    choice = (env && *env) ? env : "auto";
+  }
+  const auto devices = list_devices();
+  if (devices.empty())
+    throw DeviceError(
+        "no OpenCL platform found. Install a driver: on Debian `apt-get install "
+        "pocl-opencl-icd` gives a CPU device.");
+
+  const DeviceInfo* picked = nullptr;
+  auto usable = [](const DeviceInfo& d) { return d.has_fp64 || !kDoublePrecision; };
+  if (choice == "auto") {
+    for (const auto& d : devices)
+      if (d.is_gpu && usable(d)) { picked = &d; break; }
+    if (!picked)
+      for (const auto& d : devices)
+        if (!d.is_gpu && usable(d)) { picked = &d; break; }
+  } else if (choice == "gpu" || choice == "cpu") {
+    for (const auto& d : devices)
+      if (d.is_gpu == (choice == "gpu") && usable(d)) { picked = &d; break; }
+  } else {
+    int p = -1, d = -1;
+    char colon = 0;
+    std::istringstream in(choice);
+    if (!(in >> p >> colon >> d) || colon != ':' || !in.eof())
+      throw InputError("--device '" + choice + "': expected auto, gpu, cpu or P:D (e.g. 0:1)");
+    for (const auto& info : devices)
+      if (info.platform_index == p && info.device_index == d) picked = &info;
+    if (!picked) throw DeviceError("no OpenCL device " + choice + "; devices are:" + device_list_text());
+    if (!usable(*picked))
+      throw DeviceError("device " + choice + " (" + picked->device_name +
+                        ") has no fp64 support; this build uses double precision");
+  }
+  if (!picked)
+    throw DeviceError("no " + std::string(choice == "auto" ? "" : choice + " ") +
+                      "OpenCL device with fp64 support; devices are:" + device_list_text());
+
+  info_ = *picked;
+  try {
+    device_ = compute::system::platforms()[info_.platform_index].devices()[info_.device_index];
+    context_ = compute::context(device_);
+    queue_ = compute::command_queue(context_, device_,
+                                    profiling ? compute::command_queue::enable_profiling : 0);
+  } catch (const compute::opencl_error& e) {
+    throw DeviceError("cannot open OpenCL device " + info_.device_name + ": " + e.what());
+  }
+  group_size_ = info_.is_gpu ? 256 : 64;
+}
+
+std::string ClContext::description() const {
+  std::ostringstream out;
+  out << info_.device_name << " (" << info_.platform_name << ", device " << info_.platform_index
+      << ":" << info_.device_index << ", " << (kDoublePrecision ? "double" : "float") << ")";
+  return out.str();
+}
+
+compute::program ClContext::build(const std::string& stage,
+                                  const std::map<std::string, std::string>& defines) const {
+  const auto& sources = embedded_kernel_sources();
+  auto common = sources.find("common");
+  auto own = sources.find(stage);
+  if (own == sources.end() || common == sources.end())
+    throw BuildError(stage, "no embedded source cl_kernels/" + stage + ".cl");
+
+  std::ostringstream text;
+  text << "// stage: " << stage << "\n";
+  if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
+  text << common->second << "\n";
+  for (const auto& [name, value] : defines) text << "#define " << name << " " << value << "\n";
+  text << "#line 1\n" << own->second;
+
+  compute::program program;
+  try {
+    program = compute::program::create_with_source(text.str(), context_);
+  } catch (const compute::opencl_error& e) {
+    throw BuildError(stage, e.what());
+  }
+  try {
+    program.build("-cl-std=CL1.2");
+  } catch (const compute::opencl_error& e) {
+    std::string log;
+    try {
+      log = program.build_log();
+    } catch (...) {
+    }
+    throw BuildError(stage, std::string(e.what()) + "\n" + log);
+  }
+  return program;
+}
+
+void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
+  if (n == 0) return;
+  const std::size_t global = (n + group_size_ - 1) / group_size_ * group_size_;
+  try {
+    queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
+  } catch (const compute::opencl_error& e) {
+    throw DeviceError("enqueue of kernel '" + kernel.name() + "' over " + std::to_string(n) +
+                      " items failed: " + e.what());
+  }
+}
+
+compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) const {
+  if (bytes > info_.max_allocation)
+    throw DeviceError("device array '" + what + "' needs " + std::to_string(bytes) +
+                      " bytes, more than the device's largest allocation (" +
+                      std::to_string(info_.max_allocation) + " bytes)");
+  try {
+    return compute::buffer(context_, bytes == 0 ? sizeof(real) : bytes, compute::memory_object::read_write);
+  } catch (const compute::opencl_error& e) {
+    throw DeviceError("cannot allocate device array '" + what + "' (" + std::to_string(bytes) +
+                      " bytes): " + e.what());
+  }
+}
+
+void ClContext::finish() {
+  try {
+    queue_.finish();
+  } catch (const compute::opencl_error& e) {
+    throw DeviceError(std::string("device queue failed: ") + e.what());
+  }
+}
+
+}  // namespace fdem

@@ -1,0 +1,110 @@
+#include "engine/device_arrays.hpp"
+
+#include <climits>
+
+#include "engine/errors.hpp"
+
+namespace fdem {
+
+size_t DeviceArrays::bytes_needed(const Model& model) {
+  const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
+  const size_t r = sizeof(real), u = sizeof(uint32_t);
+  const size_t nodes = n * (5 * 2 * r + u + 2 * u);        // 5 real2 arrays, group, two CSR offsets
+  const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
+  const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
+  const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r +
+                        model.materials.size() * kMaterialStride * r + 64;
+  return nodes + tris + edges + tables;
+}
+
+DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
+    : num_nodes(model.num_nodes()),
+      num_triangles(model.num_triangles()),
+      num_loaded_edges(model.loaded_edges.size()) {
+  const size_t needed = bytes_needed(model);
+  if (needed > cl.info().global_memory)
+    throw DeviceError("too little device memory: the model needs " + std::to_string(needed >> 20) +
+                      " MiB, device " + cl.info().device_name + " has " +
+                      std::to_string(cl.info().global_memory >> 20) + " MiB");
+  const size_t n = num_nodes, t = num_triangles, e = num_loaded_edges;
+
+  position = cl.allocate(n * sizeof(real2), "position");
+  velocity = cl.allocate(n * sizeof(real2), "velocity");
+  ref_position = cl.allocate(n * sizeof(real2), "ref_position");
+  node_force = cl.allocate(n * sizeof(real2), "node_force");
+  node_mass = cl.allocate(n * sizeof(real2), "node_mass");
+  node_group = cl.allocate(n * sizeof(uint32_t), "node_group");
+  group_table = cl.allocate(model.groups.size() * sizeof(real4), "group_table");
+  tri_nodes = cl.allocate(3 * t * sizeof(uint32_t), "tri_nodes");
+  ref_inverse = cl.allocate(t * sizeof(real4), "ref_inverse");
+  tri_material = cl.allocate(t * sizeof(uint32_t), "tri_material");
+  materials = cl.allocate(model.materials.size() * kMaterialStride * sizeof(real), "materials");
+  corner_force = cl.allocate(3 * t * sizeof(real2), "corner_force");
+  stress = cl.allocate(t * sizeof(real4), "stress");
+  corner_start = cl.allocate((n + 1) * sizeof(uint32_t), "corner_start");
+  corner_slot = cl.allocate(3 * t * sizeof(uint32_t), "corner_slot");
+  edge_nodes = cl.allocate(2 * e * sizeof(uint32_t), "edge_nodes");
+  edge_load = cl.allocate(e * sizeof(uint32_t), "edge_load");
+  load_table = cl.allocate(model.loads.size() * sizeof(real4), "load_table");
+  edge_force = cl.allocate(2 * e * sizeof(real2), "edge_force");
+  edge_start = cl.allocate((n + 1) * sizeof(uint32_t), "edge_start");
+  edge_slot = cl.allocate(2 * e * sizeof(uint32_t), "edge_slot");
+  conditions = cl.allocate(4 * sizeof(int), "conditions");
+
+  std::vector<real2> pos(n), vel(n);
+  for (size_t i = 0; i < n; ++i) {
+    pos[i] = {real(model.x[i]), real(model.y[i])};
+    vel[i] = {real(model.vx0[i]), real(model.vy0[i])};
+  }
+  upload(cl, position, pos);
+  upload(cl, ref_position, pos);
+  upload(cl, velocity, vel);
+  upload(cl, node_group, model.node_group);
+  std::vector<real4> groups;
+  for (const auto& g : model.groups) groups.push_back({real(g.mask), real(g.vx), real(g.vy), real(g.rise)});
+  upload(cl, group_table, groups);
+
+  std::vector<uint32_t> tn(3 * t), tm(t);
+  std::vector<real4> inv(t);
+  for (size_t k = 0; k < t; ++k) {
+    const auto& tri = model.triangles[k];
+    for (int j = 0; j < 3; ++j) tn[3 * k + j] = static_cast<uint32_t>(tri[j]);
+    tm[k] = static_cast<uint32_t>(model.triangle_material[k]);
+    const double a = model.x[tri[1]] - model.x[tri[0]], b = model.x[tri[2]] - model.x[tri[0]];
+    const double c = model.y[tri[1]] - model.y[tri[0]], d = model.y[tri[2]] - model.y[tri[0]];
+    const double det = a * d - b * c;  // > 0: build_model oriented every triangle
+    inv[k] = {real(d / det), real(-b / det), real(-c / det), real(a / det)};
+  }
+  upload(cl, tri_nodes, tn);
+  upload(cl, tri_material, tm);
+  upload(cl, ref_inverse, inv);
+  std::vector<real> table;
+  for (double v : material_table(model.materials)) table.push_back(real(v));
+  upload(cl, materials, table);
+  const SlotMap corners = build_slot_map(n, model.triangles);
+  upload(cl, corner_start, corners.start);
+  upload(cl, corner_slot, corners.slot);
+
+  std::vector<uint32_t> en(2 * e), el(e);
+  std::vector<std::array<int, 2>> edge_items(e);
+  for (size_t k = 0; k < e; ++k) {
+    const auto& edge = model.loaded_edges[k];
+    en[2 * k] = static_cast<uint32_t>(edge.a);
+    en[2 * k + 1] = static_cast<uint32_t>(edge.b);
+    el[k] = static_cast<uint32_t>(edge.load);
+    edge_items[k] = {edge.a, edge.b};
+  }
+  upload(cl, edge_nodes, en);
+  upload(cl, edge_load, el);
+  std::vector<real4> loads;
+  for (const auto& l : model.loads) loads.push_back({real(l.tx), real(l.ty), real(l.pressure), real(l.rise)});
+  upload(cl, load_table, loads);
+  const SlotMap edges = build_slot_map(n, edge_items);
+  upload(cl, edge_start, edges.start);
+  upload(cl, edge_slot, edges.slot);
+
+  upload(cl, conditions, std::vector<int>(4, INT_MAX));
+  cl.finish();
+}
+
+}  // namespace fdem

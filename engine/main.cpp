@@ -1,0 +1,174 @@
+// fdem: the command-line front end. Library code throws typed errors; this file alone
+// turns them into messages and exit codes (0 done, 2 bad input, 3 numerical failure,
+// 4 device error, 5 output error).
+#include <unistd.h>
+
+#include <boost/compute/exception.hpp>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/cl_context.hpp"
+#include "engine/device_arrays.hpp"
+#include "engine/errors.hpp"
+#include "engine/run.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage:\n"
+    "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet]\n"
+    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
+    "  fdem devices\n"
+    "  fdem --version\n"
+    "The device defaults to $FDEM_DEVICE, else auto (first GPU with fp64, else a CPU device).\n";
+
+struct Arguments {
+  std::string command, case_path, device;
+  std::vector<std::string> overrides;
+  bool quiet = false;
+};
+
+Arguments parse(int argc, char** argv) {
+  Arguments a;
+  if (argc < 2) throw fdem::InputError(std::string("no command given\n") + kUsage);
+  a.command = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](const std::string& flag) {
+      if (i + 1 >= argc) throw fdem::InputError(flag + " needs a value");
+      return std::string(argv[++i]);
+    };
+    if (arg == "--device") a.device = value(arg);
+    else if (arg.rfind("--device=", 0) == 0) a.device = arg.substr(9);
+    else if (arg == "--set") a.overrides.push_back(value(arg));
+    else if (arg.rfind("--set=", 0) == 0) a.overrides.push_back(arg.substr(6));
+    else if (arg == "--quiet" || arg == "-q") a.quiet = true;
+    else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);
+    else if (a.case_path.empty()) a.case_path = arg;
+    else throw fdem::InputError("unexpected argument '" + arg + "'\n" + kUsage);
+  }
+  return a;
+}
+
+std::string mib(size_t bytes) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << bytes / 1048576.0 << " MiB";
+  return s.str();
+}
+
+int list_devices_command() {
+  const auto devices = fdem::list_devices();
+  if (devices.empty()) {
+    std::cout << "no OpenCL devices (install pocl-opencl-icd for a CPU device, or a GPU driver)\n";
+    return 4;
+  }
+  std::string platform;
+  for (const auto& d : devices) {
+    if (d.platform_name != platform) {
+      platform = d.platform_name;
+      std::cout << "platform " << d.platform_index << ": " << platform << "\n";
+    }
+    std::cout << "  " << d.platform_index << ":" << d.device_index << "  " << d.device_name << "  ["
+              << (d.is_gpu ? "GPU" : "CPU") << "]  " << d.version << ", " << d.compute_units
+              << " compute units, " << mib(d.global_memory) << ", fp64 " << (d.has_fp64 ? "yes" : "no") << "\n";
+  }
+  return 0;
+}
+
+void print_notes(const fdem::PreparedCase& p) {
+  for (const auto& note : p.notes) std::cout << "note: " << note << "\n";
+}
+
+int check_command(const Arguments& a) {
+  const auto p = fdem::prepare_case(a.case_path, a.overrides);
+  print_notes(p);
+  const auto& m = p.model;
+  std::cout << "case      " << p.config.path << (p.config.title.empty() ? "" : "  (" + p.config.title + ")") << "\n"
+            << "mesh      " << m.mesh_path << "\n"
+            << "nodes     " << m.num_nodes() << "\n"
+            << "TRI3      " << m.num_triangles() << "\n";
+  for (size_t k = 0; k < m.materials.size(); ++k)
+    std::cout << "  material '" << m.materials[k].name << "': " << m.block_start[k + 1] - m.block_start[k]
+              << " TRI3, viscosity " << m.materials[k].viscosity << " Pa s\n";
+  std::cout << "regions   ";
+  for (const auto& r : m.regions) std::cout << r.name << " (" << r.nodes.size() << " nodes" << (r.prescribed ? ", prescribed" : "") << ")  ";
+  std::cout << "\nloaded edges " << m.loaded_edges.size() << "\n";
+  std::cout << "stable dt " << p.stable.dt << " s (triangle " << m.triangle_tags[p.stable.triangle] << ")\n"
+            << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
+            << (p.config.time.dt_auto ? " (auto)" : "") << "\n"
+            << "steps     " << p.steps << "\n";
+  const size_t bytes = fdem::DeviceArrays::bytes_needed(m);
+  std::cout << "device memory needed " << mib(bytes) << "\n";
+  try {
+    fdem::ClContext cl(a.device);
+    std::cout << "device    " << cl.description() << ", " << mib(cl.info().global_memory)
+              << (bytes > cl.info().global_memory ? "  -- TOO SMALL" : "  -- fits") << "\n";
+    if (bytes > cl.info().global_memory) return 4;
+  } catch (const fdem::DeviceError& e) {
+    std::cout << "device    none usable: " << e.what() << "\n";
+  }
+  return 0;
+}
+
+int run_command(const Arguments& a) {
+  const auto p = fdem::prepare_case(a.case_path, a.overrides);
+  print_notes(p);
+  fdem::ClContext cl(a.device);
+  std::cout << "fdem " << FDEM_VERSION << ": " << p.config.path << " on " << cl.description() << "\n"
+            << p.model.num_nodes() << " nodes, " << p.model.num_triangles() << " TRI3, dt " << p.dt << " s, "
+            << p.steps << " steps\n" << std::flush;
+  const bool status_line = !a.quiet && isatty(STDERR_FILENO);
+  const auto s = fdem::run_case(p, cl, status_line ? std::cerr : std::cout, status_line);
+  std::cout << "done: " << s.steps << " steps, t = " << s.simulated_time << " s, wall " << std::fixed
+            << std::setprecision(2) << s.wall_seconds << " s, " << std::setprecision(1)
+            << s.steps / std::max(s.wall_seconds, 1e-9) << " steps/s, " << std::setprecision(2)
+            << s.ns_per_element_step << " ns per element-step\n"
+            << std::defaultfloat << "final kinetic energy " << s.final_kinetic_energy << " J, unbalanced ratio "
+            << s.final_unbalanced_ratio << "\n"
+            << "wrote " << p.exodus_path << " (" << s.frames << " frames) and " << p.history_path << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc >= 2 && (std::string(argv[1]) == "--version" || std::string(argv[1]) == "version")) {
+      std::cout << "fdem " << FDEM_VERSION << " (" << (fdem::kDoublePrecision ? "double" : "float") << " precision)\n";
+      return 0;
+    }
+    if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+      std::cout << kUsage;
+      return 0;
+    }
+    const Arguments a = parse(argc, argv);
+    if (a.command == "devices") return list_devices_command();
+    if (a.command == "run" || a.command == "check") {
+      if (a.case_path.empty()) throw fdem::InputError("fdem " + a.command + " needs a case file\n" + kUsage);
+      return a.command == "run" ? run_command(a) : check_command(a);
+    }
+    throw fdem::InputError("unknown command '" + a.command + "'\n" + kUsage);
+  } catch (const fdem::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const fdem::NumericalError& e) {
+    std::cerr << "numerical failure: " << e.what() << "\n";
+    return 3;
+  } catch (const fdem::DeviceError& e) {
+    std::cerr << "device error: " << e.what() << "\n";
+    return 4;
+  } catch (const boost::compute::opencl_error& e) {
+    std::cerr << "device error: " << e.what() << "\n";
+    return 4;
+  } catch (const fdem::OutputError& e) {
+    std::cerr << "output error: " << e.what() << "\n";
+    return 5;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of host memory\n";
+    return 4;
+  }
+}

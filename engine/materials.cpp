@@ -1,0 +1,83 @@
+#include "engine/materials.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fdem {
+
+std::array<double, 2> lame_constants(double E, double nu, io::Plane plane) {
+  const double mu = E / (2.0 * (1.0 + nu));
+  const double lambda = plane == io::Plane::Strain ? E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+                                                   : E * nu / (1.0 - nu * nu);
+  return {lambda, mu};
+}
+
+Voigt isotropic_stiffness(double E, double nu, io::Plane plane) {
+  const auto [lambda, mu] = lame_constants(E, nu, plane);
+  return {lambda + 2 * mu, lambda, 0.0, lambda + 2 * mu, 0.0, mu};
+}
+
+Voigt rotate_stiffness(const Voigt& v, double angle_deg) {
+  // Voigt index of the tensor pair (i, j): 0 xx, 1 yy, 2 xy
+  auto voigt = [](int i, int j) { return i == j ? i : 2; };
+  const double C3[3][3] = {{v[0], v[1], v[2]}, {v[1], v[3], v[4]}, {v[2], v[4], v[5]}};
+  double C[2][2][2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l) C[i][j][k][l] = C3[voigt(i, j)][voigt(k, l)];
+  const double a = angle_deg * M_PI / 180.0;
+  const double Q[2][2] = {{std::cos(a), -std::sin(a)}, {std::sin(a), std::cos(a)}};
+  double R[2][2][2][2] = {};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l)
+          for (int p = 0; p < 2; ++p)
+            for (int q = 0; q < 2; ++q)
+              for (int r = 0; r < 2; ++r)
+                for (int s = 0; s < 2; ++s)
+                  R[i][j][k][l] += Q[i][p] * Q[j][q] * Q[k][r] * Q[l][s] * C[p][q][r][s];
+  return {R[0][0][0][0], R[0][0][1][1], R[0][0][0][1], R[1][1][1][1], R[1][1][0][1], R[0][1][0][1]};
+}
+
+MaterialConstants make_material(const io::MaterialConfig& config, double mean_edge) {
+  MaterialConstants m;
+  m.name = config.name;
+  m.model = config.elasticity == io::Elasticity::NeoHookean ? 0 : 1;
+  const auto lame = lame_constants(config.young, config.poisson, config.plane);
+  m.lambda = lame[0];
+  m.mu = lame[1];
+  if (config.stiffness) {
+    const auto& s = *config.stiffness;
+    m.c = rotate_stiffness({s.c11, s.c12, s.c16, s.c22, s.c26, s.c66}, s.angle);
+  } else {
+    m.c = isotropic_stiffness(config.young, config.poisson, config.plane);
+  }
+  m.density = config.density;
+  m.viscosity = config.viscosity_critical
+                    ? 2.0 * mean_edge * std::sqrt(config.density * config.young)
+                    : config.viscosity;
+  // Largest absolute row sum of the Voigt matrix bounds its eigenvalues (Gershgorin).
+  const auto& c = m.c;
+  const double rows[3] = {std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]),
+                          std::fabs(c[1]) + std::fabs(c[3]) + std::fabs(c[4]),
+                          std::fabs(c[2]) + std::fabs(c[4]) + std::fabs(c[5])};
+  m.stiffness_bound = *std::max_element(rows, rows + 3);
+  if (m.model == 0) m.stiffness_bound = std::max(m.stiffness_bound, 2 * m.lambda + 2 * m.mu);
+  m.wave_modulus = m.model == 0 ? m.lambda + 2 * m.mu : std::max(c[0], c[3]);
+  return m;
+}
+
+std::vector<double> material_table(const std::vector<MaterialConstants>& materials) {
+  std::vector<double> table;
+  for (const auto& m : materials) {
+    const double row[kMaterialStride] = {double(m.model), m.lambda, m.mu, m.c[0], m.c[1], m.c[2],
+                                         m.c[3], m.c[4], m.c[5], m.viscosity, m.density,
+                                         m.stiffness_bound};
+    table.insert(table.end(), row, row + kMaterialStride);
+  }
+  return table;
+}
+
+}  // namespace fdem

@@ -1,0 +1,320 @@
+#include "engine/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "engine/errors.hpp"
+#include "io/gmsh_reader.hpp"
+#include "io/suggest.hpp"
+
+namespace fdem {
+
+namespace {
+
+std::string dim_word(int dim) { return dim == 2 ? "surface" : dim == 1 ? "curve" : "point"; }
+
+std::vector<std::string> group_names(const io::Mesh& mesh, int dim = -1) {
+  std::vector<std::string> names;
+  for (const auto& g : mesh.groups)
+    if ((dim < 0 || g.dim == dim) && !g.name.empty()) names.push_back(g.name);
+  return names;
+}
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out.empty() ? "(none)" : out;
+}
+
+// Group indices with this name (any dimension), or an InputError with a suggestion.
+std::vector<int> find_region(const io::Mesh& mesh, const std::string& name, const std::string& where) {
+  std::vector<int> found;
+  for (size_t g = 0; g < mesh.groups.size(); ++g)
+    if (mesh.groups[g].name == name) found.push_back(static_cast<int>(g));
+  if (found.empty())
+    throw InputError(where + ": region '" + name + "' is not a physical group of mesh " +
+                     mesh.source + io::did_you_mean(name, group_names(mesh)) +
+                     "; its physical groups are " + list_names(group_names(mesh)));
+  return found;
+}
+
+struct EdgeOwner {
+  int triangle = -1;
+  int a = 0, b = 0;  // the edge in the triangle's counter-clockwise order
+  int count = 0;     // triangles sharing the edge
+};
+
+std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+}  // namespace
+
+Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
+                  std::vector<std::string>& notes) {
+  io::Mesh mesh = source_mesh;
+  const int flipped = io::orient_triangles(mesh, &notes);
+  (void)flipped;
+  const double scale = config.mesh.scale;
+
+  Model model;
+  model.mesh_path = mesh.source;
+  model.thickness = config.mesh.thickness;
+  model.gravity = config.gravity.g;
+  model.local_damping = config.damping.local_enabled ? config.damping.local : 0.0;
+  model.mass_scaling = config.damping.mass_scaling;
+
+  // Materials own physical surfaces.
+  std::vector<int> group_material(mesh.groups.size(), -1);
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const auto& mat = config.materials[m];
+    for (const auto& region : mat.regions) {
+      const std::string where = config.path + ": material[" + std::to_string(m) + "] ('" + mat.name + "').regions";
+      const int g = mesh.find_group(region, 2);
+      if (g < 0) {
+        if (mesh.find_group(region, 1) >= 0)
+          throw InputError(where + ": '" + region + "' is a physical curve of " + mesh.source +
+                           ", not a surface; materials take physical surfaces");
+        throw InputError(where + ": no physical surface '" + region + "' in " + mesh.source +
+                         io::did_you_mean(region, group_names(mesh, 2)) + "; its surfaces are " +
+                         list_names(group_names(mesh, 2)));
+      }
+      if (group_material[g] >= 0 && group_material[g] != static_cast<int>(m))
+        throw InputError(where + ": surface '" + region + "' already belongs to material '" +
+                         config.materials[group_material[g]].name + "'");
+      group_material[g] = static_cast<int>(m);
+    }
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int g = mesh.triangle_group[t];
+    if (group_material[g] < 0) {
+      const auto& group = mesh.groups[g];
+      throw InputError(mesh.source + ": physical surface '" + group.name + "' (tag " +
+                       std::to_string(group.tag) + ", e.g. element " +
+                       std::to_string(mesh.triangle_tags[t]) +
+                       ") has no material: list it in the regions of a [[material]] in " + config.path);
+    }
+  }
+
+  // Triangles grouped by material, stable within a material (keeps the mesher's locality).
+  std::vector<size_t> order(mesh.triangles.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return group_material[mesh.triangle_group[a]] < group_material[mesh.triangle_group[b]];
+  });
+
+  // Nodes used by triangles, renumbered in their original order.
+  std::vector<int> new_index(mesh.x.size(), -1);
+  for (const auto& tri : mesh.triangles)
+    for (int n : tri) new_index[n] = 0;
+  size_t used = 0;
+  for (size_t n = 0; n < mesh.x.size(); ++n)
+    if (new_index[n] >= 0) {
+      new_index[n] = static_cast<int>(used++);
+      model.x.push_back(mesh.x[n] * scale);
+      model.y.push_back(mesh.y[n] * scale);
+      model.node_tags.push_back(mesh.node_tags[n]);
+    }
+  if (used < mesh.x.size())
+    notes.push_back(std::to_string(mesh.x.size() - used) + " mesh nodes belong to no triangle and were dropped");
+
+  model.block_start.assign(config.materials.size() + 1, 0);
+  std::vector<double> edge_sum(config.materials.size(), 0.0);
+  for (size_t k : order) {
+    const auto& tri = mesh.triangles[k];
+    const int mat = group_material[mesh.triangle_group[k]];
+    model.triangles.push_back({new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]});
+    model.triangle_material.push_back(mat);
+    model.triangle_tags.push_back(mesh.triangle_tags[k]);
+    model.block_start[mat + 1]++;
+    const auto& t = model.triangles.back();
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      edge_sum[mat] += std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]);
+    }
+  }
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const size_t count = model.block_start[m + 1];
+    model.block_start[m + 1] += model.block_start[m];
+    if (count == 0)
+      notes.push_back("material '" + config.materials[m].name + "' has no triangles");
+    model.materials.push_back(make_material(config.materials[m], count ? edge_sum[m] / (3.0 * count) : 0.0));
+  }
+
+  // Regions named by boundary and initial entries.
+  auto region_nodes = [&](const std::string& name, const std::string& where, int* dim_out) {
+    const auto groups = find_region(mesh, name, where);
+    std::vector<int> nodes;
+    int dim = 0;
+    for (int g : groups) {
+      dim = std::max(dim, mesh.groups[g].dim);
+      for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        if (mesh.triangle_group[t] == g) nodes.insert(nodes.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+      for (size_t l = 0; l < mesh.lines.size(); ++l)
+        if (mesh.line_group[l] == g) nodes.insert(nodes.end(), mesh.lines[l].begin(), mesh.lines[l].end());
+      for (size_t p = 0; p < mesh.points.size(); ++p)
+        if (mesh.point_group[p] == g) nodes.push_back(mesh.points[p]);
+    }
+    std::vector<int> mapped;
+    for (int n : nodes)
+      if (new_index[n] >= 0) mapped.push_back(new_index[n]);
+    std::sort(mapped.begin(), mapped.end());
+    mapped.erase(std::unique(mapped.begin(), mapped.end()), mapped.end());
+    if (mapped.empty())
+      throw InputError(where + ": region '" + name + "' of " + mesh.source + " has no nodes on any triangle");
+    if (dim_out) *dim_out = dim;
+    return mapped;
+  };
+  auto remember_region = [&](const std::string& name, int dim, const std::vector<int>& nodes, bool prescribed) {
+    for (auto& r : model.regions)
+      if (r.name == name) {
+        r.prescribed = r.prescribed || prescribed;
+        return;
+      }
+    model.regions.push_back({name, dim, nodes, prescribed});
+  };
+
+  // Prescribed motion, combined per node (a corner node may be fixed in x by one
+  // entry and in y by another).
+  std::vector<BoundaryGroup> node_bc(model.num_nodes());
+  std::vector<int> node_bc_entry(2 * model.num_nodes(), -1);  // which entry set vx / vy
+  // Edges of the triangles, for orienting loaded curves.
+  std::map<std::pair<int, int>, EdgeOwner> edges;
+  auto build_edges = [&]() {
+    if (!edges.empty()) return;
+    for (size_t t = 0; t < model.triangles.size(); ++t)
+      for (int e = 0; e < 3; ++e) {
+        const int a = model.triangles[t][e], b = model.triangles[t][(e + 1) % 3];
+        auto& owner = edges[edge_key(a, b)];
+        owner.triangle = static_cast<int>(t);
+        owner.a = a;
+        owner.b = b;
+        owner.count++;
+      }
+  };
+
+  for (size_t i = 0; i < config.boundaries.size(); ++i) {
+    const auto& bc = config.boundaries[i];
+    const std::string where = config.path + ": boundary[" + std::to_string(i) + "]";
+    int dim = 0;
+    const auto nodes = region_nodes(bc.region, where, &dim);
+    const bool prescribes = bc.fix_x || bc.fix_y || bc.velocity.has_value();
+    remember_region(bc.region, dim, nodes, prescribes);
+
+    if (prescribes) {
+      for (int n : nodes) {
+        for (int axis = 0; axis < 2; ++axis) {
+          const bool set = (axis == 0 ? bc.fix_x : bc.fix_y) || bc.velocity.has_value();
+          if (!set) continue;
+          const double v = bc.velocity ? (*bc.velocity)[axis] : 0.0;
+          auto& g = node_bc[n];
+          const uint32_t bit = 1u << axis;
+          double& gv = axis == 0 ? g.vx : g.vy;
+          if ((g.mask & bit) && gv != v) {
+            const auto& other = config.boundaries[node_bc_entry[2 * n + axis]];
+            throw InputError(where + ": region '" + bc.region + "' prescribes v" + "xy"[axis] + " = " +
+                             std::to_string(v) + " on node " + std::to_string(model.node_tags[n]) +
+                             ", which region '" + other.region + "' already prescribes as " +
+                             std::to_string(gv));
+          }
+          if (v != 0.0 && bc.rise > 0.0) {
+            if (g.rise > 0.0 && g.rise != bc.rise)
+              throw InputError(where + ": node " + std::to_string(model.node_tags[n]) +
+                               " gets two different rise times for its prescribed velocity");
+            g.rise = bc.rise;
+          }
+          g.mask |= bit;
+          gv = v;
+          node_bc_entry[2 * n + axis] = static_cast<int>(i);
+        }
+      }
+    }
+
+    if (bc.traction || bc.pressure) {
+      if (dim != 1)
+        throw InputError(where + ": traction and pressure act on a physical curve; '" + bc.region +
+                         "' is a " + dim_word(dim));
+      build_edges();
+      EdgeLoad load;
+      if (bc.traction) load.tx = (*bc.traction)[0], load.ty = (*bc.traction)[1];
+      if (bc.pressure) load.pressure = *bc.pressure;
+      load.rise = bc.rise;
+      const int load_index = static_cast<int>(model.loads.size());
+      model.loads.push_back(load);
+      for (int g : find_region(mesh, bc.region, where)) {
+        for (size_t l = 0; l < mesh.lines.size(); ++l) {
+          if (mesh.line_group[l] != g) continue;
+          const int a = new_index[mesh.lines[l][0]], b = new_index[mesh.lines[l][1]];
+          auto it = (a >= 0 && b >= 0) ? edges.find(edge_key(a, b)) : edges.end();
+          if (it == edges.end())
+            throw InputError(mesh.source + ": line element " + std::to_string(mesh.line_tags[l]) + " of curve '" +
+                             bc.region + "' is not an edge of any triangle (the curve must be meshed with the surface)");
+          if (it->second.count != 1)
+            throw InputError(where + ": curve '" + bc.region + "' runs inside the body (line element " +
+                             std::to_string(mesh.line_tags[l]) + " lies between two triangles); loads act on the boundary");
+          model.loaded_edges.push_back({it->second.a, it->second.b, load_index});
+        }
+      }
+    }
+  }
+
+  // Deduplicate per-node prescriptions into groups; group 0 is the free node.
+  model.groups.push_back(BoundaryGroup{});
+  model.node_group.assign(model.num_nodes(), 0);
+  for (size_t n = 0; n < model.num_nodes(); ++n) {
+    if (node_bc[n].mask == 0) continue;
+    auto it = std::find(model.groups.begin() + 1, model.groups.end(), node_bc[n]);
+    if (it == model.groups.end()) {
+      model.groups.push_back(node_bc[n]);
+      it = model.groups.end() - 1;
+    }
+    model.node_group[n] = static_cast<uint32_t>(it - model.groups.begin());
+  }
+
+  model.vx0.assign(model.num_nodes(), 0.0);
+  model.vy0.assign(model.num_nodes(), 0.0);
+  for (size_t i = 0; i < config.initials.size(); ++i) {
+    const auto& init = config.initials[i];
+    const std::string where = config.path + ": initial[" + std::to_string(i) + "]";
+    int dim = 0;
+    const auto nodes = region_nodes(init.region, where, &dim);
+    remember_region(init.region, dim, nodes, false);
+    for (int n : nodes) {
+      model.vx0[n] = init.velocity[0];
+      model.vy0[n] = init.velocity[1];
+    }
+  }
+  // Prescribed velocities hold from the start.
+  for (size_t n = 0; n < model.num_nodes(); ++n) {
+    const auto& g = model.groups[model.node_group[n]];
+    if (g.rise > 0) continue;
+    if (g.mask & 1u) model.vx0[n] = g.vx;
+    if (g.mask & 2u) model.vy0[n] = g.vy;
+  }
+  return model;
+}
+
+StableStep stable_time_step(const Model& model) {
+  StableStep best{std::numeric_limits<double>::infinity(), 0};
+  for (size_t t = 0; t < model.num_triangles(); ++t) {
+    const auto& tri = model.triangles[t];
+    const auto& m = model.materials[model.triangle_material[t]];
+    double longest = 0;
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      longest = std::max(longest, std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]));
+    }
+    const double area2 = (model.x[tri[1]] - model.x[tri[0]]) * (model.y[tri[2]] - model.y[tri[0]]) -
+                         (model.y[tri[1]] - model.y[tri[0]]) * (model.x[tri[2]] - model.x[tri[0]]);
+    const double h = area2 / longest;  // smallest height
+    const double c = std::sqrt(m.wave_modulus / m.density);
+    const double omega = 2.0 * c / h;
+    const double xi = m.viscosity * omega / (2.0 * m.wave_modulus);
+    const double dt = h / c * (std::sqrt(1.0 + xi * xi) - xi);
+    if (dt < best.dt) best = {dt, t};
+  }
+  return best;
+}
+
+}  // namespace fdem

@@ -1,0 +1,94 @@
+// The model: the mesh turned into what the solver needs, in SI units. Built once on the
+// host from a Gmsh mesh and a case; the solver copies it to the device.
+//
+// Data model: nodes (reference coordinates), TRI3 triangles grouped in contiguous
+// blocks by material (one Exodus element block each), boundary-condition groups per
+// node, loaded boundary edges, named regions. Every node belongs to at least one
+// triangle (unused mesh nodes are dropped). A fracturable region will later own its
+// own nodes (three per triangle); everything below indexes nodes through the triangle
+// and edge lists, so split nodes need no change here beyond the mesh splitting.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/materials.hpp"
+#include "io/case_config.hpp"
+#include "io/mesh.hpp"
+
+namespace fdem {
+
+// Prescribed motion of a node: mask bit 0 = vx prescribed, bit 1 = vy; velocity ramped
+// from 0 over `rise` seconds.
+struct BoundaryGroup {
+  uint32_t mask = 0;
+  double vx = 0, vy = 0, rise = 0;
+  bool operator==(const BoundaryGroup& o) const {
+    return mask == o.mask && vx == o.vx && vy == o.vy && rise == o.rise;
+  }
+};
+
+struct EdgeLoad {
+  double tx = 0, ty = 0;  // traction [Pa] (dead load per reference length)
+  double pressure = 0;    // [Pa], positive pushes into the body (follower load)
+  double rise = 0;        // ramp time [s]
+};
+
+struct LoadedEdge {
+  int a = 0, b = 0;  // node indices; the body lies on the left of a → b
+  int load = 0;      // index into Model::loads
+};
+
+struct Region {
+  std::string name;
+  int dim = 0;              // 1 curve, 2 surface (0 point)
+  std::vector<int> nodes;   // sorted node indices
+  bool prescribed = false;  // a boundary entry prescribes its motion (fix or velocity)
+};
+
+struct Model {
+  std::string mesh_path;
+  double thickness = 1.0;
+
+  std::vector<double> x, y;       // reference coordinates [m]
+  std::vector<long> node_tags;    // Gmsh tag of each node
+  std::vector<std::array<int, 3>> triangles;  // counter-clockwise, grouped by material
+  std::vector<int> triangle_material;
+  std::vector<long> triangle_tags;             // Gmsh element tag of each triangle
+  std::vector<MaterialConstants> materials;
+  std::vector<size_t> block_start;             // triangles of material m: [block_start[m], block_start[m+1])
+
+  std::vector<uint32_t> node_group;          // index into groups; 0 = free
+  std::vector<BoundaryGroup> groups;         // groups[0] is the free node
+  std::vector<LoadedEdge> loaded_edges;
+  std::vector<EdgeLoad> loads;
+
+  std::vector<double> vx0, vy0;   // initial velocity [m/s]
+  std::vector<Region> regions;    // every boundary and initial-condition region of the case
+
+  std::array<double, 2> gravity{0, 0};
+  double local_damping = 0;  // Cundall α (0: none)
+  bool mass_scaling = false;
+
+  size_t num_nodes() const { return x.size(); }
+  size_t num_triangles() const { return triangles.size(); }
+};
+
+// Builds the model. Throws InputError naming the mesh file or case key for: a region
+// name the mesh lacks (with a suggestion), a physical surface without a material, a
+// surface in two materials, a load on a curve that is not on the boundary, conflicting
+// prescribed velocities on one node. Notes (re-oriented triangles, dropped nodes) go to
+// `notes`.
+Model build_model(const io::Mesh& mesh, const io::CaseConfig& config, std::vector<std::string>& notes);
+
+// Stable time step estimate over all triangles (the smallest triangle height h over the
+// P-wave speed, reduced by the viscous damping ratio ξ: Δt = h/c (√(1+ξ²) − ξ)), and the
+// triangle that sets it.
+struct StableStep {
+  double dt = 0;
+  size_t triangle = 0;
+};
+StableStep stable_time_step(const Model& model);
+
+}  // namespace fdem

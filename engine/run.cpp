@@ -1,0 +1,306 @@
+#include "engine/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+#include "engine/errors.hpp"
+#include "engine/solver.hpp"
+#include "io/exodus_writer.hpp"
+#include "io/gmsh_reader.hpp"
+#include "io/history_writer.hpp"
+
+namespace fdem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string format_number(double v, int precision = 4) {
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+std::string netcdf_name(const std::string& region) {
+  std::string out;
+  for (char c : region) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "r_" + out;
+  return out;
+}
+
+// Steps (1-based step counts, step 0 = initial state) at which frames are written.
+std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt) {
+  std::vector<long> list;
+  if (out.every > 0) {
+    const long stride = std::max(1L, std::lround(out.every / dt));
+    for (long s = 0; s < steps; s += stride) list.push_back(s);
+    list.push_back(steps);
+  } else {
+    const int frames = out.frames > 0 ? out.frames : 20;
+    if (frames == 1) return {steps};
+    for (int k = 0; k < frames; ++k) list.push_back(std::lround(double(k) * steps / (frames - 1)));
+  }
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+  return list;
+}
+
+// The history quantities of one state: kinetic energy, out-of-balance forces,
+// reactions and mean displacements of regions with prescribed motion.
+struct HistoryProbe {
+  const Model& model;
+  std::vector<const Region*> regions;
+  std::vector<double> mass;
+
+  HistoryProbe(const Model& m, const std::vector<real2>& masses) : model(m) {
+    for (const auto& r : m.regions)
+      if (r.prescribed) regions.push_back(&r);
+    for (const auto& mk : masses) mass.push_back(mk.x);
+  }
+
+  std::vector<io::HistoryVariable> variables() const {
+    std::vector<io::HistoryVariable> vars = {
+        {"kinetic_energy", "J", "total kinetic energy (true lumped masses)"},
+        {"max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom"},
+        {"unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node"}};
+    for (const auto* r : regions) {
+      const std::string n = netcdf_name(r->name);
+      vars.push_back({n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)"});
+      vars.push_back({n + "_force_y", "N", "reaction force on region " + r->name + ", y (prescribed components)"});
+      vars.push_back({n + "_disp_x", "m", "mean displacement of region " + r->name + ", x"});
+      vars.push_back({n + "_disp_y", "m", "mean displacement of region " + r->name + ", y"});
+    }
+    return vars;
+  }
+
+  std::vector<double> values(const std::vector<real2>& x, const std::vector<real2>& v,
+                             const std::vector<real2>& f) const {
+    double kinetic = 0, max_unbalanced = 0, internal_sum = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      kinetic += 0.5 * mass[i] * (double(v[i].x) * v[i].x + double(v[i].y) * v[i].y);
+      const uint32_t mask = model.groups[model.node_group[i]].mask;
+      if (!(mask & 1u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].x)));
+      if (!(mask & 2u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].y)));
+      internal_sum += std::hypot(f[i].x - mass[i] * model.gravity[0], f[i].y - mass[i] * model.gravity[1]);
+    }
+    const double mean_internal = x.empty() ? 0 : internal_sum / x.size();
+    std::vector<double> row = {kinetic, max_unbalanced, mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
+    for (const auto* r : regions) {
+      double fx = 0, fy = 0, ux = 0, uy = 0;
+      for (int n : r->nodes) {
+        const uint32_t mask = model.groups[model.node_group[n]].mask;
+        if (mask & 1u) fx -= f[n].x;
+        if (mask & 2u) fy -= f[n].y;
+        ux += x[n].x - model.x[n];
+        uy += x[n].y - model.y[n];
+      }
+      const double count = double(r->nodes.size());
+      row.insert(row.end(), {fx, fy, ux / count, uy / count});
+    }
+    return row;
+  }
+};
+
+void write_frame(io::ExodusWriter& exo, const Model& model, double time, const std::vector<real2>& x,
+                 const std::vector<real2>& v, const std::vector<real4>& stress) {
+  const size_t n = model.num_nodes();
+  std::vector<std::vector<double>> nodal(4, std::vector<double>(n));
+  for (size_t i = 0; i < n; ++i) {
+    nodal[0][i] = x[i].x - model.x[i];
+    nodal[1][i] = x[i].y - model.y[i];
+    nodal[2][i] = v[i].x;
+    nodal[3][i] = v[i].y;
+  }
+  std::vector<std::vector<std::vector<double>>> elem(5);
+  for (size_t m = 0; m < model.materials.size(); ++m) {
+    const size_t begin = model.block_start[m], end = model.block_start[m + 1];
+    if (begin == end) continue;
+    for (auto& var : elem) var.emplace_back();
+    for (size_t t = begin; t < end; ++t) {
+      const double sxx = stress[t].x, syy = stress[t].y, sxy = stress[t].z;
+      const double centre = 0.5 * (sxx + syy), radius = std::hypot(0.5 * (sxx - syy), sxy);
+      const double values[5] = {sxx, syy, sxy, centre + radius, centre - radius};
+      for (int k = 0; k < 5; ++k) elem[k].back().push_back(values[k]);
+    }
+  }
+  exo.write_frame(time, nodal, elem);
+}
+
+std::string describe_failure(const Model& model, const Conditions& c) {
+  std::ostringstream msg;
+  if (c.bad_node >= 0) {
+    msg << "step " << c.bad_node_step << ": node " << model.node_tags[c.bad_node] << " (at "
+        << model.x[c.bad_node] << ", " << model.y[c.bad_node]
+        << ") got a non-finite position or velocity; the time step may be unstable or a load too large";
+  } else {
+    const auto& tri = model.triangles[c.inverted_triangle];
+    msg << "step " << c.inverted_step << ": triangle " << model.triangle_tags[c.inverted_triangle]
+        << " (material '" << model.materials[model.triangle_material[c.inverted_triangle]].name
+        << "', nodes " << model.node_tags[tri[0]] << " " << model.node_tags[tri[1]] << " "
+        << model.node_tags[tri[2]] << ") inverted (J <= 0)";
+  }
+  return msg.str();
+}
+
+}  // namespace
+
+PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides) {
+  PreparedCase p;
+  p.config = io::read_case(case_path, overrides);
+  auto& c = p.config;
+  if (c.output.name.empty()) c.output.name = fs::path(case_path).stem().string();
+
+  std::string mesh_path = c.mesh.file;
+  if (!c.mesh.geo.empty()) {
+    try {
+      fs::create_directories(c.output.dir);
+    } catch (const fs::filesystem_error& e) {
+      throw OutputError("cannot create output directory '" + c.output.dir + "': " + e.what());
+    }
+    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.output.dir);
+  }
+  const io::Mesh mesh = io::read_gmsh(mesh_path, &p.notes);
+  p.model = build_model(mesh, c, p.notes);
+  p.stable = stable_time_step(p.model);
+
+  if (c.time.dt_auto) {
+    p.dt = c.time.safety * p.stable.dt;
+  } else {
+    p.dt = c.time.dt;
+    if (!p.model.mass_scaling && p.dt > p.stable.dt) {
+      const size_t t = p.stable.triangle;
+      throw InputError(c.path + ": time.dt = " + format_number(p.dt) + " s exceeds the stable estimate " +
+                       format_number(p.stable.dt) + " s (set by triangle " + std::to_string(p.model.triangle_tags[t]) +
+                       " of material '" + p.model.materials[p.model.triangle_material[t]].name +
+                       "'). Use dt = \"auto\", a dt below the estimate, or [damping] mass_scaling = true for a static run.");
+    }
+  }
+  p.steps = c.time.steps > 0 ? c.time.steps : std::max(1L, static_cast<long>(std::ceil(c.time.end / p.dt - 1e-9)));
+  p.exodus_path = (fs::path(c.output.dir) / (c.output.name + ".exo")).string();
+  p.history_path = (fs::path(c.output.dir) / (c.output.name + "_history.nc")).string();
+  return p;
+}
+
+RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, bool status_line) {
+  const Model& model = p.model;
+  const auto& config = p.config;
+  try {
+    fs::create_directories(config.output.dir);
+  } catch (const fs::filesystem_error& e) {
+    throw OutputError("cannot create output directory '" + config.output.dir + "': " + e.what());
+  }
+
+  Solver solver(cl, model, p.dt);
+
+  std::vector<io::ExodusBlock> blocks;
+  for (size_t m = 0; m < model.materials.size(); ++m) {
+    io::ExodusBlock block{model.materials[m].name, "TRI3", 3, {}};
+    for (size_t t = model.block_start[m]; t < model.block_start[m + 1]; ++t)
+      block.connectivity.insert(block.connectivity.end(), model.triangles[t].begin(), model.triangles[t].end());
+    if (!block.connectivity.empty()) blocks.push_back(std::move(block));
+  }
+  io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
+                          {"DISPLX", "DISPLY", "VELX", "VELY"}, {"SXX", "SYY", "SXY", "PS1", "PS2"});
+  const HistoryProbe probe(model, solver.masses());
+  io::HistoryWriter history(p.history_path, config.title, probe.variables());
+
+  const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
+  const long history_stride =
+      config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
+                                      : std::max(1L, p.steps / 1000);
+  const long check_stride = 200;
+
+  auto write_current_frame = [&]() {
+    solver.enqueue_stress();
+    write_frame(exodus, model, solver.time(), solver.positions(), solver.velocities(), solver.stresses());
+  };
+
+  RunSummary summary;
+  std::vector<double> last_row;
+  size_t next_frame = 0;
+  if (!frames.empty() && frames[0] == 0) {
+    write_current_frame();
+    ++next_frame;
+  }
+  solver.save_checkpoint();
+
+  const auto start = std::chrono::steady_clock::now();
+  auto last_report = start;
+  int last_decile = 0;
+  for (long s = 1; s <= p.steps; ++s) {
+    solver.step();
+    const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
+    const bool history_due = s % history_stride == 0 || s == p.steps;
+    if (frame_due || history_due || s % check_stride == 0) {
+      const Conditions cond = solver.conditions();
+      if (!cond.ok()) {
+        const std::string what = describe_failure(model, cond);
+        std::string saved;
+        if (solver.has_checkpoint()) {
+          solver.restore_checkpoint();
+          try {
+            write_current_frame();
+            saved = "; the last good state (step " + std::to_string(solver.steps_done()) + ", t = " +
+                    format_number(solver.time()) + " s) is the last frame of " + p.exodus_path;
+          } catch (const std::exception&) {
+            saved = "";  // the stress of the last good state may itself be invalid
+          }
+        }
+        if (status_line) log << "\n";
+        throw NumericalError(what + saved);
+      }
+      if (history_due) {
+        last_row = probe.values(solver.positions(), solver.velocities(), solver.forces());
+        history.append(solver.time(), last_row);
+      }
+      if (frame_due) {
+        write_current_frame();
+        ++next_frame;
+      }
+      solver.save_checkpoint();
+    }
+
+    const auto now = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    if (status_line && (std::chrono::duration<double>(now - last_report).count() > 0.5 || s == p.steps)) {
+      last_report = now;
+      const double rate = s / std::max(elapsed, 1e-9);
+      log << "\rstep " << s << "/" << p.steps << "  t = " << format_number(solver.time()) << " s  "
+          << std::fixed << std::setprecision(1) << 100.0 * s / p.steps << "%  " << std::setprecision(0)
+          << rate << " steps/s  ETA " << std::setprecision(1) << (p.steps - s) / rate << " s   "
+          << std::defaultfloat << std::flush;
+    } else if (!status_line) {
+      const int decile = static_cast<int>(10 * s / p.steps);
+      if (decile > last_decile) {
+        last_decile = decile;
+        log << "  " << decile * 10 << "%  step " << s << "/" << p.steps << "  t = " << format_number(solver.time())
+            << " s  " << std::fixed << std::setprecision(0) << s / std::max(elapsed, 1e-9) << " steps/s"
+            << std::defaultfloat << "\n" << std::flush;
+      }
+    }
+  }
+  cl.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (status_line) log << "\n";
+
+  summary.steps = p.steps;
+  summary.simulated_time = solver.time();
+  summary.wall_seconds = wall;
+  summary.ns_per_element_step = 1e9 * wall / (double(p.steps) * std::max<size_t>(1, model.num_triangles()));
+  summary.frames = exodus.frames_written();
+  if (last_row.size() >= 3) {
+    summary.final_kinetic_energy = last_row[0];
+    summary.final_unbalanced_ratio = last_row[2];
+  }
+  exodus.close();
+  history.close();
+  return summary;
+}
+
+}  // namespace fdem

@@ -1,0 +1,44 @@
+// Running a case end to end: case → mesh → model → device → steps → Exodus + history.
+#pragma once
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "engine/cl_context.hpp"
+#include "engine/model.hpp"
+#include "io/case_config.hpp"
+
+namespace fdem {
+
+// A case read, meshed and checked, ready to run.
+struct PreparedCase {
+  io::CaseConfig config;
+  Model model;
+  std::vector<std::string> notes;  // re-oriented triangles, dropped nodes, ...
+  StableStep stable;               // stable Δt estimate
+  double dt = 0;                   // the Δt the run uses
+  long steps = 0;                  // number of steps
+  std::string exodus_path, history_path;
+};
+
+// Reads the case (with --set overrides), meshes a .geo if needed, builds the model and
+// resolves Δt and the step count. Throws InputError for anything wrong, including a Δt
+// above the stable estimate (unless mass scaling makes any Δt stable).
+PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides);
+
+struct RunSummary {
+  long steps = 0;
+  double simulated_time = 0;
+  double wall_seconds = 0;
+  double ns_per_element_step = 0;
+  double final_kinetic_energy = 0;
+  double final_unbalanced_ratio = 0;
+  int frames = 0;
+};
+
+// Runs the prepared case on `cl`. Progress goes to `log` (a live status line when
+// `status_line`, else periodic lines). Throws NumericalError after writing the last
+// good frame when a NaN or an inverted element appears; OutputError when writing fails.
+RunSummary run_case(const PreparedCase& prepared, ClContext& cl, std::ostream& log, bool status_line);
+
+}  // namespace fdem

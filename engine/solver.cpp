@@ -1,0 +1,64 @@
+#include "engine/solver.hpp"
+
+#include <climits>
+
+#include "engine/errors.hpp"
+
+namespace fdem {
+
+Solver::Solver(ClContext& cl, const Model& model, double dt)
+    : cl_(cl),
+      dt_(dt),
+      arrays_(cl, model),
+      triangle_forces_(cl, arrays_, model.thickness),
+      gather_(cl, arrays_),
+      boundary_loads_(cl, arrays_, model.thickness),
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt) {
+  LumpedMass mass(cl, arrays_, model.thickness);
+  mass.enqueue(gather_, model.mass_scaling, dt);
+  saved_position_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_position");
+  saved_velocity_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_velocity");
+  cl.finish();
+}
+
+void Solver::step() {
+  const double t = time();
+  // The step, stage by stage. Each stage writes its own slots; the gather sums them.
+  boundary_loads_.enqueue(t);
+  triangle_forces_.enqueue(static_cast<int>(steps_), false);
+  gather_.enqueue_forces();
+  integrate_.enqueue(t + dt_, static_cast<int>(steps_));
+  ++steps_;
+}
+
+void Solver::enqueue_stress() { triangle_forces_.enqueue(static_cast<int>(steps_), true); }
+
+std::vector<real2> Solver::positions() { return download<real2>(cl_, arrays_.position, arrays_.num_nodes); }
+std::vector<real2> Solver::velocities() { return download<real2>(cl_, arrays_.velocity, arrays_.num_nodes); }
+std::vector<real2> Solver::forces() { return download<real2>(cl_, arrays_.node_force, arrays_.num_nodes); }
+std::vector<real2> Solver::masses() { return download<real2>(cl_, arrays_.node_mass, arrays_.num_nodes); }
+std::vector<real4> Solver::stresses() { return download<real4>(cl_, arrays_.stress, arrays_.num_triangles); }
+
+Conditions Solver::conditions() {
+  const auto words = download<int>(cl_, arrays_.conditions, 4);
+  auto value = [](int w) { return w == INT_MAX ? -1 : w; };
+  return {value(words[0]), value(words[1]), value(words[2]), value(words[3])};
+}
+
+void Solver::save_checkpoint() {
+  const size_t bytes = arrays_.num_nodes * sizeof(real2);
+  cl_.queue().enqueue_copy_buffer(arrays_.position, saved_position_, 0, 0, bytes);
+  cl_.queue().enqueue_copy_buffer(arrays_.velocity, saved_velocity_, 0, 0, bytes);
+  checkpoint_step_ = steps_;
+}
+
+void Solver::restore_checkpoint() {
+  if (checkpoint_step_ < 0) return;
+  const size_t bytes = arrays_.num_nodes * sizeof(real2);
+  cl_.queue().enqueue_copy_buffer(saved_position_, arrays_.position, 0, 0, bytes);
+  cl_.queue().enqueue_copy_buffer(saved_velocity_, arrays_.velocity, 0, 0, bytes);
+  steps_ = checkpoint_step_;
+  cl_.finish();
+}
+
+}  // namespace fdem

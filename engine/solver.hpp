@@ -1,0 +1,70 @@
+// The solver: the model's arrays on the device and the step as a plain list of stages.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "engine/cl_context.hpp"
+#include "engine/device_arrays.hpp"
+#include "engine/model.hpp"
+#include "engine/stages/boundary_loads.hpp"
+#include "engine/stages/integrate.hpp"
+#include "engine/stages/lumped_mass.hpp"
+#include "engine/stages/node_gather.hpp"
+#include "engine/stages/triangle_forces.hpp"
+
+namespace fdem {
+
+// First offender of each kind found by the kernels since the start (-1: none).
+struct Conditions {
+  int bad_node = -1, bad_node_step = -1;
+  int inverted_triangle = -1, inverted_step = -1;
+  bool ok() const { return bad_node < 0 && inverted_triangle < 0; }
+};
+
+class Solver {
+ public:
+  // Uploads the model, compiles every stage and computes the lumped masses.
+  Solver(ClContext& cl, const Model& model, double dt);
+
+  // Enqueues one step (t → t + Δt). Never waits.
+  void step();
+  // Enqueues a stress evaluation of the current state (for output). Never waits.
+  void enqueue_stress();
+
+  long steps_done() const { return steps_; }
+  double time() const { return steps_ * dt_; }
+  double dt() const { return dt_; }
+
+  // Read-backs: these wait for the queue.
+  std::vector<real2> positions();
+  std::vector<real2> velocities();
+  std::vector<real2> forces();   // out-of-balance force of the last step (incl. gravity)
+  std::vector<real2> masses();   // (lumped mass, inertia)
+  std::vector<real4> stresses(); // as of the last enqueue_stress()
+  Conditions conditions();
+
+  // A device-side copy of positions and velocities, taken at a check that passed, so a
+  // failed run can still write its last good frame.
+  void save_checkpoint();
+  bool has_checkpoint() const { return checkpoint_step_ >= 0; }
+  long checkpoint_step() const { return checkpoint_step_; }
+  // Puts the checkpoint back into the live arrays (the run is over; for output only).
+  void restore_checkpoint();
+
+  ClContext& context() { return cl_; }
+  DeviceArrays& arrays() { return arrays_; }
+
+ private:
+  ClContext& cl_;
+  double dt_;
+  long steps_ = 0;
+  DeviceArrays arrays_;
+  TriangleForces triangle_forces_;
+  NodeGather gather_;
+  BoundaryLoads boundary_loads_;
+  Integrate integrate_;
+  compute::buffer saved_position_, saved_velocity_;
+  long checkpoint_step_ = -1;
+};
+
+}  // namespace fdem

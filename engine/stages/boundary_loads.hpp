@@ -1,0 +1,19 @@
+// Stage: tractions and pressures on loaded boundary edges (cl_kernels/boundary_loads.cl).
+#pragma once
+#include "engine/device_arrays.hpp"
+
+namespace fdem {
+
+class BoundaryLoads {
+ public:
+  BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness);
+  // Edge forces at time `time`. Never waits; does nothing when no edge is loaded.
+  void enqueue(double time);
+
+ private:
+  ClContext& cl_;
+  size_t count_;
+  compute::kernel kernel_;
+};
+
+}  // namespace fdem

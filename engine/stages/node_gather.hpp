@@ -1,0 +1,22 @@
+// Stage: node gather (cl_kernels/gather.cl): sums corner and edge contributions per node
+// in a fixed order, the deterministic replacement for floating-point atomics.
+#pragma once
+#include "engine/device_arrays.hpp"
+
+namespace fdem {
+
+class NodeGather {
+ public:
+  NodeGather(ClContext& cl, DeviceArrays& arrays);
+  // node_force = Σ corner_force + Σ edge_force. Never waits.
+  void enqueue_forces();
+  // node_mass = Σ corner values (the corner masses written by LumpedMass). Never waits.
+  void enqueue_corner_sums_into_mass();
+
+ private:
+  ClContext& cl_;
+  size_t count_;
+  compute::kernel forces_, masses_;
+};
+
+}  // namespace fdem
