@@ -4,10 +4,12 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double real;
 typedef double2 real2;
+typedef double3 real3;
 typedef double4 real4;
 #else
 typedef float real;
 typedef float2 real2;
+typedef float3 real3;
 typedef float4 real4;
 #endif
 
@@ -36,7 +38,7 @@ inline real4 inverse2(real4 m) {
 #define MAT_C66 8
 #define MAT_VISCOSITY 9    /* η of the viscous stress η D [Pa s] */
 #define MAT_DENSITY 10     /* ρ [kg/m³] */
-#define MAT_STIFFNESS_BOUND 11  /* upper bound of the stiffness's eigenvalues [Pa], for mass scaling */
+#define MAT_RESERVED 11     /* unused */
 
 // Condition flags: the first (lowest-index) offender of each kind and the step.
 // The host initialises every word to INT_MAX and reads them at checks.

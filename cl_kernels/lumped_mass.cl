@@ -1,16 +1,34 @@
 // Lumped mass, once at set-up.
-// triangle_mass: one work-item per triangle: each corner gets (ρ A₀ t / 3, k) where k
-// is a Gershgorin-style upper bound of the triangle's stiffness seen by a node,
-// k = t · Cmax · p² / (2 A₀) (p perimeter, Cmax the material's stiffness bound). The
-// node gather sums them into (mass, Σk) per node.
+// triangle_mass: one work-item per triangle: each corner a gets (ρ A₀ t / 3, k_a) where
+// k_a is the larger of the absolute row sums of the triangle's small-strain stiffness
+// matrix in the rows of node a, K_ab = A₀ t B_aᵀ C B_b (C the material's Voigt
+// stiffness; Neo-Hookean uses its small-strain limit λ, μ). The node gather sums them
+// into (mass, Σk) per node: Σk bounds the assembled stiffness's row sums (Gershgorin).
 // node_inertia: one work-item per node: the inertia used by the integrator, either the
-// true mass or, with mass scaling (Eq. 18), ½ Δt² Σk, which keeps Δt stable whatever
-// its size (ω²_max ≤ Σk/m = 2/Δt²).
+// true mass or, with mass scaling (Eq. 18), 0.3 Δt² Σk, so that ω²_max ≤ Σk/m and
+// ω_max Δt ≤ 1/√0.3 ≈ 1.83 < 2: any Δt is stable. (½ Δt² Σk, the textbook choice,
+// leaves ω_max Δt ≤ √2 and relaxes about 30% slower; 0.3 reaches the paper's 6,400-step
+// geostatic convergence on its 98k-triangle mesh, ½ does not.)
+
+// |B_aᵀ C B_b| row sums of node a, for rows x (.x) and y (.y); B_a on (xx, yy, 2xy).
+inline real2 block_row_sums(real2 ga, real2 gb, __global const real* m) {
+  const real c11 = m[MAT_C11], c12 = m[MAT_C12], c16 = m[MAT_C16];
+  const real c22 = m[MAT_C22], c26 = m[MAT_C26], c66 = m[MAT_C66];
+  // C B_b columns: strain of a unit x or y displacement of node b
+  const real3 cbx = (real3)(c11 * gb.x + c16 * gb.y, c12 * gb.x + c26 * gb.y, c16 * gb.x + c66 * gb.y);
+  const real3 cby = (real3)(c12 * gb.y + c16 * gb.x, c22 * gb.y + c26 * gb.x, c26 * gb.y + c66 * gb.x);
+  // rows of B_aᵀ: x → (ga.x, 0, ga.y), y → (0, ga.y, ga.x)
+  const real kxx = ga.x * cbx.x + ga.y * cbx.z, kxy = ga.x * cby.x + ga.y * cby.z;
+  const real kyx = ga.y * cbx.y + ga.x * cbx.z, kyy = ga.y * cby.y + ga.x * cby.z;
+  return (real2)(fabs(kxx) + fabs(kxy), fabs(kyx) + fabs(kyy));
+}
+
 __kernel void triangle_mass(const uint n_triangles,
                             __global const uint* restrict tri_nodes,
                             __global const uint* restrict tri_material,
                             __global const real* restrict materials,
                             __global const real2* restrict ref_position,
+                            __global const real4* restrict ref_inverse,
                             const real thickness,
                             __global real2* restrict corner_mass) {
   const uint t = get_global_id(0);
@@ -20,11 +38,18 @@ __kernel void triangle_mass(const uint n_triangles,
   const real2 x2 = ref_position[tri_nodes[3 * t + 2]];
   const real2 e1 = x1 - x0, e2 = x2 - x0;
   const real area = (real)0.5 * (e1.x * e2.y - e1.y * e2.x);
-  const real perimeter = length(e1) + length(e2) + length(x2 - x1);
   __global const real* m = materials + MATERIAL_STRIDE * tri_material[t];
   const real mass = m[MAT_DENSITY] * area * thickness / (real)3;
-  const real k = thickness * m[MAT_STIFFNESS_BOUND] * perimeter * perimeter / ((real)2 * area);
-  corner_mass[3 * t] = corner_mass[3 * t + 1] = corner_mass[3 * t + 2] = (real2)(mass, k);
+  const real4 Xinv = ref_inverse[t];
+  real2 g[3];
+  g[1] = (real2)(Xinv.x, Xinv.y);
+  g[2] = (real2)(Xinv.z, Xinv.w);
+  g[0] = -(g[1] + g[2]);
+  for (int a = 0; a < 3; ++a) {
+    real2 rows = (real2)(0, 0);
+    for (int b = 0; b < 3; ++b) rows += block_row_sums(g[a], g[b], m);
+    corner_mass[3 * t + a] = (real2)(mass, area * thickness * fmax(rows.x, rows.y));
+  }
 }
 
 // node_mass in: (mass, Σk); out: (mass, inertia).
@@ -33,5 +58,5 @@ __kernel void node_inertia(const uint n_nodes, const int mass_scaling, const rea
   const uint i = get_global_id(0);
   if (i >= n_nodes) return;
   const real2 mk = node_mass[i];
-  node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.5 * dt * dt * mk.y : mk.x);
+  node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.3 * dt * dt * mk.y : mk.x);
 }

@@ -58,14 +58,7 @@ MaterialConstants make_material(const io::MaterialConfig& config, double mean_ed
   m.viscosity = config.viscosity_critical
                     ? 2.0 * mean_edge * std::sqrt(config.density * config.young)
                     : config.viscosity;
-  // Largest absolute row sum of the Voigt matrix bounds its eigenvalues (Gershgorin).
-  const auto& c = m.c;
-  const double rows[3] = {std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]),
-                          std::fabs(c[1]) + std::fabs(c[3]) + std::fabs(c[4]),
-                          std::fabs(c[2]) + std::fabs(c[4]) + std::fabs(c[5])};
-  m.stiffness_bound = *std::max_element(rows, rows + 3);
-  if (m.model == 0) m.stiffness_bound = std::max(m.stiffness_bound, 2 * m.lambda + 2 * m.mu);
-  m.wave_modulus = m.model == 0 ? m.lambda + 2 * m.mu : std::max(c[0], c[3]);
+  m.wave_modulus = m.model == 0 ? m.lambda + 2 * m.mu : std::max(m.c[0], m.c[3]);
   return m;
 }
 
@@ -73,8 +66,7 @@ std::vector<double> material_table(const std::vector<MaterialConstants>& materia
   std::vector<double> table;
   for (const auto& m : materials) {
     const double row[kMaterialStride] = {double(m.model), m.lambda, m.mu, m.c[0], m.c[1], m.c[2],
-                                         m.c[3], m.c[4], m.c[5], m.viscosity, m.density,
-                                         m.stiffness_bound};
+                                         m.c[3], m.c[4], m.c[5], m.viscosity, m.density, 0.0};
     table.insert(table.end(), row, row + kMaterialStride);
   }
   return table;

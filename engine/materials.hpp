@@ -16,10 +16,9 @@ struct MaterialConstants {
   std::string name;
   int model = 0;            // 0 Neo-Hookean, 1 hyperelastic
   double lambda = 0, mu = 0;  // Lamé constants of the 2D model [Pa]
-  Voigt c{};                // global-frame Voigt stiffness [Pa]
+  Voigt c{};                // global-frame Voigt stiffness [Pa] (Neo-Hookean: its small-strain limit)
   double viscosity = 0;     // η [Pa s]
   double density = 0;       // ρ [kg/m³]
-  double stiffness_bound = 0;  // ≥ every eigenvalue-related row sum of C [Pa]
   double wave_modulus = 0;  // P-wave modulus used for the stable time step [Pa]
 };
 

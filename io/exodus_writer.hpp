@@ -44,6 +44,8 @@ class ExodusWriter {
   int time_var_ = -1;
   std::vector<int> nodal_var_ids_;
   std::vector<std::vector<int>> elem_var_ids_;  // [var][block]
+  std::vector<std::string> nodal_var_names_;  // for error messages
+  std::vector<std::string> elem_var_names_;
 };
 
 }  // namespace fdem::io

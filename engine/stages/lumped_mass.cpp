@@ -11,8 +11,9 @@ LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, double thickness)
   corner_.set_arg(2, a.tri_material);
   corner_.set_arg(3, a.materials);
   corner_.set_arg(4, a.ref_position);
-  corner_.set_arg(5, static_cast<real>(thickness));
-  corner_.set_arg(6, a.corner_force);
+  corner_.set_arg(5, a.ref_inverse);
+  corner_.set_arg(6, static_cast<real>(thickness));
+  corner_.set_arg(7, a.corner_force);
   inertia_ = compute::kernel(program, "node_inertia");
   inertia_.set_arg(0, static_cast<cl_uint>(nodes_));
   inertia_.set_arg(3, a.node_mass);

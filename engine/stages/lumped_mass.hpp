@@ -9,7 +9,7 @@ namespace fdem {
 class LumpedMass {
  public:
   LumpedMass(ClContext& cl, DeviceArrays& arrays, double thickness);
-  // node_mass = (Σ ρA₀t/3, inertia); inertia = ½Δt²Σk with mass scaling, else the mass.
+  // node_mass = (Σ ρA₀t/3, inertia); inertia = 0.3 Δt²Σk with mass scaling, else the mass.
   void enqueue(NodeGather& gather, bool mass_scaling, double dt);
 
  private:

@@ -1,0 +1,775 @@
+// Reads a TOML case file into CaseConfig. The known keys of every table are listed once
+// (the Schema constants below) and serve both to reject unknown keys with a suggestion
+// and to walk --set paths; each table then has its own read_* function.
+#include "io/case_config.hpp"
+
+#include "engine/errors.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string_view>
+
+namespace fdem::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------
+// Schema: the known keys of each table. Adding a key is one line here plus reading it.
+
+enum class Shape { Key, Table, TableArray };
+
+struct Schema;
+
+struct Field {
+  constexpr Field(std::string_view n, Shape s = Shape::Key, const Schema* c = nullptr)
+      : name(n), shape(s), child(c) {}
+  std::string_view name;
+  Shape shape;
+  const Schema* child;  // the keys of a Table or of each TableArray entry
+};
+
+struct Schema {
+  std::vector<Field> fields;
+  const Field* find(std::string_view name) const {
+    for (const Field& f : fields)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+};
+
+const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}}};
+const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
+const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}}};
+const Schema kStiffnessKeys{
+    {{"c11"}, {"c22"}, {"c12"}, {"c66"}, {"c16"}, {"c26"}, {"angle"}}};
+const Schema kMaterialKeys{{{"name"}, {"regions"}, {"density"}, {"young"}, {"poisson"},
+                            {"elasticity"}, {"plane"}, {"viscosity"},
+                            {"stiffness", Shape::Table, &kStiffnessKeys}}};
+const Schema kGravityKeys{{{"g"}}};
+const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
+const Schema kBoundaryKeys{
+    {{"region"}, {"fix"}, {"velocity"}, {"rise"}, {"traction"}, {"pressure"}}};
+const Schema kInitialKeys{{{"region"}, {"velocity"}}};
+const Schema kRootKeys{{{"title"},
+                        {"mesh", Shape::Table, &kMeshKeys},
+                        {"time", Shape::Table, &kTimeKeys},
+                        {"output", Shape::Table, &kOutputKeys},
+                        {"material", Shape::TableArray, &kMaterialKeys},
+                        {"gravity", Shape::Table, &kGravityKeys},
+                        {"damping", Shape::Table, &kDampingKeys},
+                        {"boundary", Shape::TableArray, &kBoundaryKeys},
+                        {"initial", Shape::TableArray, &kInitialKeys}}};
+
+// ---------------------------------------------------------------------------------------
+// Suggestions for misspelt names.
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({above + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The nearest candidate, if it is close enough to be a plausible typo.
+std::optional<std::string_view> nearest(std::string_view name,
+                                        const std::vector<std::string_view>& candidates) {
+  std::optional<std::string_view> best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (std::string_view c : candidates) {
+    const std::size_t d = edit_distance(name, c);
+    if (d < best_distance) best_distance = d, best = c;
+  }
+  if (best && best_distance <= std::max<std::size_t>(2, name.size() / 3)) return best;
+  return std::nullopt;
+}
+
+// How a name is written in messages: top-level tables in brackets, keys in quotes.
+std::string spelled(std::string_view name, Shape shape, bool top_level) {
+  if (top_level && shape == Shape::Table) return "[" + std::string(name) + "]";
+  if (top_level && shape == Shape::TableArray) return "[[" + std::string(name) + "]]";
+  return "'" + std::string(name) + "'";
+}
+
+// "unknown key 'youngs' in [[material]] (did you mean 'young'?)"; at the top level a
+// table is "unknown table [gravty]". `heading` is empty for the top level.
+std::string unknown_name_message(std::string_view name, Shape found, const Schema& schema,
+                                 const std::string& heading) {
+  const bool top = heading.empty();
+  std::string msg;
+  if (top && found != Shape::Key)
+    msg = "unknown table " + spelled(name, found, top);
+  else
+    msg = "unknown key '" + std::string(name) + "'" + (top ? "" : " in " + heading);
+  std::vector<std::string_view> names;
+  for (const Field& f : schema.fields) names.push_back(f.name);
+  if (auto guess = nearest(name, names))
+    msg += " (did you mean " + spelled(*guess, schema.find(*guess)->shape, top) + "?)";
+  return msg;
+}
+
+Shape shape_of(const toml::node& n) {
+  if (n.is_table()) return Shape::Table;
+  return n.is_array_of_tables() ? Shape::TableArray : Shape::Key;
+}
+
+// ---------------------------------------------------------------------------------------
+// Formatting values for messages.
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s.precision(15);
+  s << v;
+  return s.str();
+}
+
+std::string describe(const toml::node& n) {
+  if (auto s = n.value_exact<std::string>()) return "string \"" + *s + "\"";
+  if (auto i = n.value_exact<std::int64_t>()) return "integer " + std::to_string(*i);
+  if (auto d = n.value_exact<double>()) return "number " + format_number(*d);
+  if (auto b = n.value_exact<bool>()) return std::string("boolean ") + (*b ? "true" : "false");
+  if (auto* a = n.as_array())
+    return a->is_array_of_tables() ? "array of tables" : "array of " + std::to_string(a->size());
+  if (n.is_table()) return "table";
+  return "a date/time";
+}
+
+// "0 < safety <= 1", "density > 0": the allowed range, spelled with the key's name.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  bool contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string text(std::string_view name) const {
+    const std::string n(name);
+    const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+    if (has_lo && has_hi)
+      return format_number(lo) + (lo_open ? " < " : " <= ") + n + (hi_open ? " < " : " <= ") +
+             format_number(hi);
+    if (has_lo) return n + (lo_open ? " > " : " >= ") + format_number(lo);
+    if (has_hi) return n + (hi_open ? " < " : " <= ") + format_number(hi);
+    return n + " finite";
+  }
+};
+
+const Range kAny{};
+const Range kPositive{0.0, std::numeric_limits<double>::infinity(), true, false};
+const Range kNonNegative{0.0, std::numeric_limits<double>::infinity(), false, false};
+
+// ---------------------------------------------------------------------------------------
+// Where a node came from: "case.toml:12" or "case.toml (from --set material.0.young=2)".
+
+class Context {
+ public:
+  explicit Context(std::string case_path) : path_(std::move(case_path)) {}
+
+  const std::string& path() const { return path_; }
+
+  // Override values are parsed with the source name "--set <text>", which is how their
+  // nodes are recognised later.
+  void add_override(const std::string& source_name) { override_sources_.insert(source_name); }
+  void note_created(const toml::node* table, const std::string& source_name) {
+    created_[table] = source_name;
+  }
+
+  bool from_override(const toml::node& n) const {
+    const toml::source_region& src = n.source();
+    return created_.count(&n) || (src.path && override_sources_.count(*src.path));
+  }
+  std::string where(const toml::node& n) const {
+    if (auto it = created_.find(&n); it != created_.end()) return from_set(it->second);
+    const toml::source_region& src = n.source();
+    if (src.path && override_sources_.count(*src.path)) return from_set(*src.path);
+    return path_ + ":" + std::to_string(std::max<toml::source_index>(src.begin.line, 1));
+  }
+  std::string from_set(const std::string& source_name) const {
+    return path_ + " (from " + source_name + ")";
+  }
+  [[noreturn]] void fail(const toml::node& n, const std::string& what) const {
+    throw InputError(where(n) + ": " + what);
+  }
+
+ private:
+  std::string path_;
+  std::set<std::string> override_sources_;
+  std::map<const toml::node*, std::string> created_;  // tables that --set had to create
+};
+
+// ---------------------------------------------------------------------------------------
+// Typed access to one table; every failure names the key's dotted path.
+
+double as_number(const Context& ctx, const toml::node& n, const std::string& path,
+                 const Range& range) {
+  std::optional<double> v;
+  if (auto i = n.value_exact<std::int64_t>()) v = static_cast<double>(*i);
+  if (auto d = n.value_exact<double>()) v = *d;
+  if (!v) ctx.fail(n, path + " must be a number, found " + describe(n));
+  if (!std::isfinite(*v)) ctx.fail(n, path + " must be finite, found " + format_number(*v));
+  if (!range.contains(*v))
+    ctx.fail(n, path + " = " + format_number(*v) + " is out of range (allowed: " +
+                    range.text(path) + ")");
+  return *v;
+}
+
+std::string as_string(const Context& ctx, const toml::node& n, const std::string& path) {
+  auto s = n.value_exact<std::string>();
+  if (!s) ctx.fail(n, path + " must be a string, found " + describe(n));
+  return *s;
+}
+
+class TableReader {
+ public:
+  // `path` is the dotted prefix of its keys ("material[1]", "" at the top level);
+  // `heading` names the table kind in unknown-key messages ("[[material]]");
+  // `title` names this very table in missing-key messages ("[[material]] #1 ('rock')").
+  TableReader(const Context& ctx, const toml::table& table, std::string path,
+              std::string heading, std::string title)
+      : ctx_(ctx), table_(table), path_(std::move(path)), heading_(std::move(heading)),
+        title_(std::move(title)) {}
+
+  const Context& ctx() const { return ctx_; }
+  const toml::table& table() const { return table_; }
+  const std::string& path() const { return path_; }
+  const std::string& title() const { return title_; }
+  const toml::node* find(std::string_view key) const { return table_.get(key); }
+  bool has(std::string_view key) const { return table_.contains(key); }
+  std::string key_path(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  }
+
+  void check_keys(const Schema& schema) const {
+    for (auto&& [key, node] : table_)
+      if (!schema.find(key.str()))
+        ctx_.fail(node, unknown_name_message(key.str(), shape_of(node), schema, heading_));
+  }
+
+  // Fails at the key's own line, or at the table's line when the key is absent.
+  [[noreturn]] void fail(std::string_view key, const std::string& what) const {
+    const toml::node* n = find(key);
+    ctx_.fail(n ? *n : static_cast<const toml::node&>(table_), what);
+  }
+  [[noreturn]] void missing(std::string_view key) const {
+    ctx_.fail(table_, title_ + " is missing required key '" + std::string(key) + "'");
+  }
+  // Reported at the one given by --set, else at the later of the two in the file.
+  void exclusive(std::string_view a, std::string_view b) const {
+    if (!has(a) || !has(b)) return;
+    const toml::node &na = *find(a), &nb = *find(b);
+    const bool blame_a = ctx_.from_override(na) != ctx_.from_override(nb)
+                             ? ctx_.from_override(na)
+                             : na.source().begin.line > nb.source().begin.line;
+    fail(blame_a ? a : b, key_path(a) + " and " + key_path(b) + " are exclusive: give only one");
+  }
+  void exactly_one(std::string_view a, std::string_view b) const {
+    exclusive(a, b);
+    if (!has(a) && !has(b))
+      ctx_.fail(table_, title_ + " needs one of '" + std::string(a) + "' or '" +
+                            std::string(b) + "'");
+  }
+
+  std::optional<double> number(std::string_view key, const Range& range = kAny) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    return as_number(ctx_, *n, key_path(key), range);
+  }
+  double required_number(std::string_view key, const Range& range = kAny) const {
+    if (!has(key)) missing(key);
+    return *number(key, range);
+  }
+  // An integer of type T (steps, frames) no smaller than `min`.
+  template <class T>
+  std::optional<T> integer(std::string_view key, T min) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    auto v = n->value_exact<std::int64_t>();
+    if (!v) ctx_.fail(*n, key_path(key) + " must be an integer, found " + describe(*n));
+    const std::int64_t max = std::numeric_limits<T>::max();
+    if (*v < min || *v > max)
+      ctx_.fail(*n, key_path(key) + " = " + std::to_string(*v) + " is out of range (allowed: " +
+                        key_path(key) + " >= " + std::to_string(min) +
+                        (max < std::numeric_limits<std::int64_t>::max()
+                             ? " and <= " + std::to_string(max) : "") + ")");
+    return static_cast<T>(*v);
+  }
+  std::optional<std::string> string(std::string_view key) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    return as_string(ctx_, *n, key_path(key));
+  }
+  std::string required_string(std::string_view key) const {
+    if (!has(key)) missing(key);
+    std::string s = *string(key);
+    if (s.empty()) fail(key, key_path(key) + " must not be empty");
+    return s;
+  }
+  std::optional<bool> boolean(std::string_view key) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    auto b = n->value_exact<bool>();
+    if (!b) ctx_.fail(*n, key_path(key) + " must be a boolean, found " + describe(*n));
+    return b;
+  }
+  // An array of exactly two numbers: vectors in the plane.
+  std::optional<std::array<double, 2>> pair(std::string_view key) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2)
+      ctx_.fail(*n, key_path(key) + " must be an array of 2 numbers, found " + describe(*n));
+    return std::array<double, 2>{as_number(ctx_, *a->get(0), key_path(key) + "[0]", kAny),
+                                 as_number(ctx_, *a->get(1), key_path(key) + "[1]", kAny)};
+  }
+  std::optional<std::vector<std::string>> strings(std::string_view key) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    const toml::array* a = n->as_array();
+    if (!a || a->empty())
+      ctx_.fail(*n, key_path(key) + " must be a non-empty array of strings, found " +
+                        describe(*n));
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < a->size(); ++i)
+      out.push_back(as_string(ctx_, *a->get(i), key_path(key) + "[" + std::to_string(i) + "]"));
+    return out;
+  }
+  // A string from a fixed list, e.g. elasticity = "neo-hookean".
+  template <class E>
+  std::optional<E> choice(std::string_view key,
+                          const std::vector<std::pair<std::string_view, E>>& options) const {
+    auto s = string(key);
+    if (!s) return std::nullopt;
+    std::vector<std::string_view> names;
+    std::string allowed;
+    for (const auto& [name, value] : options) {
+      if (name == *s) return value;
+      names.push_back(name);
+      allowed += (allowed.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    }
+    std::string msg = key_path(key) + " = \"" + *s + "\" is not valid (allowed: " + allowed + ")";
+    if (auto guess = nearest(*s, names)) msg += " (did you mean \"" + std::string(*guess) + "\"?)";
+    fail(key, msg);
+  }
+  // A number, or one keyword in its place (dt = "auto"); nullopt inside means the keyword.
+  std::optional<std::optional<double>> number_or_keyword(std::string_view key,
+                                                         std::string_view keyword,
+                                                         const Range& range) const {
+    const toml::node* n = find(key);
+    if (!n) return std::nullopt;
+    if (n->value_exact<std::string>() == keyword) return std::optional<double>{};
+    if (!n->is_number())
+      fail(key, key_path(key) + " must be a number or the string \"" + std::string(keyword) +
+                    "\", found " + describe(*n));
+    return std::optional<double>{as_number(ctx_, *n, key_path(key), range)};
+  }
+
+ private:
+  const Context& ctx_;
+  const toml::table& table_;
+  std::string path_, heading_, title_;
+};
+
+// The entries of an array of tables such as [[material]]; empty when absent.
+std::vector<const toml::table*> table_array(const TableReader& top, std::string_view key) {
+  std::vector<const toml::table*> out;
+  const toml::node* n = top.find(key);
+  if (!n) return out;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    top.fail(key, std::string(key) + " must be an array of tables (write [[" + std::string(key) +
+                      "]] entries), found " + describe(*n));
+  for (const toml::node& entry : *a) out.push_back(entry.as_table());
+  return out;
+}
+
+const toml::table* subtable(const TableReader& r, std::string_view key) {
+  const toml::node* n = r.find(key);
+  if (n && !n->is_table())
+    r.fail(key, r.key_path(key) + " must be a table, found " + describe(*n));
+  return n ? n->as_table() : nullptr;
+}
+
+// Reads each entry of an array of tables such as [[boundary]] with `read_entry`, through
+// a reader titled by index and label ("[[boundary]] #0 ('left')").
+template <class ReadEntry>
+auto read_entries(const TableReader& top, std::string_view kind, std::string_view label_key,
+                  ReadEntry read_entry) {
+  std::vector<decltype(read_entry(top))> out;
+  const std::vector<const toml::table*> entries = table_array(top, kind);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const std::string index = std::to_string(i), heading = "[[" + std::string(kind) + "]]";
+    std::string title = heading + " #" + index;
+    if (auto label = (*entries[i])[label_key].value_exact<std::string>())
+      title += " ('" + *label + "')";
+    out.push_back(read_entry(TableReader(top.ctx(), *entries[i],
+                                         std::string(kind) + "[" + index + "]", heading, title)));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------
+// One function per table.
+
+std::string resolve_against(const std::string& dir, const std::string& file) {
+  const fs::path p(file);
+  if (p.is_absolute()) return file;
+  return (fs::path(dir) / p).lexically_normal().string();
+}
+
+MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
+  r.check_keys(kMeshKeys);
+  r.exactly_one("geo", "file");
+  MeshConfig m;
+  const std::string_view key = r.has("geo") ? "geo" : "file";
+  const std::string resolved = resolve_against(case_dir, r.required_string(key));
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    r.fail(key, r.key_path(key) + ": file not found: " + resolved);
+  (key == "geo" ? m.geo : m.file) = resolved;
+  if (r.has("size") && key == "file")
+    r.fail("size", "mesh.size only applies with mesh.geo (gmsh meshes the .geo at that size)");
+  m.size = r.number("size", kPositive).value_or(0.0);
+  m.scale = r.number("scale", kPositive).value_or(1.0);
+  m.thickness = r.number("thickness", kPositive).value_or(1.0);
+  return m;
+}
+
+TimeConfig read_time(const TableReader& r) {
+  r.check_keys(kTimeKeys);
+  TimeConfig t;
+  if (!r.has("dt")) r.missing("dt");
+  const std::optional<double> dt = *r.number_or_keyword("dt", "auto", kPositive);
+  t.dt_auto = !dt;
+  t.dt = dt.value_or(0.0);
+  t.safety = r.number("safety", Range{0.0, 1.0, true, false}).value_or(0.5);
+  r.exactly_one("end", "steps");
+  t.end = r.number("end", kPositive).value_or(-1.0);
+  t.steps = r.integer<long>("steps", 1).value_or(-1);
+  return t;
+}
+
+OutputConfig read_output(const TableReader& r, const std::string& case_path) {
+  r.check_keys(kOutputKeys);
+  OutputConfig o;
+  if (auto dir = r.string("dir")) o.dir = *dir;
+  o.name = r.string("name").value_or(fs::path(case_path).stem().string());
+  if (o.dir.empty()) r.fail("dir", "output.dir must not be empty");
+  if (o.name.empty()) r.fail("name", "output.name must not be empty");
+  r.exclusive("frames", "every");
+  o.every = r.number("every", kPositive).value_or(-1.0);
+  o.frames = r.integer<int>("frames", 1).value_or(o.every > 0 ? -1 : 20);
+  o.history_every = r.number("history_every", kPositive).value_or(-1.0);
+  return o;
+}
+
+Stiffness read_stiffness(const TableReader& r) {
+  r.check_keys(kStiffnessKeys);
+  Stiffness s;
+  s.c11 = r.required_number("c11", kPositive);
+  s.c22 = r.required_number("c22", kPositive);
+  s.c12 = r.required_number("c12");
+  s.c66 = r.required_number("c66", kPositive);
+  s.c16 = r.number("c16").value_or(0.0);
+  s.c26 = r.number("c26").value_or(0.0);
+  s.angle = r.number("angle").value_or(0.0);
+  // Leading principal minors of [[c11 c12 c16] [c12 c22 c26] [c16 c26 c66]]: a matrix that
+  // is not positive definite has zero or negative strain energy for some strain.
+  const double minor2 = s.c11 * s.c22 - s.c12 * s.c12;
+  const double det = s.c11 * (s.c22 * s.c66 - s.c26 * s.c26) -
+                     s.c12 * (s.c12 * s.c66 - s.c26 * s.c16) +
+                     s.c16 * (s.c12 * s.c26 - s.c22 * s.c16);
+  if (minor2 <= 0 || det <= 0)
+    r.ctx().fail(r.table(), r.path() + " is not positive definite (need c11*c22 > c12^2 and a "
+                                "positive determinant including c16, c26, c66)");
+  return s;
+}
+
+MaterialConfig read_material(const TableReader& r) {
+  r.check_keys(kMaterialKeys);
+  MaterialConfig m;
+  m.name = r.required_string("name");
+  if (!r.has("regions")) r.missing("regions");
+  m.regions = *r.strings("regions");
+  m.density = r.required_number("density", kPositive);
+  m.young = r.required_number("young", kPositive);
+  m.poisson = r.required_number("poisson", Range{-1.0, 0.5, true, true});
+  m.elasticity = r.choice<Elasticity>("elasticity", {{"neo-hookean", Elasticity::NeoHookean},
+                                                     {"hyperelastic", Elasticity::Hyperelastic}})
+                     .value_or(Elasticity::NeoHookean);
+  m.plane = r.choice<Plane>("plane", {{"strain", Plane::Strain}, {"stress", Plane::Stress}})
+                .value_or(Plane::Strain);
+  if (const toml::table* t = subtable(r, "stiffness")) {
+    if (m.elasticity != Elasticity::Hyperelastic)
+      r.fail("stiffness", r.key_path("stiffness") +
+                              " is only allowed with elasticity = \"hyperelastic\"");
+    const std::string path = r.key_path("stiffness");
+    m.stiffness = read_stiffness(TableReader(r.ctx(), *t, path, path, path));
+  }
+  if (auto v = r.number_or_keyword("viscosity", "critical", kNonNegative)) {
+    m.viscosity_critical = !*v;
+    m.viscosity = v->value_or(0.0);
+  }
+  return m;
+}
+
+std::vector<MaterialConfig> read_materials(const TableReader& top) {
+  std::map<std::string, std::string> path_of_name;    // "rock" → "material[0]"
+  std::map<std::string, std::string> owner_of_region;  // region → "material[0] ('rock')"
+  auto materials = read_entries(top, "material", "name", [&](const TableReader& r) {
+    MaterialConfig m = read_material(r);
+    if (auto [it, fresh] = path_of_name.emplace(m.name, r.path()); !fresh)
+      r.fail("name", r.key_path("name") + ": '" + m.name + "' is already the name of " +
+                         it->second);
+    for (const std::string& region : m.regions)
+      if (auto [it, fresh] = owner_of_region.emplace(region, r.path() + " ('" + m.name + "')");
+          !fresh)
+        r.fail("regions", r.key_path("regions") + ": region '" + region + "' is already in " +
+                              it->second + ": a region belongs to one material");
+    return m;
+  });
+  if (materials.empty()) top.ctx().fail(top.table(), "the case needs at least one [[material]]");
+  return materials;
+}
+
+GravityConfig read_gravity(const TableReader& r) {
+  r.check_keys(kGravityKeys);
+  if (!r.has("g")) r.missing("g");
+  return GravityConfig{*r.pair("g")};
+}
+
+DampingConfig read_damping(const TableReader& r) {
+  r.check_keys(kDampingKeys);
+  DampingConfig d;
+  if (auto alpha = r.number("local", Range{0.0, 1.0, false, true})) {
+    d.local_enabled = true;
+    d.local = *alpha;
+  }
+  d.mass_scaling = r.boolean("mass_scaling").value_or(false);
+  return d;
+}
+
+BoundaryConfig read_boundary(const TableReader& r) {
+  r.check_keys(kBoundaryKeys);
+  BoundaryConfig b;
+  b.region = r.required_string("region");
+  if (const toml::node* fix = r.find("fix")) {
+    const std::vector<std::string> axes = *r.strings("fix");
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+      bool& flag = axes[i] == "x" ? b.fix_x : b.fix_y;
+      if (axes[i] != "x" && axes[i] != "y")
+        r.ctx().fail(*fix->as_array()->get(i), r.key_path("fix") + "[" + std::to_string(i) +
+                                                   "] = \"" + axes[i] +
+                                                   "\" is not an axis (allowed: \"x\", \"y\")");
+      if (flag) r.fail("fix", r.key_path("fix") + " lists \"" + axes[i] + "\" twice");
+      flag = true;
+    }
+  }
+  b.velocity = r.pair("velocity");
+  b.traction = r.pair("traction");
+  b.pressure = r.number("pressure");
+  const bool loads = b.traction || b.pressure, motion = b.fix_x || b.fix_y || b.velocity;
+  if (!loads && !motion)
+    r.ctx().fail(r.table(), r.title() + " needs at least one of 'fix', 'velocity', 'traction', "
+                                    "'pressure'");
+  r.exclusive("traction", "pressure");
+  if (loads && motion)
+    r.fail(b.traction ? "traction" : "pressure",
+           r.key_path(b.traction ? "traction" : "pressure") +
+               " cannot be combined with fix or velocity in one [[boundary]]: use two entries");
+  for (int axis = 0; axis < 2; ++axis)
+    if (b.velocity && (axis == 0 ? b.fix_x : b.fix_y) && (*b.velocity)[axis] != 0.0)
+      r.fail("velocity", r.key_path("velocity") + "[" + std::to_string(axis) + "] = " +
+                             format_number((*b.velocity)[axis]) + " but " + r.key_path("fix") +
+                             " holds \"" + (axis == 0 ? "x" : "y") +
+                             "\" still: it must be 0");
+  if (r.has("rise") && !b.velocity && !loads)
+    r.fail("rise", r.key_path("rise") + " needs a velocity, traction or pressure to ramp");
+  b.rise = r.number("rise", kNonNegative).value_or(0.0);
+  return b;
+}
+
+InitialConfig read_initial(const TableReader& r) {
+  r.check_keys(kInitialKeys);
+  InitialConfig c;
+  c.region = r.required_string("region");
+  if (!r.has("velocity")) r.missing("velocity");
+  c.velocity = *r.pair("velocity");
+  return c;
+}
+
+// ---------------------------------------------------------------------------------------
+// --set: "a.b.c=value" edits the parsed tree before validation.
+
+bool is_index(std::string_view s) {
+  return !s.empty() && s.size() < 10 &&
+         std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+void apply_override(toml::table& root, const std::string& text, Context& ctx) {
+  const std::string source_name = "--set " + text;
+  auto fail = [&](const std::string& what) -> void {
+    throw InputError(ctx.from_set(source_name) + ": " + what);
+  };
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos) fail("expected key.path=value");
+  const std::string key_path = text.substr(0, eq), value_text = text.substr(eq + 1);
+  std::vector<std::string> parts;
+  for (std::size_t start = 0;;) {
+    const std::size_t dot = key_path.find('.', start);
+    parts.push_back(key_path.substr(start, dot - start));
+    if (parts.back().empty()) fail("empty component in key path '" + key_path + "'");
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value_text, source_name);
+  } catch (const toml::parse_error& e) {
+    fail("value '" + value_text + "' is not valid TOML (" + std::string(e.description()) +
+         "); strings need quotes, e.g. output.name='\"run2\"'");
+  }
+  if (parsed.size() != 1 || !parsed.contains("v")) fail("the value must be one TOML value");
+  ctx.add_override(source_name);
+  toml::node& value = *parsed.get("v");
+
+  // Walk down, checking each name against the schema so a typo is caught here, with the
+  // same suggestion an unknown key in the file gets.
+  toml::node* cur = &root;
+  const Schema* schema = &kRootKeys;
+  std::string shown, heading;  // dotted path walked so far; table kind for messages
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    const bool last = i + 1 == parts.size();
+    if (toml::array* entries = cur->as_array()) {
+      if (!is_index(part))
+        fail(shown + " is an array of tables: give an index, e.g. " + shown + ".0." + part);
+      const std::size_t index = std::stoul(part);
+      if (index >= entries->size())
+        fail("index " + part + " is out of range: the case has " +
+             std::to_string(entries->size()) + " " + heading + " entries (indices start at 0)");
+      if (last && !value.is_table()) fail(shown + "." + part + " must be a table");
+      if (last) {
+        entries->replace(entries->cbegin() + static_cast<std::ptrdiff_t>(index), std::move(value));
+        return;
+      }
+      cur = entries->get(index);
+      shown += "." + part;
+      continue;
+    }
+    toml::table& table = *cur->as_table();
+    const Field* field = schema->find(part);
+    if (!field) {
+      // A name not in the file yet is a table when the path goes on through it.
+      const toml::node* existing = table.get(part);
+      const Shape found = existing ? shape_of(*existing)
+                          : last   ? Shape::Key
+                          : is_index(parts[i + 1]) ? Shape::TableArray
+                                                   : Shape::Table;
+      fail(unknown_name_message(part, found, *schema, heading));
+    }
+    if (last) {
+      table.insert_or_assign(part, std::move(value));
+      return;
+    }
+    shown += (shown.empty() ? "" : ".") + part;
+    toml::node* child = table.get(part);
+    if (field->shape == Shape::Key) fail(shown + " is a value, not a table");
+    if (field->shape == Shape::TableArray) {
+      heading = "[[" + part + "]]";
+      const std::size_t count = child && child->is_array() ? child->as_array()->size() : 0;
+      if (!child || !child->is_array_of_tables()) {
+        if (is_index(parts[i + 1]))
+          fail("index " + parts[i + 1] + " is out of range: the case has " +
+               std::to_string(count) + " " + heading + " entries");
+        fail(shown + " is an array of tables: give an index, e.g. " + shown + ".0");
+      }
+    } else {
+      heading = i == 0 ? "[" + part + "]" : shown;
+      if (!child) {
+        child = &table.insert(part, toml::table{}).first->second;
+        ctx.note_created(child, source_name);
+      } else if (!child->is_table()) {
+        fail(shown + " is not a table (found " + describe(*child) + ")");
+      }
+    }
+    cur = child;
+    schema = field->child;
+  }
+}
+
+}  // namespace
+
+CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || fs::is_directory(path)) throw InputError(path + ": cannot open the case file");
+  std::ostringstream content;
+  content << in.rdbuf();
+
+  toml::table root;
+  try {
+    root = toml::parse(content.str(), path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path + ":" + std::to_string(e.source().begin.line) + ":" +
+                     std::to_string(e.source().begin.column) + ": " +
+                     std::string(e.description()));
+  }
+  Context ctx(path);
+  for (const std::string& o : overrides) apply_override(root, o, ctx);
+
+  CaseConfig c;
+  c.path = path;
+  c.dir = fs::path(path).parent_path().string();
+  if (c.dir.empty()) c.dir = ".";
+
+  const TableReader top(ctx, root, "", "", "the case file");
+  top.check_keys(kRootKeys);
+  c.title = top.string("title").value_or("");
+
+  // Each [table] is read through a reader that knows its dotted name.
+  auto reader = [&](std::string_view key) -> std::optional<TableReader> {
+    const toml::table* t = subtable(top, key);
+    if (!t) return std::nullopt;
+    const std::string heading = "[" + std::string(key) + "]";
+    return TableReader(ctx, *t, std::string(key), heading, heading);
+  };
+  auto mesh = reader("mesh");
+  if (!mesh) ctx.fail(root, "the case is missing required table [mesh]");
+  c.mesh = read_mesh(*mesh, c.dir);
+  auto time = reader("time");
+  if (!time) ctx.fail(root, "the case is missing required table [time]");
+  c.time = read_time(*time);
+  const toml::table no_output;  // [output] is optional: read its defaults from nothing
+  c.output = read_output(reader("output").value_or(
+                             TableReader(ctx, no_output, "output", "[output]", "[output]")),
+                         path);
+  c.materials = read_materials(top);
+  if (auto gravity = reader("gravity")) c.gravity = read_gravity(*gravity);
+  if (auto damping = reader("damping")) c.damping = read_damping(*damping);
+
+  c.boundaries = read_entries(top, "boundary", "region", read_boundary);
+  c.initials = read_entries(top, "initial", "region", read_initial);
+  return c;
+}
+
+}  // namespace fdem::io

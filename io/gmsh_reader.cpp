@@ -1,0 +1,778 @@
+// Gmsh MSH 2.2 / 4.1 reader (ASCII and binary) and .geo meshing through the gmsh CLI.
+// Format reference: the "MSH file format" chapter of the Gmsh manual.
+#include "io/gmsh_reader.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+
+#include "engine/errors.hpp"
+
+namespace fdem::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kLine2 = 1;
+constexpr int kTri3 = 2;
+constexpr int kPoint = 15;
+
+struct ElementKind {
+  int type;
+  int nodes;
+  int dim;
+  const char* name;
+};
+
+// Node counts are needed to step over element types we do not keep (binary files have
+// no line ends to skip to).
+constexpr ElementKind kElementKinds[] = {
+    {1, 2, 1, "2-node line"}, {2, 3, 2, "3-node triangle"}, {3, 4, 2, "4-node quadrangle"},
+    {4, 4, 3, "4-node tetrahedron"}, {5, 8, 3, "8-node hexahedron"}, {6, 6, 3, "6-node prism"},
+    {7, 5, 3, "5-node pyramid"}, {8, 3, 1, "3-node line"}, {9, 6, 2, "6-node triangle"},
+    {10, 9, 2, "9-node quadrangle"}, {11, 10, 3, "10-node tetrahedron"}, {12, 27, 3, "27-node hexahedron"},
+    {13, 18, 3, "18-node prism"}, {14, 14, 3, "14-node pyramid"}, {15, 1, 0, "point"},
+    {16, 8, 2, "8-node quadrangle"}, {17, 20, 3, "20-node hexahedron"}, {18, 15, 3, "15-node prism"},
+    {19, 13, 3, "13-node pyramid"}, {20, 9, 2, "9-node triangle"}, {21, 10, 2, "10-node triangle"},
+    {22, 12, 2, "12-node triangle"}, {23, 15, 2, "15-node triangle"}, {24, 15, 2, "15-node triangle"},
+    {25, 21, 2, "21-node triangle"}, {26, 4, 1, "4-node line"}, {27, 5, 1, "5-node line"},
+    {28, 6, 1, "6-node line"}, {29, 20, 3, "20-node tetrahedron"}, {30, 35, 3, "35-node tetrahedron"},
+    {31, 56, 3, "56-node tetrahedron"},
+};
+
+const ElementKind* find_kind(int type) {
+  for (const auto& k : kElementKinds)
+    if (k.type == type) return &k;
+  return nullptr;
+}
+
+const char* entity_word(int dim) {
+  static const char* const words[] = {"point", "curve", "surface", "volume"};
+  return dim >= 0 && dim <= 3 ? words[dim] : "entity";
+}
+
+// The whole file in memory with a read position. ASCII tokens and binary values are
+// read from the same buffer because binary MSH files interleave ASCII header lines with
+// raw data.
+class MshBuffer {
+ public:
+  MshBuffer(std::string path, std::string bytes) : path_(std::move(path)), text_(std::move(bytes)) {}
+
+  bool binary = false;
+  bool swap_bytes = false;
+  int size_t_bytes = 8;
+  std::string section;  // current section name, for messages
+
+  const std::string& path() const { return path_; }
+  size_t pos() const { return pos_; }
+  // Start of the next item, for messages. Binary data must not be skipped as whitespace.
+  size_t mark() {
+    if (!binary) skip_space();
+    return pos_;
+  }
+
+  [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
+  [[noreturn]] void fail_at(size_t at, const std::string& what) const {
+    std::string where;
+    if (binary)
+      where = "byte " + std::to_string(at);
+    else
+      where = "line " + std::to_string(1 + std::count(text_.begin(), text_.begin() + std::min(at, text_.size()), '\n'));
+    if (!section.empty()) where += " ($" + section + ")";
+    throw InputError(path_ + ": " + where + ": " + what);
+  }
+
+  void skip_space() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+  }
+  bool at_end() {
+    skip_space();
+    return pos_ >= text_.size();
+  }
+
+  std::string token(const char* what) {
+    skip_space();
+    if (pos_ >= text_.size()) fail(std::string("unexpected end of file, expected ") + what + " (file truncated?)");
+    size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    return text_.substr(start, pos_ - start);
+  }
+
+  // Numbers are parsed in place (the buffer is NUL-terminated) to avoid a string per
+  // value; a number must end at whitespace or at the end of the file.
+  long long ascii_int(const char* what) {
+    skip_space();
+    const char* start = text_.c_str() + pos_;
+    char* end = nullptr;
+    errno = 0;
+    long long v = std::strtoll(start, &end, 10);
+    if (!number_ended(start, end) || errno != 0) not_a_number(what, "an integer");
+    pos_ += static_cast<size_t>(end - start);
+    return v;
+  }
+
+  double ascii_real(const char* what) {
+    skip_space();
+    const char* start = text_.c_str() + pos_;
+    char* end = nullptr;
+    double v = std::strtod(start, &end);
+    if (!number_ended(start, end) || !std::isfinite(v)) not_a_number(what, "a number");
+    pos_ += static_cast<size_t>(end - start);
+    return v;
+  }
+
+  // Rest of the current line without its line end; used for section headers and for
+  // stepping over ASCII element lines of types we skip.
+  std::string rest_of_line() {
+    size_t end = text_.find('\n', pos_);
+    if (end == std::string::npos) end = text_.size();
+    std::string line = text_.substr(pos_, end - pos_);
+    pos_ = std::min(end + 1, text_.size());
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    return line;
+  }
+
+  std::string next_line() {
+    skip_space();
+    return rest_of_line();
+  }
+
+  // Binary data starts right after the '\n' of the preceding ASCII line; skipping all
+  // whitespace would eat data bytes such as 0x0a or 0x20.
+  void end_ascii_line() { rest_of_line(); }
+
+  std::string quoted(const char* what) {
+    skip_space();
+    if (pos_ >= text_.size() || text_[pos_] != '"') fail(std::string("expected ") + what + " in double quotes");
+    size_t close = text_.find('"', pos_ + 1);
+    size_t eol = text_.find('\n', pos_);
+    if (close == std::string::npos || (eol != std::string::npos && close > eol)) fail(std::string("unterminated quoted ") + what);
+    std::string s = text_.substr(pos_ + 1, close - pos_ - 1);
+    pos_ = close + 1;
+    return s;
+  }
+
+  template <class T>
+  T raw(const char* what) {
+    if (pos_ + sizeof(T) > text_.size()) fail(std::string("unexpected end of file reading ") + what + " (file truncated?)");
+    unsigned char b[sizeof(T)];
+    std::memcpy(b, text_.data() + pos_, sizeof(T));
+    if (swap_bytes) std::reverse(b, b + sizeof(T));
+    T v;
+    std::memcpy(&v, b, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+
+  // "int" fields of the format: 4-byte int in binary files.
+  long long get_int(const char* what) { return binary ? raw<int32_t>(what) : ascii_int(what); }
+  double get_real(const char* what) {
+    if (!binary) return ascii_real(what);
+    double v = raw<double>(what);
+    if (!std::isfinite(v)) fail_at(pos_ - 8, std::string(what) + " is not a finite number");
+    return v;
+  }
+  // "size_t" fields of MSH 4.1: data-size bytes in binary files. Also used for counts,
+  // which are bounded by the file size so that a corrupt count cannot allocate wildly.
+  long long get_size(const char* what) {
+    long long v = !binary ? ascii_int(what) : size_t_bytes == 8 ? static_cast<long long>(raw<uint64_t>(what)) : raw<uint32_t>(what);
+    if (v < 0) fail(std::string(what) + " is negative");
+    return v;
+  }
+  long long get_count(long long value_of, const char* what) {
+    if (value_of > static_cast<long long>(text_.size())) fail(std::string(what) + " " + std::to_string(value_of) + " exceeds what the file can hold (corrupt or truncated)");
+    return value_of;
+  }
+
+  void expect_end(const std::string& name) {
+    skip_space();
+    size_t at = pos_;
+    std::string line = pos_ < text_.size() ? rest_of_line() : std::string();
+    if (line != "$End" + name) {
+      if (line.empty()) fail_at(at, "missing $End" + name + " (file truncated?)");
+      fail_at(at, "expected $End" + name + ", found '" + line.substr(0, 40) + "'");
+    }
+    section.clear();
+  }
+
+  void skip_section(const std::string& name) {
+    size_t end = text_.find("$End" + name, pos_);
+    if (end == std::string::npos) fail("missing $End" + name + " (file truncated?)");
+    pos_ = end;
+    rest_of_line();
+    section.clear();
+  }
+
+ private:
+  bool number_ended(const char* start, const char* end) const {
+    return end != start && (*end == '\0' || std::isspace(static_cast<unsigned char>(*end)));
+  }
+  [[noreturn]] void not_a_number(const char* what, const char* kind) {
+    size_t at = pos_;
+    std::string found = token(what);
+    fail_at(at, std::string("expected ") + what + " (" + kind + "), found '" + found.substr(0, 40) + "'");
+  }
+
+  std::string path_;
+  std::string text_;
+  size_t pos_ = 0;
+};
+
+struct ElementRef {
+  size_t pos;  // where in the file, for messages
+  int entity_tag;
+};
+
+class MshReader {
+ public:
+  MshReader(MshBuffer& in, std::vector<std::string>* notes) : in_(in), notes_(notes) {}
+
+  Mesh read() {
+    mesh_.source = in_.path();
+    read_format();
+    bool have_nodes = false, have_elements = false;
+    while (!in_.at_end()) {
+      size_t at = in_.mark();
+      std::string header = in_.next_line();
+      if (header.size() < 2 || header[0] != '$' || header.compare(0, 4, "$End") == 0)
+        in_.fail_at(at, "expected a section header such as $Nodes, found '" + header.substr(0, 40) + "'");
+      std::string name = header.substr(1);
+      in_.section = name;
+      if (name == "PhysicalNames") {
+        read_physical_names();
+      } else if (name == "Entities" && version_ == 4) {
+        read_entities();
+      } else if (name == "Nodes") {
+        if (have_nodes) in_.fail_at(at, "second $Nodes section");
+        version_ == 2 ? read_nodes_v2() : read_nodes_v4();
+        have_nodes = true;
+      } else if (name == "Elements") {
+        if (!have_nodes) in_.fail_at(at, "$Elements before $Nodes");
+        if (have_elements) in_.fail_at(at, "second $Elements section");
+        version_ == 2 ? read_elements_v2() : read_elements_v4();
+        have_elements = true;
+      } else {
+        in_.skip_section(name);  // $Periodic, $NodeData, $PartitionedEntities, ...
+      }
+    }
+    if (!have_nodes) throw InputError(in_.path() + ": no $Nodes section");
+    if (!have_elements) throw InputError(in_.path() + ": no $Elements section");
+    finish();
+    return std::move(mesh_);
+  }
+
+ private:
+  void note(const std::string& s) {
+    if (notes_) notes_->push_back(s);
+  }
+
+  void read_format() {
+    in_.skip_space();
+    in_.section = "MeshFormat";
+    std::string first = in_.next_line();
+    if (first != "$MeshFormat")
+      throw InputError(in_.path() + ": not a Gmsh .msh file (it does not start with $MeshFormat)");
+    std::string version = in_.token("format version");
+    if (version == "2.2")
+      version_ = 2;
+    else if (version == "4.1")
+      version_ = 4;
+    else
+      in_.fail("unsupported MSH version " + version + "; fdem reads MSH 2.2 and 4.1 (ASCII or binary): re-export with gmsh -format msh41");
+    long long file_type = in_.ascii_int("file type");
+    long long data_size = in_.ascii_int("data size");
+    if (file_type != 0 && file_type != 1) in_.fail("file type must be 0 (ASCII) or 1 (binary), found " + std::to_string(file_type));
+    if (version_ == 4 && data_size != 4 && data_size != 8) in_.fail("data size must be 4 or 8, found " + std::to_string(data_size));
+    if (version_ == 2 && data_size != 8) in_.fail("data size must be 8, found " + std::to_string(data_size));
+    in_.size_t_bytes = static_cast<int>(data_size);
+    if (file_type == 1) {
+      in_.end_ascii_line();
+      in_.binary = true;
+      // 1 read as 0x01000000: written on a machine of the other byte order, so every
+      // binary value is to be swapped.
+      const int32_t one = in_.raw<int32_t>("endianness check");
+      if (one != 1 && one != 0x01000000)
+        in_.fail_at(in_.pos() - 4, "binary endianness check failed (expected the integer 1 after the format line)");
+      in_.swap_bytes = one != 1;
+    }
+    in_.expect_end("MeshFormat");
+  }
+
+  void read_physical_names() {
+    // ASCII in binary files too.
+    bool binary = in_.binary;
+    in_.binary = false;
+    long long n = in_.get_count(in_.ascii_int("number of physical names"), "number of physical names");
+    for (long long i = 0; i < n; ++i) {
+      int dim = static_cast<int>(in_.ascii_int("physical dimension"));
+      int tag = static_cast<int>(in_.ascii_int("physical tag"));
+      if (dim < 0 || dim > 3) in_.fail("physical dimension must be 0..3, found " + std::to_string(dim));
+      names_[{dim, tag}] = in_.quoted("physical name");
+    }
+    in_.expect_end("PhysicalNames");
+    in_.binary = binary;
+  }
+
+  void read_entities() {
+    long long count[4];
+    for (auto& c : count) c = in_.get_count(in_.get_size("number of entities"), "number of entities");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (long long i = 0; i < count[dim]; ++i) {
+        int tag = static_cast<int>(in_.get_int("entity tag"));
+        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in_.get_real("bounding box coordinate");
+        long long nphys = in_.get_count(in_.get_size("number of physical tags"), "number of physical tags");
+        std::vector<int>& phys = entity_physicals_[{dim, tag}];
+        for (long long p = 0; p < nphys; ++p) phys.push_back(static_cast<int>(in_.get_int("physical tag")));
+        if (dim > 0) {
+          long long nb = in_.get_count(in_.get_size("number of bounding entities"), "number of bounding entities");
+          for (long long b = 0; b < nb; ++b) in_.get_int("bounding entity tag");
+        }
+      }
+    }
+    in_.expect_end("Entities");
+  }
+
+  void add_node(long long tag, double x, double y, size_t at) {
+    if (!node_index_.emplace(tag, static_cast<int>(mesh_.x.size())).second)
+      in_.fail_at(at, "node tag " + std::to_string(tag) + " appears twice");
+    mesh_.node_tags.push_back(static_cast<long>(tag));
+    mesh_.x.push_back(x);
+    mesh_.y.push_back(y);
+  }
+
+  void read_nodes_v2() {
+    long long n = in_.get_count(in_.ascii_int("number of nodes"), "number of nodes");
+    if (in_.binary) in_.end_ascii_line();
+    for (long long i = 0; i < n; ++i) {
+      size_t at = in_.mark();
+      long long tag = in_.get_int("node tag");
+      double x = in_.get_real("x coordinate");
+      double y = in_.get_real("y coordinate");
+      in_.get_real("z coordinate");
+      add_node(tag, x, y, at);
+    }
+    in_.expect_end("Nodes");
+  }
+
+  void read_nodes_v4() {
+    long long blocks = in_.get_count(in_.get_size("number of node blocks"), "number of node blocks");
+    for (int k = 0; k < 3; ++k) in_.get_size("node count or tag range");
+    std::vector<std::pair<long long, size_t>> tags;
+    for (long long b = 0; b < blocks; ++b) {
+      int dim = static_cast<int>(in_.get_int("entity dimension"));
+      in_.get_int("entity tag");
+      long long parametric = in_.get_int("parametric flag");
+      long long n = in_.get_count(in_.get_size("number of nodes in block"), "number of nodes in block");
+      tags.clear();
+      for (long long i = 0; i < n; ++i) {
+        size_t at = in_.mark();
+        tags.emplace_back(in_.get_size("node tag"), at);
+      }
+      int extra = parametric ? std::clamp(dim, 0, 3) : 0;  // u, v, w parametric coordinates
+      for (const auto& [tag, at] : tags) {
+        double x = in_.get_real("x coordinate");
+        double y = in_.get_real("y coordinate");
+        in_.get_real("z coordinate");
+        for (int e = 0; e < extra; ++e) in_.get_real("parametric coordinate");
+        add_node(tag, x, y, at);
+      }
+    }
+    in_.expect_end("Nodes");
+  }
+
+  // Keeps or counts one element. `node_tags` holds the element's node tags.
+  void add_element(int type, long long tag, int physical, const ElementRef& ref, const std::vector<long long>& node_tags) {
+    if (type != kTri3 && type != kLine2 && type != kPoint) {
+      ++skipped_[type];
+      return;
+    }
+    int idx[3] = {0, 0, 0};
+    for (size_t i = 0; i < node_tags.size(); ++i) {
+      auto it = node_index_.find(node_tags[i]);
+      if (it == node_index_.end())
+        in_.fail_at(ref.pos, "element " + std::to_string(tag) + " refers to unknown node tag " + std::to_string(node_tags[i]));
+      idx[i] = it->second;
+    }
+    if (type == kTri3) {
+      if (physical == 0 && !untagged_triangle_) untagged_triangle_ = ref;
+      mesh_.triangles.push_back({idx[0], idx[1], idx[2]});
+      mesh_.triangle_group.push_back(physical);  // physical tag until finish() maps it
+      mesh_.triangle_tags.push_back(static_cast<long>(tag));
+      triangle_entity_.push_back(ref.entity_tag);
+    } else if (physical == 0) {
+      ++dropped_[type];  // a curve or point outside every physical group cannot carry a boundary condition
+    } else if (type == kLine2) {
+      mesh_.lines.push_back({idx[0], idx[1]});
+      mesh_.line_group.push_back(physical);
+      mesh_.line_tags.push_back(static_cast<long>(tag));
+      line_entity_.push_back(ref.entity_tag);
+    } else {
+      mesh_.points.push_back(idx[0]);
+      mesh_.point_group.push_back(physical);
+      point_entity_.push_back(ref.entity_tag);
+    }
+    if (physical != 0) used_.insert({find_kind(type)->dim, physical});
+    if (physical != 0 && version_ == 2) {
+      // MSH 2.2 has no $Entities: learn each entity's physical groups from its elements.
+      std::vector<int>& phys = entity_physicals_[{find_kind(type)->dim, ref.entity_tag}];
+      if (std::find(phys.begin(), phys.end(), physical) == phys.end()) phys.push_back(physical);
+    }
+  }
+
+  // nullptr for a type we do not know; ASCII readers then step over the rest of the line.
+  const ElementKind* element_kind(int type, size_t at) {
+    const ElementKind* kind = find_kind(type);
+    if (!kind && in_.binary) in_.fail_at(at, "unknown Gmsh element type " + std::to_string(type) + " (cannot step over it in a binary file)");
+    return kind;
+  }
+
+  void read_elements_v2() {
+    long long n = in_.get_count(in_.ascii_int("number of elements"), "number of elements");
+    if (in_.binary) in_.end_ascii_line();
+    std::vector<long long> nodes;
+    long long done = 0;
+    while (done < n) {
+      // ASCII: one element per line. Binary: a header (type, count, number of tags)
+      // followed by `count` elements of that type.
+      long long tag = 0, type, follow = 1, ntags;
+      size_t at = in_.mark();
+      if (in_.binary) {
+        type = in_.get_int("element type");
+        follow = in_.get_count(in_.get_int("number of elements following"), "number of elements following");
+        ntags = in_.get_int("number of element tags");
+        if (follow < 1 || follow > n - done) in_.fail_at(at, "element block size " + std::to_string(follow) + " does not fit the element count");
+      } else {
+        tag = in_.ascii_int("element tag");
+        type = in_.ascii_int("element type");
+        ntags = in_.ascii_int("number of element tags");
+      }
+      if (ntags < 0 || ntags > 64) in_.fail_at(at, "implausible number of element tags " + std::to_string(ntags));
+      const ElementKind* kind = element_kind(static_cast<int>(type), at);
+      for (long long e = 0; e < follow; ++e) {
+        at = in_.mark();
+        if (in_.binary) tag = in_.get_int("element tag");
+        long long physical = 0, entity = 0;
+        for (long long t = 0; t < ntags; ++t) {
+          long long v = in_.get_int("element tag list entry");
+          if (t == 0) physical = v;  // 2.2 convention: physical group, then elementary entity
+          if (t == 1) entity = v;
+        }
+        if (!kind) {
+          ++skipped_[static_cast<int>(type)];
+          in_.rest_of_line();
+          continue;
+        }
+        nodes.clear();
+        for (int k = 0; k < kind->nodes; ++k) nodes.push_back(in_.get_int("node tag"));
+        add_element(static_cast<int>(type), tag, static_cast<int>(physical), {at, static_cast<int>(entity)}, nodes);
+      }
+      done += follow;
+    }
+    in_.expect_end("Elements");
+  }
+
+  // Physical tag of a 4.1 entity: the first of its $Entities physical tags, 0 if none.
+  int physical_of_entity(int dim, int tag) {
+    auto it = entity_physicals_.find({dim, tag});
+    if (it == entity_physicals_.end() || it->second.empty()) return 0;
+    const std::vector<int>& phys = it->second;
+    if (phys.size() > 1 && multi_noted_.insert({dim, tag}).second) {
+      std::string list;
+      for (int p : phys) list += (list.empty() ? "" : ", ") + std::to_string(p);
+      note(in_.path() + ": " + entity_word(dim) + " entity " + std::to_string(tag) + " is in physical groups " + list +
+           "; its elements are assigned to the first (" + std::to_string(phys[0]) + ") only");
+    }
+    return phys[0];
+  }
+
+  void read_elements_v4() {
+    long long blocks = in_.get_count(in_.get_size("number of element blocks"), "number of element blocks");
+    for (int k = 0; k < 3; ++k) in_.get_size("element count or tag range");
+    std::vector<long long> nodes;
+    for (long long b = 0; b < blocks; ++b) {
+      size_t at = in_.mark();
+      int dim = static_cast<int>(in_.get_int("entity dimension"));
+      int entity = static_cast<int>(in_.get_int("entity tag"));
+      int type = static_cast<int>(in_.get_int("element type"));
+      long long n = in_.get_count(in_.get_size("number of elements in block"), "number of elements in block");
+      const ElementKind* kind = element_kind(type, at);
+      int physical = physical_of_entity(dim, entity);
+      for (long long e = 0; e < n; ++e) {
+        at = in_.mark();
+        long long tag = in_.get_size("element tag");
+        if (!kind) {
+          ++skipped_[type];
+          in_.rest_of_line();
+          continue;
+        }
+        nodes.clear();
+        for (int k = 0; k < kind->nodes; ++k) nodes.push_back(in_.get_size("node tag"));
+        add_element(type, tag, physical, {at, entity}, nodes);
+      }
+    }
+    in_.expect_end("Elements");
+  }
+
+  // MSH 2.2 writes an element once per physical group of its entity, under new element
+  // tags. Keeps the first copy, as 4.1 files keep the first physical tag of the entity.
+  template <size_t N>
+  void drop_duplicates(int dim, std::vector<std::array<int, N>>& elements, std::vector<int>& group,
+                       std::vector<int>& entity, std::vector<long>* tags) {
+    std::set<std::pair<int, std::array<int, N>>> seen;
+    size_t kept = 0;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      auto phys = entity_physicals_.find({dim, entity[i]});
+      if (phys != entity_physicals_.end() && phys->second.size() > 1) {
+        physical_of_entity(dim, entity[i]);  // notes the entity once
+        std::array<int, N> sorted = elements[i];
+        std::sort(sorted.begin(), sorted.end());
+        if (!seen.insert({entity[i], sorted}).second) continue;
+      }
+      elements[kept] = elements[i];
+      group[kept] = group[i];
+      entity[kept] = entity[i];
+      if (tags) (*tags)[kept] = (*tags)[i];
+      ++kept;
+    }
+    elements.resize(kept);
+    group.resize(kept);
+    entity.resize(kept);
+    if (tags) tags->resize(kept);
+  }
+
+  void finish() {
+    if (version_ == 2) {
+      drop_duplicates(2, mesh_.triangles, mesh_.triangle_group, triangle_entity_, &mesh_.triangle_tags);
+      drop_duplicates(1, mesh_.lines, mesh_.line_group, line_entity_, &mesh_.line_tags);
+      std::vector<std::array<int, 1>> points(mesh_.points.size());
+      for (size_t i = 0; i < points.size(); ++i) points[i] = {mesh_.points[i]};
+      drop_duplicates(0, points, mesh_.point_group, point_entity_, nullptr);
+      mesh_.points.resize(points.size());
+      for (size_t i = 0; i < points.size(); ++i) mesh_.points[i] = points[i][0];
+    }
+    bool any_groups = !names_.empty() || !used_.empty();
+    for (const auto& [key, phys] : entity_physicals_) any_groups = any_groups || !phys.empty();
+
+    bool skipped_2d = false;
+    for (const auto& [type, count] : skipped_) {
+      const ElementKind* kind = find_kind(type);
+      std::string what = kind ? std::string(kind->name) : "unknown element type";
+      if (kind && kind->dim == 2) skipped_2d = true;
+      std::string why = kind && kind->dim == 2 && std::string(kind->name).find("triangle") != std::string::npos
+                            ? ": fdem uses 3-node triangles only; mesh with Mesh.ElementOrder = 1"
+                            : ": fdem keeps only 3-node triangles, 2-node lines and points";
+      note(in_.path() + ": skipped " + std::to_string(count) + " elements of Gmsh type " + std::to_string(type) + " (" + what + ")" + why);
+    }
+    for (const auto& [type, count] : dropped_)
+      note(in_.path() + ": ignored " + std::to_string(count) + " " + find_kind(type)->name + " elements outside any physical group");
+
+    if (mesh_.triangles.empty()) {
+      if (skipped_2d)
+        throw InputError(in_.path() + ": no 3-node triangles (Gmsh type 2) to simulate, only other 2D elements (see the skipped types): fdem uses 3-node triangles only; mesh with Mesh.ElementOrder = 1 and without recombination");
+      throw InputError(in_.path() + ": no 3-node triangles (Gmsh type 2): nothing to simulate; is the .geo meshed in 2D with Plane Surfaces?");
+    }
+    if (!any_groups)
+      throw InputError(in_.path() + ": the mesh has no physical groups; fdem needs named physical surfaces to assign materials: add Physical Surface(\"rock\") = {...} to the .geo");
+    if (untagged_triangle_) {
+      const ElementRef& ref = *untagged_triangle_;
+      in_.section.clear();
+      in_.fail_at(ref.pos, "triangles of surface entity " + std::to_string(ref.entity_tag) +
+                               " have no physical group; name every surface in the .geo (Physical Surface(\"rock\") = {...})" +
+                               (version_ == 2 ? " (MSH 2.2 files saved with Mesh.SaveAll = 1 carry no physical tags at all)" : ""));
+    }
+
+    // Groups sorted by (dim, tag) so that all file forms of one mesh list them alike.
+    std::set<std::pair<int, int>> keys = used_;
+    for (const auto& [key, name] : names_) keys.insert(key);
+    std::map<std::pair<int, int>, int> index;
+    for (const auto& key : keys) {
+      index[key] = static_cast<int>(mesh_.groups.size());
+      auto name = names_.find(key);
+      mesh_.groups.push_back({key.first, key.second, name == names_.end() ? std::string() : name->second});
+    }
+    for (int& g : mesh_.triangle_group) g = index.at({2, g});
+    for (int& g : mesh_.line_group) g = index.at({1, g});
+    for (int& g : mesh_.point_group) g = index.at({0, g});
+  }
+
+  MshBuffer& in_;
+  std::vector<std::string>* notes_;
+  Mesh mesh_;
+  int version_ = 0;
+  std::unordered_map<long long, int> node_index_;
+  std::map<std::pair<int, int>, std::string> names_;                 // (dim, physical tag) -> name
+  std::map<std::pair<int, int>, std::vector<int>> entity_physicals_;  // (dim, entity tag) -> physical tags
+  std::set<std::pair<int, int>> used_;                                // (dim, physical tag) of kept elements
+  std::set<std::pair<int, int>> multi_noted_;
+  std::map<int, long long> skipped_;  // element type -> count
+  std::map<int, long long> dropped_;  // kept type without physical group -> count
+  std::optional<ElementRef> untagged_triangle_;
+  std::vector<int> triangle_entity_, line_entity_, point_entity_;  // elementary entity tag per kept element
+};
+
+std::string read_file_bytes(const std::string& path, const char* what) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path + ": " + what + " not found");
+  if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory, expected a " + what);
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  if (f.bad()) throw InputError(path + ": error reading " + what);
+  return ss.str();
+}
+
+std::string find_on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    if (dir.empty()) dir = ".";
+    std::string candidate = dir + "/" + program;
+    if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate;
+  }
+  return {};
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+uint64_t fnv1a(const std::string& data) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : data) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string last_lines(const std::string& text, int count) {
+  size_t pos = text.size();
+  while (pos > 0 && text[pos - 1] == '\n') --pos;
+  size_t end = pos;
+  for (int i = 0; i < count && pos > 0; ++i) {
+    size_t nl = text.rfind('\n', pos - 1);
+    pos = nl == std::string::npos ? 0 : nl;
+  }
+  return text.substr(pos == 0 ? 0 : pos + 1, end - (pos == 0 ? 0 : pos + 1));
+}
+
+std::string format_point(const Mesh& m, int node) {
+  char buf[96];
+  long tag = node < static_cast<int>(m.node_tags.size()) ? m.node_tags[node] : node;
+  std::snprintf(buf, sizeof buf, "%ld (%.9g, %.9g)", tag, m.x[node], m.y[node]);
+  return buf;
+}
+
+}  // namespace
+
+Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes) {
+  MshBuffer buffer(path, read_file_bytes(path, "Gmsh mesh file"));
+  return MshReader(buffer, notes).read();
+}
+
+int orient_triangles(Mesh& mesh, std::vector<std::string>* notes, double degenerate_tol) {
+  constexpr int kMaxNotes = 10;
+  int flipped = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    auto& tri = mesh.triangles[t];
+    const double x0 = mesh.x[tri[0]], y0 = mesh.y[tri[0]];
+    const double ax = mesh.x[tri[1]] - x0, ay = mesh.y[tri[1]] - y0;
+    const double bx = mesh.x[tri[2]] - x0, by = mesh.y[tri[2]] - y0;
+    const double area = 0.5 * (ax * by - bx * ay);
+    const double cx = bx - ax, cy = by - ay;
+    const double longest2 = std::max({ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy});
+    long tag = t < mesh.triangle_tags.size() ? mesh.triangle_tags[t] : static_cast<long>(t);
+    // Written as !(a > b) so that NaN coordinates count as degenerate too.
+    if (!(std::abs(area) > degenerate_tol * longest2)) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.3g", area);
+      throw InputError(mesh.source + ": degenerate triangle (Gmsh element " + std::to_string(tag) + ") with nodes " +
+                       format_point(mesh, tri[0]) + ", " + format_point(mesh, tri[1]) + ", " + format_point(mesh, tri[2]) +
+                       ": area " + buf + " is below the tolerance relative to its longest edge squared");
+    }
+    if (area < 0) {
+      std::swap(tri[1], tri[2]);
+      ++flipped;
+      if (notes && flipped <= kMaxNotes)
+        notes->push_back(mesh.source + ": triangle (Gmsh element " + std::to_string(tag) + ") was clockwise; re-oriented counter-clockwise");
+    }
+  }
+  if (notes && flipped > kMaxNotes)
+    notes->push_back(mesh.source + ": " + std::to_string(flipped) + " clockwise triangles re-oriented in all (" +
+                     std::to_string(flipped - kMaxNotes) + " not listed)");
+  return flipped;
+}
+
+std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir) {
+  const std::string geo_text = read_file_bytes(geo_path, ".geo file");
+  char size_text[64];
+  std::snprintf(size_text, sizeof size_text, "%.17g", size);
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text)));
+  const fs::path final_path = fs::path(cache_dir) / (fs::path(geo_path).stem().string() + "-" + hash + ".msh");
+  std::error_code ec;
+  if (fs::is_regular_file(final_path, ec)) return final_path.string();
+
+  const std::string gmsh = find_on_path("gmsh");
+  if (gmsh.empty())
+    throw InputError(geo_path + ": cannot mesh: the gmsh program is not on PATH; install it (Debian/Ubuntu package 'gmsh': apt-get install gmsh) or give a .msh file");
+
+  fs::create_directories(cache_dir, ec);
+  if (ec) throw InputError(geo_path + ": cannot create mesh cache directory " + cache_dir + ": " + ec.message());
+  // gmsh writes into a private name first; only a complete, checked mesh gets the
+  // cache name, so an interrupted or failed run is never reused.
+  const fs::path temp_path = final_path.string() + ".part" + std::to_string(::getpid()) + ".msh";
+  std::string shown = "gmsh -2 " + shell_quote(geo_path) + " -format msh41 -o " + shell_quote(temp_path.string());
+  if (size > 0) shown += std::string(" -setnumber size ") + size_text;
+  const std::string command = shell_quote(gmsh) + shown.substr(4) + " </dev/null 2>&1";
+
+  std::string output;
+  int status = -1;
+  if (FILE* pipe = ::popen(command.c_str(), "r")) {
+    char buf[4096];
+    size_t got;
+    while ((got = std::fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, got);
+    status = ::pclose(pipe);
+  }
+  // gmsh 4.8 exits 1 on .geo errors but still writes what it parsed, so both the exit
+  // status and "Error" lines count.
+  const bool error_line = output.rfind("Error", 0) == 0 || output.find("\nError") != std::string::npos;
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || error_line || !fs::is_regular_file(temp_path, ec)) {
+    fs::remove(temp_path, ec);
+    throw InputError(geo_path + ": gmsh failed to mesh it (" + shown + "); gmsh said:\n" + last_lines(output, 12));
+  }
+  try {
+    if (read_gmsh(temp_path.string()).triangles.empty()) throw InputError("no triangles");
+  } catch (const InputError& e) {
+    fs::remove(temp_path, ec);
+    throw InputError(geo_path + ": gmsh ran but its mesh is unusable: " + e.what());
+  }
+  fs::rename(temp_path, final_path, ec);
+  if (ec) {
+    fs::remove(temp_path, ec);
+    throw InputError(geo_path + ": cannot write mesh cache file " + final_path.string() + ": " + ec.message());
+  }
+  return final_path.string();
+}
+
+}  // namespace fdem::io

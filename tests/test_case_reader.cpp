@@ -1,0 +1,570 @@
+// Case file reader: every key, the defaults, every error message, and --set.
+#include "engine/errors.hpp"
+#include "io/case_config.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using fdem::InputError;
+using fdem::io::CaseConfig;
+using fdem::io::read_case;
+
+// A fresh directory per test, holding the case and the mesh files it names.
+class CaseDir {
+ public:
+  CaseDir() {
+    static std::mt19937_64 random{std::random_device{}()};
+    dir_ = fs::temp_directory_path() / ("fdem_case_test_" + std::to_string(random()));
+    fs::create_directories(dir_ / "meshes");
+    write("m.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+    write("meshes/column.geo", "// stands in for a real .geo\n");
+  }
+  ~CaseDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  CaseDir(const CaseDir&) = delete;
+  CaseDir& operator=(const CaseDir&) = delete;
+
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+// The smallest valid case; tests edit it, so its line numbers matter:
+// [mesh] on line 2, [[material]] on line 7, density on line 10, poisson on line 12.
+const std::string kBase =
+    "title = \"t\"\n"        // 1
+    "[mesh]\n"               // 2
+    "file = \"m.msh\"\n"     // 3
+    "[time]\n"               // 4
+    "dt = 1.0\n"             // 5
+    "end = 10.0\n"           // 6
+    "[[material]]\n"         // 7
+    "name = \"rock\"\n"      // 8
+    "regions = [\"rock\"]\n" // 9
+    "density = 2000.0\n"     // 10
+    "young = 1e9\n"          // 11
+    "poisson = 0.25\n";      // 12
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  REQUIRE_MESSAGE(at != std::string::npos, "test bug: '" << from << "' not in the case");
+  return text.replace(at, from.size(), to);
+}
+
+// doctest::Contains takes doctest::String, which has no constructor from std::string.
+doctest::Contains contains(const std::string& piece) { return doctest::Contains(piece.c_str()); }
+
+// Reads a case from a fresh directory; returns the InputError's message, "" if none.
+// (Any other exception escapes and fails the test.) Compared with doctest::Contains.
+doctest::String error_of(const std::string& text) {
+  CaseDir d;
+  try {
+    read_case(d.write("c.toml", text));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::string kSecondMaterial =
+    "[[material]]\n"
+    "name = \"slate\"\n"
+    "regions = [\"slate\"]\n"
+    "density = 2700.0\n"
+    "young = 5e10\n"
+    "poisson = 0.3\n";
+
+}  // namespace
+
+TEST_SUITE("case") {
+
+TEST_CASE("every key is read into its field") {
+  CaseDir d;
+  const std::string path = d.write("full.toml", R"(title = "Full"
+[mesh]
+geo = "meshes/column.geo"
+size = 0.25
+scale = 0.001
+thickness = 2
+[time]
+dt = "auto"
+safety = 0.4
+steps = 5000
+[output]
+dir = "results"
+name = "run1"
+every = 0.5
+history_every = 0.01
+[[material]]
+name = "rock"
+regions = ["rock", "rock2"]
+density = 2500
+young = 30e9
+poisson = 0.2
+elasticity = "neo-hookean"
+plane = "stress"
+viscosity = 1.5
+[[material]]
+name = "slate"
+regions = ["slate"]
+density = 2700.0
+young = 50e9
+poisson = -0.1
+elasticity = "hyperelastic"
+stiffness = { c11 = 60e9, c22 = 20e9, c12 = 5e9, c66 = 8e9, c16 = 1e9, c26 = -1e9, angle = 30.0 }
+viscosity = "critical"
+[gravity]
+g = [0.5, -9.806]
+[damping]
+local = 0.8
+mass_scaling = true
+[[boundary]]
+region = "left"
+fix = ["x"]
+velocity = [0.0, -0.05]
+rise = 1e-4
+[[boundary]]
+region = "top"
+traction = [100.0, -1e6]
+rise = 0.5
+[[boundary]]
+region = "hole"
+pressure = 2e6
+[[boundary]]
+region = "base"
+fix = ["y", "x"]
+[[initial]]
+region = "rock"
+velocity = [1.0, -2.0]
+)");
+  const CaseConfig c = read_case(path);
+  CHECK(c.path == path);
+  CHECK(c.dir == fs::path(path).parent_path().string());
+  CHECK(c.title == "Full");
+
+  CHECK(c.mesh.geo == d.path("meshes/column.geo"));
+  CHECK(c.mesh.file.empty());
+  CHECK(c.mesh.size == 0.25);
+  CHECK(c.mesh.scale == 0.001);
+  CHECK(c.mesh.thickness == 2.0);
+
+  CHECK(c.time.dt_auto);
+  CHECK(c.time.safety == 0.4);
+  CHECK(c.time.steps == 5000);
+  CHECK(c.time.end < 0);
+
+  CHECK(c.output.dir == "results");
+  CHECK(c.output.name == "run1");
+  CHECK(c.output.every == 0.5);
+  CHECK(c.output.frames < 0);
+  CHECK(c.output.history_every == 0.01);
+
+  REQUIRE(c.materials.size() == 2);
+  const auto& rock = c.materials[0];
+  CHECK(rock.name == "rock");
+  CHECK(rock.regions == std::vector<std::string>{"rock", "rock2"});
+  CHECK(rock.density == 2500.0);
+  CHECK(rock.young == 30e9);
+  CHECK(rock.poisson == 0.2);
+  CHECK(rock.elasticity == fdem::io::Elasticity::NeoHookean);
+  CHECK(rock.plane == fdem::io::Plane::Stress);
+  CHECK_FALSE(rock.stiffness.has_value());
+  CHECK_FALSE(rock.viscosity_critical);
+  CHECK(rock.viscosity == 1.5);
+
+  const auto& slate = c.materials[1];
+  CHECK(slate.name == "slate");
+  CHECK(slate.poisson == -0.1);
+  CHECK(slate.elasticity == fdem::io::Elasticity::Hyperelastic);
+  CHECK(slate.plane == fdem::io::Plane::Strain);
+  REQUIRE(slate.stiffness.has_value());
+  CHECK(slate.stiffness->c11 == 60e9);
+  CHECK(slate.stiffness->c22 == 20e9);
+  CHECK(slate.stiffness->c12 == 5e9);
+  CHECK(slate.stiffness->c66 == 8e9);
+  CHECK(slate.stiffness->c16 == 1e9);
+  CHECK(slate.stiffness->c26 == -1e9);
+  CHECK(slate.stiffness->angle == 30.0);
+  CHECK(slate.viscosity_critical);
+
+  CHECK(c.gravity.g == std::array<double, 2>{0.5, -9.806});
+  CHECK(c.damping.local_enabled);
+  CHECK(c.damping.local == 0.8);
+  CHECK(c.damping.mass_scaling);
+
+  REQUIRE(c.boundaries.size() == 4);
+  const auto& left = c.boundaries[0];
+  CHECK(left.region == "left");
+  CHECK(left.fix_x);
+  CHECK_FALSE(left.fix_y);
+  CHECK(left.velocity == std::array<double, 2>{0.0, -0.05});
+  CHECK(left.rise == 1e-4);
+  CHECK_FALSE(left.traction.has_value());
+  CHECK_FALSE(left.pressure.has_value());
+  const auto& top = c.boundaries[1];
+  CHECK(top.traction == std::array<double, 2>{100.0, -1e6});
+  CHECK(top.rise == 0.5);
+  CHECK_FALSE(top.velocity.has_value());
+  CHECK_FALSE(top.fix_x);
+  CHECK(c.boundaries[2].pressure == 2e6);
+  CHECK(c.boundaries[2].rise == 0.0);
+  CHECK(c.boundaries[3].fix_x);
+  CHECK(c.boundaries[3].fix_y);
+
+  REQUIRE(c.initials.size() == 1);
+  CHECK(c.initials[0].region == "rock");
+  CHECK(c.initials[0].velocity == std::array<double, 2>{1.0, -2.0});
+}
+
+TEST_CASE("defaults of a minimal case") {
+  CaseDir d;
+  const CaseConfig c = read_case(d.write("base.toml", kBase));
+  CHECK(c.title == "t");
+  CHECK(c.mesh.file == d.path("m.msh"));
+  CHECK(c.mesh.geo.empty());
+  CHECK(c.mesh.size == 0.0);
+  CHECK(c.mesh.scale == 1.0);
+  CHECK(c.mesh.thickness == 1.0);
+  CHECK_FALSE(c.time.dt_auto);
+  CHECK(c.time.dt == 1.0);
+  CHECK(c.time.safety == 0.5);
+  CHECK(c.time.end == 10.0);
+  CHECK(c.time.steps < 0);
+  CHECK(c.output.dir == "out");
+  CHECK(c.output.name == "base");
+  CHECK(c.output.frames == 20);
+  CHECK(c.output.every < 0);
+  CHECK(c.output.history_every < 0);
+  REQUIRE(c.materials.size() == 1);
+  CHECK(c.materials[0].elasticity == fdem::io::Elasticity::NeoHookean);
+  CHECK(c.materials[0].plane == fdem::io::Plane::Strain);
+  CHECK_FALSE(c.materials[0].stiffness.has_value());
+  CHECK_FALSE(c.materials[0].viscosity_critical);
+  CHECK(c.materials[0].viscosity == 0.0);
+  CHECK(c.gravity.g == std::array<double, 2>{0.0, 0.0});
+  CHECK_FALSE(c.damping.local_enabled);
+  CHECK_FALSE(c.damping.mass_scaling);
+  CHECK(c.boundaries.empty());
+  CHECK(c.initials.empty());
+}
+
+TEST_CASE("title is optional, frames and an absolute mesh path are kept") {
+  CaseDir d;
+  std::string text = with(kBase, "title = \"t\"\n", "\n");
+  text = with(text, "file = \"m.msh\"", "file = \"" + d.path("m.msh") + "\"");
+  text += "[output]\nframes = 7\n";
+  const CaseConfig c = read_case(d.write("c.toml", text));
+  CHECK(c.title.empty());
+  CHECK(c.mesh.file == d.path("m.msh"));
+  CHECK(c.output.frames == 7);
+  CHECK(c.output.every < 0);
+}
+
+TEST_CASE("dt = \"auto\", viscosity = \"critical\" and integers for floats") {
+  CaseDir d;
+  std::string text = with(kBase, "dt = 1.0", "dt = \"auto\"");
+  text = with(text, "density = 2000.0", "density = 2000");
+  text += "viscosity = \"critical\"\n";
+  const CaseConfig c = read_case(d.write("c.toml", text));
+  CHECK(c.time.dt_auto);
+  CHECK(c.time.safety == 0.5);
+  CHECK(c.materials[0].density == 2000.0);
+  CHECK(c.materials[0].viscosity_critical);
+
+  CHECK_THROWS_WITH_AS(read_case(d.write("c.toml", with(kBase, "dt = 1.0", "dt = \"fast\""))),
+                       contains(":5: time.dt must be a number or the string \"auto\", "
+                                         "found string \"fast\""),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(d.write("c.toml", kBase + "viscosity = \"high\"\n")),
+                       contains("material[0].viscosity must be a number or the string "
+                                         "\"critical\""),
+                       InputError);
+}
+
+TEST_CASE("anisotropic stiffness as a table, c16/c26/angle defaulting to 0") {
+  CaseDir d;
+  const std::string text = kBase +
+                           "elasticity = \"hyperelastic\"\n"
+                           "[material.stiffness]\n"
+                           "c11 = 4e10\nc22 = 1e10\nc12 = 3e9\nc66 = 5e9\n";
+  const CaseConfig c = read_case(d.write("c.toml", text));
+  REQUIRE(c.materials[0].stiffness.has_value());
+  const auto& s = *c.materials[0].stiffness;
+  CHECK(s.c11 == 4e10);
+  CHECK(s.c22 == 1e10);
+  CHECK(s.c12 == 3e9);
+  CHECK(s.c66 == 5e9);
+  CHECK(s.c16 == 0.0);
+  CHECK(s.c26 == 0.0);
+  CHECK(s.angle == 0.0);
+}
+
+TEST_CASE("stiffness errors") {
+  const std::string hyper = kBase + "elasticity = \"hyperelastic\"\n";
+  CHECK_THROWS_WITH_AS(
+      read_case(CaseDir().write("c.toml", kBase + "stiffness = { c11 = 1, c22 = 1, c12 = 0, c66 = 1 }\n")),
+      contains(":13: material[0].stiffness is only allowed with elasticity = "
+                        "\"hyperelastic\""),
+      InputError);
+  CHECK(error_of(hyper + "stiffness = { c11 = 1e9, c22 = 1e9, c12 = 0 }\n") ==
+        contains(":14: material[0].stiffness is missing required key 'c66'"));
+  CHECK(error_of(hyper + "stiffness = { c11 = 1e9, c22 = 1e9, c12 = 2e9, c66 = 1e9 }\n") ==
+        contains(":14: material[0].stiffness is not positive definite"));
+  CHECK(error_of(hyper + "stiffness = { c11 = 1e9, c22 = 1e9, c12 = 0, c66 = 1e9, angel = 9 }\n") ==
+        contains("unknown key 'angel' in material[0].stiffness (did you mean 'angle'?)"));
+  CHECK(error_of(hyper + "stiffness = { c11 = -1e9, c22 = 1e9, c12 = 0, c66 = 1e9 }\n") ==
+        contains("material[0].stiffness.c11 = -1000000000 is out of range (allowed: "
+                          "material[0].stiffness.c11 > 0)"));
+}
+
+TEST_CASE("TOML syntax error and unreadable file") {
+  CaseDir d;
+  const std::string path = d.write("c.toml", with(kBase, "dt = 1.0", "dt = 1.0.0"));
+  CHECK_THROWS_WITH_AS(read_case(path), contains(path + ":5:"), InputError);
+  CHECK_THROWS_WITH_AS(read_case(d.path("absent.toml")),
+                       contains(d.path("absent.toml") + ": cannot open"), InputError);
+}
+
+TEST_CASE("mesh: missing file, geo and file together, neither, size without geo") {
+  CaseDir d;
+  const std::string path = d.write("c.toml", with(kBase, "m.msh", "nope.msh"));
+  CHECK_THROWS_WITH_AS(read_case(path),
+                       contains(path + ":3: mesh.file: file not found: " +
+                                         d.path("nope.msh")),
+                       InputError);
+  CHECK(error_of(with(kBase, "[time]", "geo = \"meshes/column.geo\"\n[time]")) ==
+        contains(":4: mesh.geo and mesh.file are exclusive"));
+  CHECK(error_of(with(kBase, "file = \"m.msh\"\n", "")) ==
+        contains(":2: [mesh] needs one of 'geo' or 'file'"));
+  CHECK(error_of(with(kBase, "[time]", "size = 0.5\n[time]")) ==
+        contains(":4: mesh.size only applies with mesh.geo"));
+  CHECK(error_of(with(kBase, "title = \"t\"\n[mesh]\nfile = \"m.msh\"\n", "")) ==
+        contains("missing required table [mesh]"));
+}
+
+TEST_CASE("unknown keys and tables suggest the nearest name") {
+  CaseDir d;
+  const std::string path = d.write("c.toml", with(kBase, "young =", "youngs ="));
+  CHECK_THROWS_WITH_AS(
+      read_case(path),
+      contains(path + ":11: unknown key 'youngs' in [[material]] (did you mean 'young'?)"),
+      InputError);
+  CHECK(error_of(kBase + "[gravty]\ng = [0.0, -9.8]\n") ==
+        contains(":13: unknown table [gravty] (did you mean [gravity]?)"));
+  CHECK(error_of(with(kBase, "[[material]]", "[[materials]]")) ==
+        contains(":7: unknown table [[materials]] (did you mean [[material]]?)"));
+  CHECK(error_of(with(kBase, "end = 10.0", "ned = 10.0")) ==
+        contains(":6: unknown key 'ned' in [time] (did you mean 'end'?)"));
+  CHECK(error_of(with(kBase, "title", "titel")) ==
+        contains(":1: unknown key 'titel' (did you mean 'title'?)"));
+  const doctest::String far = error_of(kBase + "colour = \"red\"\n");
+  CHECK(far == contains(":13: unknown key 'colour' in [[material]]"));
+  CHECK(std::string(far.c_str()).find("did you mean") == std::string::npos);
+}
+
+TEST_CASE("missing required keys name their table") {
+  const std::string path_piece = ":7: [[material]] #0 ('rock') is missing required key 'density'";
+  CHECK(error_of(with(kBase, "density = 2000.0\n", "")) == contains(path_piece));
+  CHECK(error_of(with(kBase, "name = \"rock\"\n", "")) ==
+        contains(":7: [[material]] #0 is missing required key 'name'"));
+  CHECK(error_of(kBase + kSecondMaterial + "[[boundary]]\nfix = [\"x\"]\n") ==
+        contains(":19: [[boundary]] #0 is missing required key 'region'"));
+  CHECK(error_of(with(kBase, "dt = 1.0\n", "")) ==
+        contains(":4: [time] is missing required key 'dt'"));
+  CHECK(error_of(kBase + "[gravity]\n") ==
+        contains(":13: [gravity] is missing required key 'g'"));
+  CHECK(error_of(kBase + "[[initial]]\nregion = \"rock\"\n") ==
+        contains(":13: [[initial]] #0 ('rock') is missing required key 'velocity'"));
+  const std::string no_material = kBase.substr(0, kBase.find("[[material]]"));
+  CHECK(error_of(no_material) == contains("at least one [[material]]"));
+}
+
+TEST_CASE("wrong types name the key, the expected type and what was found") {
+  CHECK_THROWS_WITH_AS(
+      read_case(CaseDir().write("c.toml", with(kBase, "2000.0", "\"high\""))),
+      contains(":10: material[0].density must be a number, found string \"high\""),
+      InputError);
+  CHECK(error_of(with(kBase, "end = 10.0", "steps = 10.5")) ==
+        contains(":6: time.steps must be an integer, found number 10.5"));
+  CHECK(error_of(kBase + "[damping]\nmass_scaling = 1\n") ==
+        contains(":14: damping.mass_scaling must be a boolean, found integer 1"));
+  CHECK(error_of(kBase + "[gravity]\ng = [0.0, -9.8, 1.0]\n") ==
+        contains(":14: gravity.g must be an array of 2 numbers, found array of 3"));
+  CHECK(error_of(kBase + "[gravity]\ng = [0.0, \"down\"]\n") ==
+        contains("gravity.g[1] must be a number, found string \"down\""));
+  CHECK(error_of(with(kBase, "[\"rock\"]", "\"rock\"")) ==
+        contains(":9: material[0].regions must be a non-empty array of strings, found "
+                          "string \"rock\""));
+  CHECK(error_of(with(kBase, "[\"rock\"]", "[]")) ==
+        contains("material[0].regions must be a non-empty array of strings"));
+  CHECK(error_of(with(kBase, "[[material]]", "[material]")) ==
+        contains(":7: material must be an array of tables"));
+  CHECK(error_of(with(kBase, "[mesh]\nfile = \"m.msh\"\n", "mesh = 3\n")) ==
+        contains(":2: mesh must be a table, found integer 3"));
+  CHECK(error_of(with(kBase, "0.25", "nan")) ==
+        contains(":12: material[0].poisson must be finite"));
+}
+
+TEST_CASE("out-of-range values give the allowed range") {
+  CHECK_THROWS_WITH_AS(
+      read_case(CaseDir().write("c.toml", with(kBase, "0.25", "0.5"))),
+      contains(":12: material[0].poisson = 0.5 is out of range (allowed: -1 < "
+                        "material[0].poisson < 0.5)"),
+      InputError);
+  CHECK(error_of(with(kBase, "dt = 1.0", "dt = 1.0\nsafety = 0")) ==
+        contains(":6: time.safety = 0 is out of range (allowed: 0 < time.safety <= 1)"));
+  CHECK(error_of(with(kBase, "dt = 1.0", "dt = -1")) ==
+        contains("time.dt = -1 is out of range (allowed: time.dt > 0)"));
+  CHECK(error_of(with(kBase, "end = 10.0", "steps = 0")) ==
+        contains("time.steps = 0 is out of range (allowed: time.steps >= 1)"));
+  CHECK(error_of(kBase + "[damping]\nlocal = 1.0\n") ==
+        contains(":14: damping.local = 1 is out of range (allowed: 0 <= damping.local < 1)"));
+  CHECK(error_of(kBase + "viscosity = -1\n") ==
+        contains("material[0].viscosity = -1 is out of range (allowed: "
+                          "material[0].viscosity >= 0)"));
+  CHECK(error_of(kBase + "[output]\nframes = 0\n") ==
+        contains("output.frames = 0 is out of range"));
+  CHECK(error_of(with(kBase, "[time]", "thickness = 0\n[time]")) ==
+        contains(":4: mesh.thickness = 0 is out of range (allowed: mesh.thickness > 0)"));
+  CHECK(error_of(kBase + "elasticity = \"neohookean\"\n") ==
+        contains(":13: material[0].elasticity = \"neohookean\" is not valid (allowed: "
+                          "\"neo-hookean\", \"hyperelastic\") (did you mean \"neo-hookean\"?)"));
+}
+
+TEST_CASE("exclusive and exactly-one keys") {
+  CHECK(error_of(with(kBase, "end = 10.0", "end = 10.0\nsteps = 10")) ==
+        contains(":7: time.end and time.steps are exclusive"));
+  CHECK(error_of(with(kBase, "end = 10.0\n", "")) ==
+        contains(":4: [time] needs one of 'end' or 'steps'"));
+  CHECK(error_of(kBase + "[output]\nframes = 5\nevery = 1.0\n") ==
+        contains(":15: output.frames and output.every are exclusive"));
+}
+
+TEST_CASE("a region in two materials, and a name used twice") {
+  CHECK(error_of(kBase + with(kSecondMaterial, "[\"slate\"]", "[\"slate\", \"rock\"]")) ==
+        contains(":15: material[1].regions: region 'rock' is already in material[0] "
+                          "('rock')"));
+  CHECK(error_of(kBase + with(kSecondMaterial, "\"slate\"\n", "\"rock\"\n")) ==
+        contains(":14: material[1].name: 'rock' is already the name of material[0]"));
+}
+
+TEST_CASE("boundary rules") {
+  const std::string b = kBase + "[[boundary]]\nregion = \"left\"\n";  // entry on line 13
+  CHECK(error_of(b) == contains(":13: [[boundary]] #0 ('left') needs at least one of "
+                                         "'fix', 'velocity', 'traction', 'pressure'"));
+  CHECK(error_of(b + "traction = [0.0, 1.0]\npressure = 1.0\n") ==
+        contains(":16: boundary[0].traction and boundary[0].pressure are exclusive"));
+  CHECK(error_of(b + "fix = [\"x\"]\npressure = 1.0\n") ==
+        contains(":16: boundary[0].pressure cannot be combined with fix or velocity"));
+  CHECK(error_of(b + "velocity = [1.0, 0.0]\ntraction = [1.0, 0.0]\n") ==
+        contains("boundary[0].traction cannot be combined with fix or velocity"));
+  CHECK(error_of(b + "fix = [\"x\"]\nvelocity = [0.1, -1.0]\n") ==
+        contains(":16: boundary[0].velocity[0] = 0.1 but boundary[0].fix holds \"x\" "
+                          "still: it must be 0"));
+  CHECK(error_of(b + "fix = [\"x\", \"z\"]\n") ==
+        contains(":15: boundary[0].fix[1] = \"z\" is not an axis"));
+  CHECK(error_of(b + "fix = [\"y\", \"y\"]\n") ==
+        contains("boundary[0].fix lists \"y\" twice"));
+  CHECK(error_of(b + "fix = [\"y\"]\nrise = 1.0\n") ==
+        contains(":16: boundary[0].rise needs a velocity, traction or pressure"));
+  CHECK(error_of(b + "pressure = 1.0\nrise = -1.0\n") ==
+        contains("boundary[0].rise = -1 is out of range (allowed: boundary[0].rise >= 0)"));
+  CHECK(error_of(b + "fix = [\"x\"]\nvelocity = [0.0, -1.0]\n") == "");
+}
+
+TEST_CASE("--set a scalar, an array, an entry of an array of tables, a new key") {
+  CaseDir d;
+  const std::string path =
+      d.write("c.toml", kBase + kSecondMaterial + "[[boundary]]\nregion = \"base\"\nfix = [\"y\"]\n");
+  const CaseConfig c = read_case(path, {"material.0.young=2e9", "gravity.g=[0.0,-9.8]",
+                                        "material.1.density=3000", "boundary.0.fix=[\"x\",\"y\"]",
+                                        "damping.local=0.5", "material.1.viscosity=\"critical\"",
+                                        "time.dt=\"auto\"", "output.name=\"run2\"", "title=\"over\""});
+  CHECK(c.materials[0].young == 2e9);
+  CHECK(c.gravity.g == std::array<double, 2>{0.0, -9.8});
+  CHECK(c.materials[1].density == 3000.0);
+  CHECK(c.materials[0].density == 2000.0);
+  CHECK(c.boundaries[0].fix_x);
+  CHECK(c.boundaries[0].fix_y);
+  CHECK(c.damping.local_enabled);
+  CHECK(c.damping.local == 0.5);
+  CHECK(c.materials[1].viscosity_critical);
+  CHECK(c.time.dt_auto);
+  CHECK(c.output.name == "run2");
+  CHECK(c.title == "over");
+
+  // Later overrides win; a whole entry of an array of tables can be replaced.
+  const CaseConfig twice = read_case(path, {"time.end=5", "time.end=7"});
+  CHECK(twice.time.end == 7.0);
+  const CaseConfig whole = read_case(path, {"boundary.0={region=\"top\", pressure=1e6}"});
+  CHECK(whole.boundaries[0].region == "top");
+  CHECK(whole.boundaries[0].pressure == 1e6);
+  CHECK_FALSE(whole.boundaries[0].fix_y);
+}
+
+TEST_CASE("--set errors") {
+  CaseDir d;
+  const std::string path = d.write("c.toml", kBase);
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.young=abc"}),
+                       contains(path + " (from --set material.0.young=abc): value 'abc' "
+                                                "is not valid TOML"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.3.young=1e9"}),
+                       contains("(from --set material.3.young=1e9): index 3 is out of "
+                                         "range: the case has 1 [[material]] entries"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"boundary.0.region=\"x\""}),
+                       contains("index 0 is out of range: the case has 0 [[boundary]] "
+                                         "entries"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"gravty.g=[0.0,-9.8]"}),
+                       contains("(from --set gravty.g=[0.0,-9.8]): unknown table "
+                                         "[gravty] (did you mean [gravity]?)"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.youngs=1e9"}),
+                       contains("unknown key 'youngs' in [[material]] (did you mean "
+                                         "'young'?)"),
+                       InputError);
+  // A value that parses but is out of range is reported against the override, not a line.
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.poisson=0.7"}),
+                       contains(path + " (from --set material.0.poisson=0.7): "
+                                                "material[0].poisson = 0.7 is out of range"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"gravity.g=[1.0]"}),
+                       contains("(from --set gravity.g=[1.0]): gravity.g must be an "
+                                         "array of 2 numbers"),
+                       InputError);
+  // Exclusive keys are blamed on the override, not on the file's line.
+  CHECK_THROWS_WITH_AS(read_case(path, {"time.steps=100"}),
+                       contains("(from --set time.steps=100): time.end and time.steps are "
+                                "exclusive"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"time.dt"}), contains("expected key.path=value"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"time..dt=1"}), contains("empty component"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"time.dt.x=1"}),
+                       contains("time.dt is a value, not a table"), InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.young=1"}),
+                       contains("material is an array of tables: give an index"),
+                       InputError);
+  CHECK_THROWS_WITH_AS(read_case(path, {"time.end=1\nsteps=3"}),
+                       contains("the value must be one TOML value"), InputError);
+}
+
+}  // TEST_SUITE("case")
