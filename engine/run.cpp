@@ -216,7 +216,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
                                       : std::max(1L, p.steps / 1000);
   const long check_stride = 200;
 
+  long last_frame_step = -1;
   auto write_current_frame = [&]() {
+    last_frame_step = solver.steps_done();
     solver.enqueue_stress();
     write_frame(exodus, model, solver.time(), solver.positions(), solver.velocities(), solver.stresses());
   };
@@ -245,7 +247,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         if (solver.has_checkpoint()) {
           solver.restore_checkpoint();
           try {
-            write_current_frame();
+            if (solver.steps_done() != last_frame_step) write_current_frame();
             saved = "; the last good state (step " + std::to_string(solver.steps_done()) + ", t = " +
                     format_number(solver.time()) + " s) is the last frame of " + p.exodus_path;
           } catch (const std::exception&) {

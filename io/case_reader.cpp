@@ -646,8 +646,12 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
   try {
     parsed = toml::parse("v = " + value_text, source_name);
   } catch (const toml::parse_error& e) {
-    fail("value '" + value_text + "' is not valid TOML (" + std::string(e.description()) +
-         "); strings need quotes, e.g. output.name='\"run2\"'");
+    // A bare word (output.dir=out2) is taken as a string, as a shell user would expect;
+    // anything that starts like an array, table or quoted string must be valid TOML.
+    const bool bare_word = !value_text.empty() && value_text.find_first_of("[]{}\"'\n=") == std::string::npos;
+    if (!bare_word)
+      fail("value '" + value_text + "' is not valid TOML (" + std::string(e.description()) + ")");
+    parsed = toml::parse("v = '" + value_text + "'", source_name);  // a TOML literal string
   }
   if (parsed.size() != 1 || !parsed.contains("v")) fail("the value must be one TOML value");
   ctx.add_override(source_name);

@@ -7,12 +7,11 @@
 namespace fdem::io {
 
 // Reads a .msh file. Keeps 3-node triangles (type 2), 2-node lines (type 1) and points
-// (type 15); other element types are skipped and counted in `skipped_types` messages
-// (returned through `notes`). Throws fdem::InputError naming the file (and line, for
-// ASCII files) for: missing file, unknown version, malformed or truncated section,
-// element referring to an unknown node tag, a triangle outside any physical group
-// (only when the file has no physical groups at all does every triangle form group
-// "" of dim 2), and other inconsistencies.
+// (type 15); other element types are skipped with one note per type in `notes`.
+// Throws fdem::InputError naming the file (and line, or byte offset for binary files)
+// for: missing file, unknown version, malformed or truncated section, element referring
+// to an unknown node tag, triangles outside any physical group, a file with no physical
+// groups at all (materials need named surfaces), no 3-node triangles.
 Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes = nullptr);
 
 // Checks every triangle's signed area. Clockwise triangles are re-oriented to

@@ -520,10 +520,14 @@ TEST_CASE("--set a scalar, an array, an entry of an array of tables, a new key")
 TEST_CASE("--set errors") {
   CaseDir d;
   const std::string path = d.write("c.toml", kBase);
-  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.young=abc"}),
-                       contains(path + " (from --set material.0.young=abc): value 'abc' "
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.young=[1,"}),
+                       contains(path + " (from --set material.0.young=[1,): value '[1,' "
                                                 "is not valid TOML"),
                        InputError);
+  // A bare word is a string: fine for output.dir, a type error for a number.
+  CHECK(read_case(path, {"output.dir=out2"}).output.dir == "out2");
+  CHECK_THROWS_WITH_AS(read_case(path, {"material.0.young=abc"}),
+                       contains("(from --set material.0.young=abc)"), InputError);
   CHECK_THROWS_WITH_AS(read_case(path, {"material.3.young=1e9"}),
                        contains("(from --set material.3.young=1e9): index 3 is out of "
                                          "range: the case has 1 [[material]] entries"),

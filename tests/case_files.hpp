@@ -1,0 +1,89 @@
+// Helpers for end-to-end tests: case files in a temporary folder, and reading back
+// the Exodus and history files a run wrote.
+#pragma once
+#include <netcdf.h>
+
+#include <filesystem>
+#include <fstream>
+#include <cstring>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fdem::test {
+
+// A fresh temporary folder, removed with the object.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    std::random_device rd;
+    path = std::filesystem::temp_directory_path() / ("fdem_test_" + std::to_string(rd()) + std::to_string(rd()));
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const auto p = path / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  std::string str() const { return path.string(); }
+};
+
+inline std::string source_path(const std::string& relative) { return std::string(FDEM_SOURCE_DIR) + "/" + relative; }
+
+// Reads a netCDF variable (all of it, as doubles) or throws.
+inline std::vector<double> read_variable(const std::string& file, const std::string& name) {
+  int nc = -1, var = -1, ndims = 0;
+  if (nc_open(file.c_str(), NC_NOWRITE, &nc) != NC_NOERR) throw std::runtime_error("cannot open " + file);
+  if (nc_inq_varid(nc, name.c_str(), &var) != NC_NOERR) {
+    nc_close(nc);
+    throw std::runtime_error(file + " has no variable " + name);
+  }
+  int dims[NC_MAX_VAR_DIMS];
+  nc_inq_varndims(nc, var, &ndims);
+  nc_inq_vardimid(nc, var, dims);
+  size_t count = 1;
+  for (int d = 0; d < ndims; ++d) {
+    size_t len = 0;
+    nc_inq_dimlen(nc, dims[d], &len);
+    count *= len;
+  }
+  std::vector<double> values(count);
+  if (count) nc_get_var_double(nc, var, values.data());
+  nc_close(nc);
+  return values;
+}
+
+// Index (1-based, as in vals_elem_varK) of an Exodus element or nodal variable name.
+inline int exodus_variable_index(const std::string& file, const std::string& names_var, const std::string& name) {
+  int nc = -1, var = -1;
+  if (nc_open(file.c_str(), NC_NOWRITE, &nc) != NC_NOERR) throw std::runtime_error("cannot open " + file);
+  nc_inq_varid(nc, names_var.c_str(), &var);
+  int dims[2];
+  nc_inq_vardimid(nc, var, dims);
+  size_t count = 0, length = 0;
+  nc_inq_dimlen(nc, dims[0], &count);
+  nc_inq_dimlen(nc, dims[1], &length);
+  std::vector<char> text(count * length);
+  nc_get_var_text(nc, var, text.data());
+  nc_close(nc);
+  for (size_t k = 0; k < count; ++k)
+    if (std::string(text.data() + k * length, strnlen(text.data() + k * length, length)) == name)
+      return static_cast<int>(k + 1);
+  throw std::runtime_error(file + " has no variable named " + name);
+}
+
+// Values of element variable `name` on block `block` (1-based) at the last frame.
+inline std::vector<double> last_element_values(const std::string& file, const std::string& name, int block = 1) {
+  const int k = exodus_variable_index(file, "name_elem_var", name);
+  const auto all = read_variable(file, "vals_elem_var" + std::to_string(k) + "eb" + std::to_string(block));
+  const auto times = read_variable(file, "time_whole");
+  const size_t per_frame = all.size() / times.size();
+  return std::vector<double>(all.end() - per_frame, all.end());
+}
+
+}  // namespace fdem::test

@@ -1,0 +1,124 @@
+// The fdem command line: exit codes and messages, run as a user would.
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+
+#include "case_files.hpp"
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run_fdem(const std::string& args) {
+  Result r;
+  FILE* pipe = popen((std::string(FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+bool has(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+
+const char* kTinyCase = R"(title = "tiny"
+[mesh]
+geo = "@GEO@"
+size = 0.1
+[time]
+dt = "auto"
+steps = 50
+[output]
+dir = "@OUT@"
+frames = 2
+[[material]]
+name = "rock"
+regions = ["bar"]
+density = 2000.0
+young = 10e9
+poisson = 0.2
+[gravity]
+g = [0.0, -9.81]
+[[boundary]]
+region = "left"
+fix = ["x", "y"]
+)";
+
+std::string tiny_case(const fdem::test::TempDir& dir, const std::string& extra = "") {
+  std::string text = kTinyCase;
+  text.replace(text.find("@GEO@"), 5, fdem::test::source_path("tests/data/cases/bar.geo"));
+  text.replace(text.find("@OUT@"), 5, dir.str() + "/out");
+  return dir.write("tiny.toml", text + extra);
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("--version, devices, usage") {
+  const auto v = run_fdem("--version");
+  CHECK(v.code == 0);
+  CHECK(has(v, "fdem 0."));
+  const auto d = run_fdem("devices");
+  CHECK(d.code == 0);
+  CHECK(has(d, "fp64"));
+  const auto u = run_fdem("frobnicate");
+  CHECK(u.code == 2);
+  CHECK(has(u, "unknown command 'frobnicate'"));
+  CHECK(run_fdem("run").code == 2);
+}
+
+TEST_CASE("check prints counts, the stable step and the memory; run writes its files") {
+  fdem::test::TempDir dir;
+  const std::string path = tiny_case(dir);
+  const auto c = run_fdem("check " + path);
+  CHECK(c.code == 0);
+  CHECK(has(c, "TRI3"));
+  CHECK(has(c, "stable dt"));
+  CHECK(has(c, "device memory needed"));
+  const auto r = run_fdem("run " + path);
+  INFO(r.output);
+  CHECK(r.code == 0);
+  CHECK(has(r, "ns per element-step"));
+  CHECK(std::filesystem::exists(dir.str() + "/out/tiny.exo"));
+  CHECK(std::filesystem::exists(dir.str() + "/out/tiny_history.nc"));
+}
+
+TEST_CASE("bad input exits 2 naming the file and the key") {
+  fdem::test::TempDir dir;
+  const auto typo = run_fdem("check " + tiny_case(dir, "[damping]\nlocall = 0.8\n"));
+  CHECK(typo.code == 2);
+  CHECK(has(typo, "did you mean 'local'"));
+  const auto missing = run_fdem("check " + dir.str() + "/nothing.toml");
+  CHECK(missing.code == 2);
+  CHECK(has(missing, "nothing.toml"));
+  const auto region = run_fdem("check " + tiny_case(dir, "[[boundary]]\nregion = \"rigth\"\nfix = [\"x\"]\n"));
+  CHECK(region.code == 2);
+  CHECK(has(region, "did you mean 'right'"));
+  const auto set = run_fdem("check " + tiny_case(dir) + " --set time.dtt=1");
+  CHECK(set.code == 2);
+  CHECK(has(set, "did you mean 'dt'"));
+}
+
+TEST_CASE("a numerical failure exits 3; a missing device exits 4") {
+  fdem::test::TempDir dir;
+  const auto r = run_fdem("run " + tiny_case(dir, "[[boundary]]\nregion = \"right\"\nvelocity = [-5000.0, 0.0]\n") +
+                      " --set time.steps=5000");
+  CHECK(r.code == 3);
+  CHECK(has(r, "inverted"));
+  const auto d = run_fdem("check " + tiny_case(dir) + " --device 7:7");
+  CHECK(d.code == 0);  // check reports the device problem but the case itself is fine
+  CHECK(has(d, "no OpenCL device 7:7"));
+  const auto run = run_fdem("run " + tiny_case(dir) + " --device 7:7");
+  CHECK(run.code == 4);
+}
+
+}  // TEST_SUITE
