@@ -9,7 +9,8 @@ namespace fdem {
 size_t DeviceArrays::bytes_needed(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
   const size_t r = sizeof(real), u = sizeof(uint32_t);
-  const size_t nodes = n * (5 * 2 * r + u + 2 * u);        // 5 real2 arrays, group, two CSR offsets
+  const size_t nodes = n * (5 * 2 * r + u + 2 * u +        // 5 real2 arrays, group, two CSR offsets
+                            (model.contact.enabled ? 2 * 8 : 0));  // fixed-point contact force
   const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
   const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
   const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r +
@@ -49,6 +50,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   edge_force = cl.allocate(2 * e * sizeof(real2), "edge_force");
   edge_start = cl.allocate((n + 1) * sizeof(uint32_t), "edge_start");
   edge_slot = cl.allocate(2 * e * sizeof(uint32_t), "edge_slot");
+  contact_acc = cl.allocate((model.contact.enabled ? n : 1) * 2 * sizeof(cl_long), "contact_acc");
   conditions = cl.allocate(4 * sizeof(int), "conditions");
 
   std::vector<real2> pos(n), vel(n);
@@ -103,6 +105,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   upload(cl, edge_start, edges.start);
   upload(cl, edge_slot, edges.slot);
 
+  upload(cl, contact_acc, std::vector<cl_long>((model.contact.enabled ? n : 1) * 2, 0));
   upload(cl, conditions, std::vector<int>(4, INT_MAX));
   cl.finish();
 }

@@ -41,6 +41,9 @@ struct DeviceArrays {
   compute::buffer edge_start;    // uint, num_nodes+1: node → edge-end-slot CSR offsets
   compute::buffer edge_slot;     // uint, 2 per edge
 
+  // Contact
+  compute::buffer contact_acc;   // long ×2 per node: contact force in fixed point (see ContactForces)
+
   compute::buffer conditions;    // int, CONDITION_WORDS: first offenders (INT_MAX = none)
 
   DeviceArrays(ClContext& cl, const Model& model);

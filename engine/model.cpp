@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -48,6 +49,40 @@ struct EdgeOwner {
 };
 
 std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& config) {
+  ContactModel contact;
+  contact.enabled = true;
+  contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
+  contact.skin = c.skin;
+  const size_t n = config.materials.size();
+  auto row = [&](double pn, double ptan, double mu, const std::optional<io::ContactDampingConfig>& d) {
+    const double T = d ? d->transition : std::numeric_limits<double>::infinity();
+    const double b = d ? d->exponent : 1.0;
+    const bool damped = d && (std::isfinite(T) || b != 1.0);
+    contact.pair_props.insert(contact.pair_props.end(),
+                              {pn, ptan, mu, std::isfinite(T) ? T : std::numeric_limits<double>::max(), b,
+                               damped ? 1.0 : 0.0, 0.0, 0.0});
+    contact.max_normal_penalty = std::max(contact.max_normal_penalty, pn);
+    contact.max_tangential_penalty = std::max(contact.max_tangential_penalty, ptan);
+    return static_cast<uint32_t>(contact.pair_props.size() / kContactProps - 1);
+  };
+  const uint32_t defaults = row(c.normal_penalty, c.tangential_penalty, c.friction, c.damping);
+  contact.pair_index.assign(n * n, defaults);
+  auto index_of = [&](const std::string& name) {
+    for (size_t m = 0; m < n; ++m)
+      if (config.materials[m].name == name) return m;
+    throw InputError(config.path + ": contact.pair names unknown material '" + name + "'");
+  };
+  for (const auto& pair : c.pairs) {
+    const size_t a = index_of(pair.materials[0]), b = index_of(pair.materials[1]);
+    const uint32_t r = row(pair.normal_penalty.value_or(c.normal_penalty),
+                           pair.tangential_penalty.value_or(c.tangential_penalty), pair.friction.value_or(c.friction),
+                           pair.damping ? pair.damping : c.damping);
+    contact.pair_index[a * n + b] = contact.pair_index[b * n + a] = r;
+  }
+  return contact;
+}
 
 }  // namespace
 
@@ -285,6 +320,8 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       model.vy0[n] = init.velocity[1];
     }
   }
+  if (config.contact) model.contact = build_contact(*config.contact, config);
+
   // Prescribed velocities hold from the start.
   for (size_t n = 0; n < model.num_nodes(); ++n) {
     const auto& g = model.groups[model.node_group[n]];
@@ -308,9 +345,15 @@ StableStep stable_time_step(const Model& model) {
     const double area2 = (model.x[tri[1]] - model.x[tri[0]]) * (model.y[tri[2]] - model.y[tri[0]]) -
                          (model.y[tri[1]] - model.y[tri[0]]) * (model.x[tri[2]] - model.x[tri[0]]);
     const double h = area2 / longest;  // smallest height
-    const double c = std::sqrt(m.wave_modulus / m.density);
+    // Contact springs: two triangles of height H overlapping by d over L push back with
+    // about 6 P_n d L / H, a modulus of about 6 P_n; the friction spring P_tan × L is
+    // a modulus of about P_tan × h.
+    const double modulus = model.contact.enabled ? std::max({m.wave_modulus, 6.0 * model.contact.max_normal_penalty,
+                                                              model.contact.max_tangential_penalty * h})
+                                                 : m.wave_modulus;
+    const double c = std::sqrt(modulus / m.density);
     const double omega = 2.0 * c / h;
-    const double xi = m.viscosity * omega / (2.0 * m.wave_modulus);
+    const double xi = m.viscosity * omega / (2.0 * modulus);
     const double dt = h / c * (std::sqrt(1.0 + xi * xi) - xi);
     if (dt < best.dt) best = {dt, t};
   }

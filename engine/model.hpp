@@ -47,6 +47,19 @@ struct Region {
   bool prescribed = false;  // a boundary entry prescribes its motion (fix or velocity)
 };
 
+// Contact between triangles (cl_kernels/contact_forces.cl). Properties per unordered
+// material pair: rows of kContactProps reals (P_n [Pa], P_tan [Pa/m], μ, T [Pa], b,
+// damped 0/1), row index pair_index[m1 * n_materials + m2].
+struct ContactModel {
+  bool enabled = false;
+  bool rebuild_skin = false;  // rebuild only when a node moved more than skin/2
+  double skin = 0.0;          // [m]
+  std::vector<double> pair_props;
+  std::vector<uint32_t> pair_index;
+  double max_normal_penalty = 0.0, max_tangential_penalty = 0.0;
+};
+constexpr int kContactProps = 8;
+
 struct Model {
   std::string mesh_path;
   double thickness = 1.0;
@@ -66,6 +79,8 @@ struct Model {
 
   std::vector<double> vx0, vy0;   // initial velocity [m/s]
   std::vector<Region> regions;    // every boundary and initial-condition region of the case
+
+  ContactModel contact;
 
   std::array<double, 2> gravity{0, 0};
   double local_damping = 0;  // Cundall α (0: none)

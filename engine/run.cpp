@@ -58,7 +58,9 @@ struct HistoryProbe {
   std::vector<const Region*> regions;
   std::vector<double> mass;
 
-  HistoryProbe(const Model& m, const std::vector<real2>& masses) : model(m) {
+  bool contact = false;
+
+  HistoryProbe(const Model& m, const std::vector<real2>& masses) : model(m), contact(m.contact.enabled) {
     for (const auto& r : m.regions)
       if (r.prescribed) regions.push_back(&r);
     for (const auto& mk : masses) mass.push_back(mk.x);
@@ -69,6 +71,11 @@ struct HistoryProbe {
         {"kinetic_energy", "J", "total kinetic energy (true lumped masses)"},
         {"max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom"},
         {"unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node"}};
+    if (contact) {
+      vars.push_back({"contact_couples", "1", "triangle couples in contact (overlapping) in the last step"});
+      vars.push_back({"contact_candidates", "1", "candidate couples from the last contact detection"});
+      vars.push_back({"contact_energy_dissipated", "J", "energy dissipated by contact friction and damping, cumulative"});
+    }
     for (const auto* r : regions) {
       const std::string n = netcdf_name(r->name);
       vars.push_back({n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)"});
@@ -79,8 +86,8 @@ struct HistoryProbe {
     return vars;
   }
 
-  std::vector<double> values(const std::vector<real2>& x, const std::vector<real2>& v,
-                             const std::vector<real2>& f) const {
+  std::vector<double> values(Solver& solver) const {
+    const auto x = solver.positions(), v = solver.velocities(), f = solver.forces();
     double kinetic = 0, max_unbalanced = 0, internal_sum = 0;
     for (size_t i = 0; i < x.size(); ++i) {
       kinetic += 0.5 * mass[i] * (double(v[i].x) * v[i].x + double(v[i].y) * v[i].y);
@@ -91,6 +98,9 @@ struct HistoryProbe {
     }
     const double mean_internal = x.empty() ? 0 : internal_sum / x.size();
     std::vector<double> row = {kinetic, max_unbalanced, mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
+    if (contact)
+      row.insert(row.end(), {double(solver.contact_touching()), double(solver.contact_candidates()),
+                             solver.contact_dissipated()});
     for (const auto* r : regions) {
       double fx = 0, fy = 0, ux = 0, uy = 0;
       for (int n : r->nodes) {
@@ -107,15 +117,27 @@ struct HistoryProbe {
   }
 };
 
-void write_frame(io::ExodusWriter& exo, const Model& model, double time, const std::vector<real2>& x,
-                 const std::vector<real2>& v, const std::vector<real4>& stress) {
+std::vector<std::string> nodal_names(const Model& model) {
+  std::vector<std::string> names = {"DISPLX", "DISPLY", "VELX", "VELY"};
+  if (model.contact.enabled) names.insert(names.end(), {"CONTACT_FX", "CONTACT_FY"});
+  return names;
+}
+
+void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver) {
+  solver.enqueue_stress();
+  const auto x = solver.positions(), v = solver.velocities();
+  const auto stress = solver.stresses();
   const size_t n = model.num_nodes();
-  std::vector<std::vector<double>> nodal(4, std::vector<double>(n));
+  std::vector<std::vector<double>> nodal(model.contact.enabled ? 6 : 4, std::vector<double>(n));
   for (size_t i = 0; i < n; ++i) {
     nodal[0][i] = x[i].x - model.x[i];
     nodal[1][i] = x[i].y - model.y[i];
     nodal[2][i] = v[i].x;
     nodal[3][i] = v[i].y;
+  }
+  if (model.contact.enabled) {
+    const auto fc = solver.contact_forces();
+    for (size_t i = 0; i < n; ++i) nodal[4][i] = fc[i].x, nodal[5][i] = fc[i].y;
   }
   std::vector<std::vector<std::vector<double>>> elem(5);
   for (size_t m = 0; m < model.materials.size(); ++m) {
@@ -129,7 +151,7 @@ void write_frame(io::ExodusWriter& exo, const Model& model, double time, const s
       for (int k = 0; k < 5; ++k) elem[k].back().push_back(values[k]);
     }
   }
-  exo.write_frame(time, nodal, elem);
+  exo.write_frame(solver.time(), nodal, elem);
 }
 
 std::string describe_failure(const Model& model, const Conditions& c) {
@@ -206,7 +228,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     if (!block.connectivity.empty()) blocks.push_back(std::move(block));
   }
   io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
-                          {"DISPLX", "DISPLY", "VELX", "VELY"}, {"SXX", "SYY", "SXY", "PS1", "PS2"});
+                          nodal_names(model), {"SXX", "SYY", "SXY", "PS1", "PS2"});
   const HistoryProbe probe(model, solver.masses());
   io::HistoryWriter history(p.history_path, config.title, probe.variables());
 
@@ -219,8 +241,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   long last_frame_step = -1;
   auto write_current_frame = [&]() {
     last_frame_step = solver.steps_done();
-    solver.enqueue_stress();
-    write_frame(exodus, model, solver.time(), solver.positions(), solver.velocities(), solver.stresses());
+    write_frame(exodus, model, solver);
   };
 
   RunSummary summary;
@@ -258,7 +279,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         throw NumericalError(what + saved);
       }
       if (history_due) {
-        last_row = probe.values(solver.positions(), solver.velocities(), solver.forces());
+        last_row = probe.values(solver);
         history.append(solver.time(), last_row);
       }
       if (frame_due) {

@@ -14,6 +14,15 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
       gather_(cl, arrays_),
       boundary_loads_(cl, arrays_, model.thickness),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt) {
+  if (model.contact.enabled) {
+    detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin);
+    contact_ = std::make_unique<ContactForces>(cl, arrays_, model);
+    gather_.add_contact(contact_->force_scale());
+    if (model.contact.rebuild_skin) {
+      skin_ = std::make_unique<ContactSkin>(cl, arrays_);
+      skin_distance_ = model.contact.skin;
+    }
+  }
   LumpedMass mass(cl, arrays_, model.thickness);
   mass.enqueue(gather_, model.mass_scaling, dt);
   saved_position_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_position");
@@ -24,11 +33,34 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
 void Solver::step() {
   const double t = time();
   // The step, stage by stage. Each stage writes its own slots; the gather sums them.
+  if (contact_) {
+    contact_->enqueue_clear();
+    // Detection every step, or with a skin only once some node has moved more than
+    // half of it since the last detection (no couple can have appeared before that).
+    const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->largest_move() > 0.5 * skin_distance_;
+    if (rebuild) {
+      const size_t count = detection_->run();
+      contact_->enqueue(detection_->couple_keys(), count, true, dt_);
+      if (skin_) skin_->mark();
+      ++rebuilds_;
+    } else {
+      contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_);
+    }
+  }
   boundary_loads_.enqueue(t);
   triangle_forces_.enqueue(static_cast<int>(steps_), false);
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_));
   ++steps_;
+}
+
+std::vector<real2> Solver::contact_forces() {
+  std::vector<real2> out(arrays_.num_nodes);
+  if (!contact_) return out;
+  const auto acc = download<cl_long>(cl_, arrays_.contact_acc, 2 * arrays_.num_nodes);
+  const double unit = 1.0 / contact_->force_scale();
+  for (size_t i = 0; i < out.size(); ++i) out[i] = {real(acc[2 * i] * unit), real(acc[2 * i + 1] * unit)};
+  return out;
 }
 
 void Solver::enqueue_stress() { triangle_forces_.enqueue(static_cast<int>(steps_), true); }

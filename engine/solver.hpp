@@ -7,6 +7,9 @@
 #include "engine/device_arrays.hpp"
 #include "engine/model.hpp"
 #include "engine/stages/boundary_loads.hpp"
+#include "engine/stages/contact_detection.hpp"
+#include "engine/stages/contact_forces.hpp"
+#include "engine/stages/contact_skin.hpp"
 #include "engine/stages/integrate.hpp"
 #include "engine/stages/lumped_mass.hpp"
 #include "engine/stages/node_gather.hpp"
@@ -51,6 +54,16 @@ class Solver {
   // Puts the checkpoint back into the live arrays (the run is over; for output only).
   void restore_checkpoint();
 
+  // Contact (all zero / empty when the case has no [contact]).
+  bool has_contact() const { return contact_ != nullptr; }
+  size_t contact_candidates() const { return contact_ ? contact_->couples() : 0; }
+  size_t contact_touching() { return contact_ ? contact_->touching() : 0; }
+  double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
+  std::vector<real2> contact_forces();  // per node [N] (waits)
+  long contact_rebuilds() const { return rebuilds_; }
+  ContactDetection* detection() { return detection_.get(); }
+  ContactForces* contact() { return contact_.get(); }
+
   ClContext& context() { return cl_; }
   DeviceArrays& arrays() { return arrays_; }
 
@@ -63,6 +76,11 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
+  std::unique_ptr<ContactDetection> detection_;
+  std::unique_ptr<ContactForces> contact_;
+  std::unique_ptr<ContactSkin> skin_;
+  double skin_distance_ = 0;
+  long rebuilds_ = 0;
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;
 };

@@ -2,6 +2,7 @@
 // io/case_reader.cpp is the only place that knows the TOML spelling.
 #pragma once
 #include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,6 +81,34 @@ struct InitialConfig {
   std::array<double, 2> velocity{0.0, 0.0};  // [m/s]
 };
 
+// An–Tannant contact damping. A table without `transition` means T = ∞.
+struct ContactDampingConfig {
+  double transition = std::numeric_limits<double>::infinity();  // T [Pa]
+  double exponent = 1.0;                                         // b
+};
+
+// One [[contact.pair]]: overrides of the [contact] defaults for one unordered pair of
+// materials (names of [[material]] entries, possibly the same twice). nullopt = the
+// [contact] value.
+struct ContactPairConfig {
+  std::array<std::string, 2> materials;
+  std::optional<double> normal_penalty, tangential_penalty, friction;
+  std::optional<ContactDampingConfig> damping;
+};
+
+enum class ContactRebuild { Step, Skin };
+
+struct ContactConfig {
+  double normal_penalty = 0.0;      // P_n [Pa]
+  double tangential_penalty = 0.0;  // P_tan [Pa/m]; when not given, = normal_penalty (numerically)
+  double friction = 0.0;            // Coulomb μ
+  std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
+  std::string activation = "all";   // only "all" for now
+  ContactRebuild rebuild = ContactRebuild::Step;
+  double skin = 0.0;                // [m] margin added to the boxes; > 0 with Skin
+  std::vector<ContactPairConfig> pairs;
+};
+
 struct CaseConfig {
   std::string path;  // the case file as given
   std::string dir;   // its directory (relative paths in the case resolve against it)
@@ -92,6 +121,7 @@ struct CaseConfig {
   DampingConfig damping;
   std::vector<BoundaryConfig> boundaries;
   std::vector<InitialConfig> initials;
+  std::optional<ContactConfig> contact;   // present when the case has a [contact] table
 };
 
 // Reads and validates a case file. `overrides` are "key.path=value" strings from

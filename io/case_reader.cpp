@@ -60,6 +60,13 @@ const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
 const Schema kBoundaryKeys{
     {{"region"}, {"fix"}, {"velocity"}, {"rise"}, {"traction"}, {"pressure"}}};
 const Schema kInitialKeys{{{"region"}, {"velocity"}}};
+const Schema kContactDampingKeys{{{"transition"}, {"exponent"}}};
+const Schema kContactPairKeys{{{"materials"}, {"normal_penalty"}, {"tangential_penalty"},
+                               {"friction"}, {"damping", Shape::Table, &kContactDampingKeys}}};
+const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"friction"},
+                           {"damping", Shape::Table, &kContactDampingKeys}, {"activation"},
+                           {"rebuild"}, {"skin"},
+                           {"pair", Shape::TableArray, &kContactPairKeys}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -68,7 +75,8 @@ const Schema kRootKeys{{{"title"},
                         {"gravity", Shape::Table, &kGravityKeys},
                         {"damping", Shape::Table, &kDampingKeys},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},
-                        {"initial", Shape::TableArray, &kInitialKeys}}};
+                        {"initial", Shape::TableArray, &kInitialKeys},
+                        {"contact", Shape::Table, &kContactKeys}}};
 
 // ---------------------------------------------------------------------------------------
 // Suggestions for misspelt names.
@@ -389,15 +397,16 @@ class TableReader {
   std::string path_, heading_, title_;
 };
 
-// The entries of an array of tables such as [[material]]; empty when absent.
+// The entries of an array of tables such as [[material]] or [[contact.pair]] (`top` being
+// the reader of [contact]); empty when absent.
 std::vector<const toml::table*> table_array(const TableReader& top, std::string_view key) {
   std::vector<const toml::table*> out;
   const toml::node* n = top.find(key);
   if (!n) return out;
   const toml::array* a = n->as_array();
   if (!a || !a->is_array_of_tables())
-    top.fail(key, std::string(key) + " must be an array of tables (write [[" + std::string(key) +
-                      "]] entries), found " + describe(*n));
+    top.fail(key, top.key_path(key) + " must be an array of tables (write [[" +
+                      top.key_path(key) + "]] entries), found " + describe(*n));
   for (const toml::node& entry : *a) out.push_back(entry.as_table());
   return out;
 }
@@ -410,19 +419,22 @@ const toml::table* subtable(const TableReader& r, std::string_view key) {
 }
 
 // Reads each entry of an array of tables such as [[boundary]] with `read_entry`, through
-// a reader titled by index and label ("[[boundary]] #0 ('left')").
+// a reader titled by index and label ("[[boundary]] #0 ('left')"; no label when
+// `label_key` is empty). Inside a table the kind is dotted: [[contact.pair]], contact.pair[0].
 template <class ReadEntry>
 auto read_entries(const TableReader& top, std::string_view kind, std::string_view label_key,
                   ReadEntry read_entry) {
   std::vector<decltype(read_entry(top))> out;
   const std::vector<const toml::table*> entries = table_array(top, kind);
+  const std::string name = top.key_path(kind), heading = "[[" + name + "]]";
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    const std::string index = std::to_string(i), heading = "[[" + std::string(kind) + "]]";
+    const std::string index = std::to_string(i);
     std::string title = heading + " #" + index;
-    if (auto label = (*entries[i])[label_key].value_exact<std::string>())
-      title += " ('" + *label + "')";
-    out.push_back(read_entry(TableReader(top.ctx(), *entries[i],
-                                         std::string(kind) + "[" + index + "]", heading, title)));
+    if (!label_key.empty())
+      if (auto label = (*entries[i])[label_key].value_exact<std::string>())
+        title += " ('" + *label + "')";
+    out.push_back(read_entry(
+        TableReader(top.ctx(), *entries[i], name + "[" + index + "]", heading, title)));
   }
   return out;
 }
@@ -617,6 +629,92 @@ InitialConfig read_initial(const TableReader& r) {
   return c;
 }
 
+ContactDampingConfig read_contact_damping(const TableReader& r) {
+  r.check_keys(kContactDampingKeys);
+  ContactDampingConfig d;
+  if (auto t = r.number("transition", kPositive)) d.transition = *t;
+  d.exponent = r.number("exponent", Range{1.0, std::numeric_limits<double>::infinity()})
+                   .value_or(1.0);
+  return d;
+}
+
+// `damping = { ... }` inside [contact] or a [[contact.pair]]; nullopt when absent.
+std::optional<ContactDampingConfig> read_contact_damping_in(const TableReader& r) {
+  const toml::table* t = subtable(r, "damping");
+  if (!t) return std::nullopt;
+  const std::string path = r.key_path("damping");
+  return read_contact_damping(TableReader(r.ctx(), *t, path, path, path));
+}
+
+ContactPairConfig read_contact_pair(const TableReader& r,
+                                    const std::vector<MaterialConfig>& materials) {
+  r.check_keys(kContactPairKeys);
+  ContactPairConfig p;
+  if (!r.has("materials")) r.missing("materials");
+  const toml::node& names = *r.find("materials");
+  const toml::array* a = names.as_array();
+  if (!a || a->size() != 2)
+    r.fail("materials", r.key_path("materials") +
+                            " must be an array of 2 material names, found " + describe(names));
+  std::vector<std::string_view> known;
+  for (const MaterialConfig& m : materials) known.push_back(m.name);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const toml::node& n = *a->get(i);
+    const std::string path = r.key_path("materials") + "[" + std::to_string(i) + "]";
+    p.materials[i] = as_string(r.ctx(), n, path);
+    if (std::find(known.begin(), known.end(), p.materials[i]) != known.end()) continue;
+    std::string msg = path + " = \"" + p.materials[i] + "\" is not the name of a [[material]]";
+    if (auto guess = nearest(p.materials[i], known))
+      msg += " (did you mean \"" + std::string(*guess) + "\"?)";
+    r.ctx().fail(n, msg);
+  }
+  p.normal_penalty = r.number("normal_penalty", kPositive);
+  p.tangential_penalty = r.number("tangential_penalty", kNonNegative);
+  p.friction = r.number("friction", kNonNegative);
+  p.damping = read_contact_damping_in(r);
+  return p;
+}
+
+ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfig>& materials) {
+  r.check_keys(kContactKeys);
+  ContactConfig c;
+  // [[contact.pair]] entries alone make an implicit [contact], at their first line.
+  if (!r.has("normal_penalty") && r.has("pair"))
+    r.ctx().fail(r.table(), r.title() + " is missing required key 'normal_penalty', which "
+                                        "[[contact.pair]] entries need (they override "
+                                        "[contact]'s values)");
+  c.normal_penalty = r.required_number("normal_penalty", kPositive);
+  c.tangential_penalty = r.number("tangential_penalty", kNonNegative).value_or(c.normal_penalty);
+  c.friction = r.number("friction", kNonNegative).value_or(0.0);
+  c.damping = read_contact_damping_in(r);
+  if (r.string("activation") == "fractured")
+    r.fail("activation", r.key_path("activation") + " = \"fractured\" comes with cohesive "
+                         "fracture ([material.fracture]), which this version does not have "
+                         "yet: use \"all\"");
+  c.activation = r.choice<std::string>("activation", {{"all", "all"}}).value_or("all");
+  c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
+                                                   {"skin", ContactRebuild::Skin}})
+                  .value_or(ContactRebuild::Step);
+  if (c.rebuild == ContactRebuild::Skin && !r.has("skin"))
+    r.fail("rebuild", r.key_path("rebuild") + " = \"skin\" needs " + r.key_path("skin") +
+                          " > 0 (the margin by which the boxes are enlarged)");
+  c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative)
+               .value_or(0.0);
+
+  // Each unordered pair once: ("rock", "steel") and ("steel", "rock") are the same.
+  std::map<std::pair<std::string, std::string>, std::string> path_of_pair;
+  c.pairs = read_entries(r, "pair", "", [&](const TableReader& entry) {
+    ContactPairConfig p = read_contact_pair(entry, materials);
+    const auto key = std::minmax(p.materials[0], p.materials[1]);
+    if (auto [it, fresh] = path_of_pair.emplace(key, entry.path()); !fresh)
+      entry.fail("materials", entry.key_path("materials") + ": the pair ('" + key.first +
+                                  "', '" + key.second + "') is already given in " +
+                                  it->second);
+    return p;
+  });
+  return c;
+}
+
 // ---------------------------------------------------------------------------------------
 // --set: "a.b.c=value" edits the parsed tree before validation.
 
@@ -661,7 +759,9 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
   // same suggestion an unknown key in the file gets.
   toml::node* cur = &root;
   const Schema* schema = &kRootKeys;
-  std::string shown, heading;  // dotted path walked so far; table kind for messages
+  // The path walked so far as given ("contact.pair.0") and as the reader spells it
+  // ("contact.pair[0]"), and the table kind for messages ("[[contact.pair]]").
+  std::string shown, path, heading;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const std::string& part = parts[i];
     const bool last = i + 1 == parts.size();
@@ -679,6 +779,7 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
       }
       cur = entries->get(index);
       shown += "." + part;
+      path += "[" + part + "]";
       continue;
     }
     toml::table& table = *cur->as_table();
@@ -697,10 +798,11 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
       return;
     }
     shown += (shown.empty() ? "" : ".") + part;
+    path += (path.empty() ? "" : ".") + part;
     toml::node* child = table.get(part);
     if (field->shape == Shape::Key) fail(shown + " is a value, not a table");
     if (field->shape == Shape::TableArray) {
-      heading = "[[" + part + "]]";
+      heading = "[[" + path + "]]";
       const std::size_t count = child && child->is_array() ? child->as_array()->size() : 0;
       if (!child || !child->is_array_of_tables()) {
         if (is_index(parts[i + 1]))
@@ -709,7 +811,7 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
         fail(shown + " is an array of tables: give an index, e.g. " + shown + ".0");
       }
     } else {
-      heading = i == 0 ? "[" + part + "]" : shown;
+      heading = i == 0 ? "[" + part + "]" : path;
       if (!child) {
         child = &table.insert(part, toml::table{}).first->second;
         ctx.note_created(child, source_name);
@@ -773,6 +875,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
 
   c.boundaries = read_entries(top, "boundary", "region", read_boundary);
   c.initials = read_entries(top, "initial", "region", read_initial);
+  if (auto contact = reader("contact")) c.contact = read_contact(*contact, c.materials);
   return c;
 }
 

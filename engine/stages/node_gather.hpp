@@ -8,7 +8,10 @@ namespace fdem {
 class NodeGather {
  public:
   NodeGather(ClContext& cl, DeviceArrays& arrays);
-  // node_force = Σ corner_force + Σ edge_force. Never waits.
+  // From now on the force gather also adds the fixed-point contact forces
+  // (contact_acc / force_scale).
+  void add_contact(double force_scale);
+  // node_force = Σ corner_force + Σ edge_force (+ contact). Never waits.
   void enqueue_forces();
   // node_mass = Σ corner values (the corner masses written by LumpedMass). Never waits.
   void enqueue_corner_sums_into_mass();

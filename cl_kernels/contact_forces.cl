@@ -1,0 +1,254 @@
+// Munjiza potential contact between triangle couples, with Coulomb friction and
+// An-Tannant damping. One work-item per couple (i < j, from contact detection):
+//   normal force  f_c = P_n ∫_{c∩t} (∇φ_c − ∇φ_t) dA, evaluated exactly as boundary
+//     integrals: for each edge of one triangle, the potential φ of the other (linear on
+//     each of its three centroid sub-triangles, zero outside) is integrated along the
+//     part of the edge inside it; the result acts normal to the edge, on the edge's
+//     nodes by the lever rule and, opposite, on the other triangle's nodes by their
+//     barycentric weights at the same points (zero net force and moment);
+//   damping       the couple's total normal force is scaled by σ/σ_try of Eq. 15;
+//   friction      per edge pass, an elastic slip spring P_tan × slip × contact length
+//     × thickness at the normal force's acting point, capped at μ × normal force (Eq. 16).
+// Forces go to the nodes through 64-bit fixed-point atomic adds (integer addition is
+// associative, so the sums are bitwise reproducible whatever the order).
+// History per couple (CONTACT_HISTORY reals): six slips (one per edge pass), o_n_max,
+// σ_peak; carried over from the previous couple list by binary search on the key.
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+
+#define CONTACT_HISTORY 8
+#define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
+
+// ∫ g(s) ds split into I0 = ∫(1−s) g, I1 = ∫ s g over s in [0, 1], g = max(0, min_m l_m(s)),
+// l_m(s) = l0[m] + s (l1[m] − l0[m]); also the length fraction where g > 0.
+inline void integrate_potential(const real l0[3], const real l1[3], real* I0, real* I1, real* inside) {
+  real s[9];
+  int n = 0;
+  s[n++] = (real)0;
+  s[n++] = (real)1;
+  for (int m = 0; m < 3; ++m) {
+    const real d = l1[m] - l0[m];
+    if (d != (real)0) {
+      const real z = -l0[m] / d;  // l_m = 0
+      if (z > (real)0 && z < (real)1) s[n++] = z;
+    }
+    for (int k = m + 1; k < 3; ++k) {  // l_m = l_k
+      const real dd = (l1[m] - l0[m]) - (l1[k] - l0[k]);
+      if (dd != (real)0) {
+        const real z = (l0[k] - l0[m]) / dd;
+        if (z > (real)0 && z < (real)1) s[n++] = z;
+      }
+    }
+  }
+  for (int a = 1; a < n; ++a) {  // insertion sort, at most 9 points
+    const real v = s[a];
+    int b = a - 1;
+    while (b >= 0 && s[b] > v) {
+      s[b + 1] = s[b];
+      --b;
+    }
+    s[b + 1] = v;
+  }
+  real i_all = 0, i_s = 0, length = 0;
+  real prev_s = s[0];
+  real prev_g = fmax((real)0, fmin(l0[0], fmin(l0[1], l0[2])));
+  for (int a = 1; a < n; ++a) {
+    const real t = s[a];
+    const real g = fmax((real)0, fmin(l0[0] + t * (l1[0] - l0[0]), fmin(l0[1] + t * (l1[1] - l0[1]), l0[2] + t * (l1[2] - l0[2]))));
+    const real w = t - prev_s;
+    i_all += w * (real)0.5 * (prev_g + g);
+    i_s += w * (prev_g * ((real)2 * prev_s + t) + g * (prev_s + (real)2 * t)) / (real)6;
+    // inside the other triangle on this piece: the potential's minimum at its middle is ≥ 0
+    const real mid = (real)0.5 * (prev_s + t);
+    const real gm = fmin(l0[0] + mid * (l1[0] - l0[0]), fmin(l0[1] + mid * (l1[1] - l0[1]), l0[2] + mid * (l1[2] - l0[2])));
+    if (gm > (real)0) length += w;
+    prev_s = t;
+    prev_g = g;
+  }
+  *I1 = i_s;
+  *I0 = i_all - i_s;
+  *inside = length;
+}
+
+inline void add_force(__global long* acc, uint node, real2 f, real scale) {
+  atom_add(&acc[2 * node], convert_long_rte(f.x * scale));
+  atom_add(&acc[2 * node + 1], convert_long_rte(f.y * scale));
+}
+
+// Index of `key` in the sorted list, or -1.
+inline int find_key(__global const ulong* keys, uint n, ulong key) {
+  uint lo = 0, hi = n;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2;
+    const ulong k = keys[mid];
+    if (k < key) lo = mid + 1;
+    else if (k > key) hi = mid;
+    else return (int)mid;
+  }
+  return -1;
+}
+
+__kernel void contact_forces(const uint n_couples,
+                             __global const ulong* restrict keys,
+                             const uint n_previous,
+                             __global const ulong* restrict previous_keys,
+                             __global const real* restrict previous_history,
+                             __global real* restrict history,
+                             __global const uint* restrict tri_nodes,
+                             __global const uint* restrict tri_material,
+                             const uint n_materials,
+                             __global const uint* restrict pair_index,
+                             __global const real* restrict pair_props,
+                             __global const real2* restrict position,
+                             __global const real2* restrict velocity,
+                             const real thickness,
+                             const real dt,
+                             const real force_scale,
+                             const real energy_scale,
+                             __global long* restrict contact_acc,
+                             __global long* restrict dissipated,
+                             __global uint* restrict touching) {
+  const uint c = get_global_id(0);
+  if (c >= n_couples) return;
+  const ulong key = keys[c];
+  const uint tri[2] = {(uint)(key >> 32), (uint)(key & 0xffffffffUL)};
+  uint nodes[2][3];
+  real2 x[2][3], v[2][3];
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 3; ++a) {
+      nodes[k][a] = tri_nodes[3 * tri[k] + a];
+      x[k][a] = position[nodes[k][a]];
+      v[k][a] = velocity[nodes[k][a]];
+    }
+  __global const real* props =
+      pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
+  const real Pn = props[0], Ptan = props[1], mu = props[2], T = props[3], b = props[4];
+  const int damped = props[5] != (real)0;
+
+  real hist[CONTACT_HISTORY];
+  const int found = find_key(previous_keys, n_previous, key);
+  for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
+
+  // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
+  real I0[6], I1[6], inside[6];
+  real lbar0[6][3], lbar1[6][3];  // barycentric weights (×3) of B's vertices at the edge ends
+  real normal_total = 0, contact_length = 0;
+  for (int dir = 0; dir < 2; ++dir) {
+    const int B = 1 - dir;
+    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
+    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+    for (int e = 0; e < 3; ++e) {
+      const int p = 3 * dir + e;
+      const real2 pa = x[dir][e], pb = x[dir][(e + 1) % 3];
+      real l0[3], l1[3];
+      for (int m = 0; m < 3; ++m) {
+        const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
+        const real2 edge = wn - wm;
+        // l_m = 3 A_m / A: three times the barycentric weight of the vertex opposite edge m
+        l0[m] = (real)3 * (edge.x * (pa.y - wm.y) - edge.y * (pa.x - wm.x)) / twice_area;
+        l1[m] = (real)3 * (edge.x * (pb.y - wm.y) - edge.y * (pb.x - wm.x)) / twice_area;
+        lbar0[p][(m + 2) % 3] = l0[m];
+        lbar1[p][(m + 2) % 3] = l1[m];
+      }
+      integrate_potential(l0, l1, &I0[p], &I1[p], &inside[p]);
+      const real L = length(pb - pa);
+      normal_total += Pn * thickness * L * (I0[p] + I1[p]);
+      contact_length += inside[p] * L;
+    }
+  }
+
+  if (normal_total <= (real)0) {  // no overlap: the couple is not touching; forget its history
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
+    return;
+  }
+  atomic_inc(touching);
+
+  // An-Tannant damping (Eq. 15) on the couple's total normal force.
+  real ratio = (real)1;
+  real lost = (real)0;
+  if (damped) {
+    const real area = (real)0.5 * contact_length * thickness;       // contact area A_con
+    const real sigma_try = normal_total / area;
+    const real overlap = sigma_try / Pn;                            // nominal overlap o_n (mean potential)
+    real sigma;
+    if (overlap >= hist[6]) {  // loading
+      sigma = fmin(sigma_try, T);
+      hist[6] = overlap;
+      hist[7] = sigma;
+    } else {                   // unloading
+      sigma = hist[7] * pow(overlap / hist[6], b);
+    }
+    ratio = sigma / sigma_try;
+  }
+
+  real friction_lost = (real)0;
+  for (int dir = 0; dir < 2; ++dir) {
+    const int A = dir, B = 1 - dir;
+    for (int e = 0; e < 3; ++e) {
+      const int p = 3 * dir + e;
+      const real I = I0[p] + I1[p];
+      if (!(I > (real)0)) {
+        hist[p] = (real)0;
+        continue;
+      }
+      const uint na = nodes[A][e], nb = nodes[A][(e + 1) % 3];
+      const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
+      const real2 edge = pb - pa;
+      const real L = length(edge);
+      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
+      const real k = ratio * Pn * thickness;
+      // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
+      add_force(contact_acc, na, -k * I0[p] * nL, force_scale);
+      add_force(contact_acc, nb, -k * I1[p] * nL, force_scale);
+      for (int m = 0; m < 3; ++m)
+        add_force(contact_acc, nodes[B][m], k * (lbar0[p][m] * I0[p] + lbar1[p][m] * I1[p]) / (real)3 * nL, force_scale);
+
+      // Relative velocity at the acting point s* of this pass's normal force.
+      const real s = I1[p] / I;
+      real wB[3];
+      for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lbar0[p][m] + s * lbar1[p][m]) / (real)3;
+      const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
+      const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
+      // Damping loss this step: (1 − ratio) × |work of the trial normal force|.
+      if (damped && ratio < (real)1) lost += ((real)1 - ratio) * Pn * thickness * I * fabs(dot(nL, vA - vB)) * dt;
+
+      // Friction (Eq. 16).
+      if (mu == (real)0 || Ptan == (real)0) {
+        hist[p] = (real)0;
+        continue;
+      }
+      const real fn = k * L * I;
+      const real2 tangent = edge / L;
+      const real stiffness = Ptan * inside[p] * L * thickness;
+      real slip = hist[p] + dot(vA - vB, tangent) * dt;
+      real ft = -stiffness * slip;
+      const real cap = mu * fn;
+      if (fabs(ft) > cap) {
+        const real elastic = (stiffness > (real)0 ? cap / stiffness : (real)0) * sign(slip);
+        friction_lost += cap * fabs(slip - elastic);
+        slip = elastic;
+        ft = -cap * sign(slip);
+      }
+      hist[p] = slip;
+      if (ft != (real)0) {
+        const real2 f = ft * tangent;
+        add_force(contact_acc, na, (1 - s) * f, force_scale);
+        add_force(contact_acc, nb, s * f, force_scale);
+        for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], -wB[m] * f, force_scale);
+      }
+    }
+  }
+  for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
+  const real total_lost = friction_lost + lost;
+  if (total_lost > (real)0) atom_add(dissipated, convert_long_rte(total_lost * energy_scale));
+}
+
+// One work-item per node: clears its fixed-point contact force (start of each step);
+// work-item 0 also clears the count of touching couples.
+__kernel void clear_contact_forces(const uint n_nodes, __global long* restrict contact_acc,
+                                   __global uint* restrict touching) {
+  const uint i = get_global_id(0);
+  if (i == 0) *touching = 0;
+  if (i >= n_nodes) return;
+  contact_acc[2 * i] = 0;
+  contact_acc[2 * i + 1] = 0;
+}

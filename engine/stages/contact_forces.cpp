@@ -1,0 +1,101 @@
+#include "engine/stages/contact_forces.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fdem {
+
+namespace {
+constexpr int kHistory = 8;  // CONTACT_HISTORY in contact_forces.cl
+}
+
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
+  // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
+  // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
+  // node. The scale is a power of two so that the conversion is exact.
+  double longest = 0;
+  for (const auto& tri : model.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int p = tri[e], q = tri[(e + 1) % 3];
+      longest = std::max(longest, std::hypot(model.x[q] - model.x[p], model.y[q] - model.y[p]));
+    }
+  const double worst_force = 300.0 * model.contact.max_normal_penalty * model.thickness * std::max(longest, 1e-300);
+  force_scale_ = std::exp2(std::floor(std::log2(std::ldexp(1.0, 62) / worst_force)));
+  energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
+
+  const auto program = cl.build("contact_forces");
+  forces_ = compute::kernel(program, "contact_forces");
+  clear_ = compute::kernel(program, "clear_contact_forces");
+  dissipated_ = cl.allocate(sizeof(cl_long), "contact_dissipated");
+  touching_ = cl.allocate(sizeof(cl_uint), "contact_touching");
+  upload(cl, dissipated_, std::vector<cl_long>{0});
+  upload(cl, touching_, std::vector<cl_uint>{0});
+  capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
+  keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
+  for (auto& h : history_) h = cl.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+
+  const size_t n_materials = model.materials.size();
+  std::vector<cl_uint> index(model.contact.pair_index.begin(), model.contact.pair_index.end());
+  std::vector<real> props(model.contact.pair_props.begin(), model.contact.pair_props.end());
+  pair_index_ = cl.allocate(index.size() * sizeof(cl_uint), "contact_pair_index");
+  pair_props_ = cl.allocate(props.size() * sizeof(real), "contact_pair_props");
+  upload(cl, pair_index_, index);
+  upload(cl, pair_props_, props);
+
+  forces_.set_arg(6, a.tri_nodes);
+  forces_.set_arg(7, a.tri_material);
+  forces_.set_arg(8, static_cast<cl_uint>(n_materials));
+  forces_.set_arg(9, pair_index_);
+  forces_.set_arg(10, pair_props_);
+  forces_.set_arg(11, a.position);
+  forces_.set_arg(12, a.velocity);
+  forces_.set_arg(13, static_cast<real>(model.thickness));
+  forces_.set_arg(15, static_cast<real>(force_scale_));
+  forces_.set_arg(16, static_cast<real>(energy_scale_));
+  forces_.set_arg(17, a.contact_acc);
+  forces_.set_arg(18, dissipated_);
+  forces_.set_arg(19, touching_);
+  clear_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
+  clear_.set_arg(1, a.contact_acc);
+  clear_.set_arg(2, touching_);
+}
+
+void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
+
+void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt) {
+  const int next = new_list ? 1 - current_ : current_;
+  if (new_list && count > capacity_) {
+    // Grow the write side now; the previous list and history stay readable for this call.
+    const size_t grown = count + count / 2;
+    history_[next] = cl_.allocate(grown * kHistory * sizeof(real), "contact_history");
+  }
+  forces_.set_arg(0, static_cast<cl_uint>(count));
+  forces_.set_arg(1, new_list ? keys : keys_);
+  forces_.set_arg(2, static_cast<cl_uint>(count_));
+  forces_.set_arg(3, keys_);
+  forces_.set_arg(4, history_[current_]);
+  forces_.set_arg(5, history_[next]);
+  forces_.set_arg(14, static_cast<real>(dt));
+  cl_.enqueue(forces_, count);
+  if (new_list) {
+    if (count > capacity_) {
+      capacity_ = count + count / 2;
+      keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");  // the kernel holds the old one
+      history_[current_] = cl_.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+    }
+    if (count) cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
+    current_ = next;
+    count_ = count;
+  }
+}
+
+size_t ContactForces::touching() { return download<cl_uint>(cl_, touching_, 1)[0]; }
+
+double ContactForces::dissipated_energy() {
+  return static_cast<double>(download<cl_long>(cl_, dissipated_, 1)[0]) / energy_scale_;
+}
+
+std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }
+std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
+
+}  // namespace fdem

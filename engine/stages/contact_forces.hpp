@@ -1,0 +1,38 @@
+// Stage: contact forces between detected couples (cl_kernels/contact_forces.cl).
+#pragma once
+#include "engine/device_arrays.hpp"
+#include "engine/model.hpp"
+
+namespace fdem {
+
+class ContactForces {
+ public:
+  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model);
+
+  // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
+  double force_scale() const { return force_scale_; }
+
+  // Zeroes the contact accumulator and the touching count. Never waits.
+  void enqueue_clear();
+  // Forces of the couples in `keys` (sorted cl_ulong keys, i << 32 | j). With new_list the
+  // keys come from a fresh detection and each couple's history is carried over from the
+  // previous list by key; otherwise the list is the one of the last call. Never waits.
+  void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt);
+
+  size_t couples() const { return count_; }
+  size_t touching();             // couples in contact in the last step (waits)
+  double dissipated_energy();    // friction + damping, cumulative [J] (waits)
+  std::vector<real> history();   // per couple, 8 reals (waits; for tests)
+  std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
+
+ private:
+  ClContext& cl_;
+  DeviceArrays& arrays_;
+  double force_scale_ = 1, energy_scale_ = 1;
+  compute::kernel forces_, clear_;
+  compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_;
+  size_t capacity_ = 0, count_ = 0;
+  int current_ = 0;
+};
+
+}  // namespace fdem

@@ -1,0 +1,285 @@
+// Contact forces of one couple against independent references.
+#include <doctest/doctest.h>
+
+#include "engine/stages/contact_forces.hpp"
+#include "fixture.hpp"
+#include "reference.hpp"
+
+using namespace fdem;
+using reference::Vector2d;
+
+namespace {
+
+using Polygon = std::vector<Vector2d>;
+
+double cross(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Sutherland–Hodgman: the part of `subject` inside the convex counter-clockwise `clip`.
+Polygon clip_polygon(Polygon subject, const Polygon& clip) {
+  for (size_t k = 0; k < clip.size() && !subject.empty(); ++k) {
+    const Vector2d a = clip[k], b = clip[(k + 1) % clip.size()];
+    auto inside = [&](const Vector2d& p) { return cross(b - a, p - a) >= 0; };
+    Polygon out;
+    for (size_t i = 0; i < subject.size(); ++i) {
+      const Vector2d p = subject[i], q = subject[(i + 1) % subject.size()];
+      const double dp = cross(b - a, p - a), dq = cross(b - a, q - a);
+      if (inside(p)) out.push_back(p);
+      if ((dp >= 0) != (dq >= 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
+    }
+    subject = out;
+  }
+  return subject;
+}
+
+double area(const Polygon& p) {  // shoelace about the first vertex (no cancellation from the origin)
+  double a = 0;
+  for (size_t i = 1; i + 1 < p.size(); ++i) a += cross(p[i] - p[0], p[i + 1] - p[0]);
+  return 0.5 * a;
+}
+
+// Potential pieces of a counter-clockwise triangle: sub-triangle (centroid, v_k, v_k+1)
+// and the constant gradient of φ there, 3 (−e_y, e_x) / (2A).
+std::vector<std::pair<Polygon, Vector2d>> pieces(const std::array<Vector2d, 3>& v) {
+  const Vector2d c = (v[0] + v[1] + v[2]) / 3.0;
+  const double twice_area = cross(v[1] - v[0], v[2] - v[0]);
+  std::vector<std::pair<Polygon, Vector2d>> out;
+  for (int k = 0; k < 3; ++k) {
+    const Vector2d e = v[(k + 1) % 3] - v[k];
+    out.push_back({{c, v[k], v[(k + 1) % 3]}, 3.0 * Vector2d(-e.y(), e.x()) / twice_area});
+  }
+  return out;
+}
+
+// P_n t ∫_{c∩t} (∇φ_c − ∇φ_t) dA, the force on the contactor, by polygon intersection.
+Vector2d reference_force(const std::array<Vector2d, 3>& c, const std::array<Vector2d, 3>& t, double pn, double thick) {
+  Vector2d f = Vector2d::Zero();
+  for (const auto& [pc, gc] : pieces(c))
+    for (const auto& [pt, gt] : pieces(t)) f += area(clip_polygon(pc, pt)) * (gc - gt);
+  return pn * thick * f;
+}
+
+// The same integral by midpoint quadrature on an n × n grid over the box of c.
+Vector2d quadrature_force(const std::array<Vector2d, 3>& c, const std::array<Vector2d, 3>& t, double pn, double thick, int n) {
+  auto potential_gradient = [](const std::array<Vector2d, 3>& v, const Vector2d& p, Vector2d* grad) {
+    double best = 1e300;
+    for (const auto& [poly, g] : pieces(v)) {
+      const double twice = cross(v[1] - v[0], v[2] - v[0]);
+      (void)twice;
+      (void)poly;
+      (void)g;
+    }
+    const double twice_area = cross(v[1] - v[0], v[2] - v[0]);
+    for (int k = 0; k < 3; ++k) {
+      const Vector2d e = v[(k + 1) % 3] - v[k];
+      const double phi = 3.0 * cross(e, p - v[k]) / twice_area;
+      if (phi < best) best = phi, *grad = 3.0 * Vector2d(-e.y(), e.x()) / twice_area;
+    }
+    return best;
+  };
+  Vector2d lo = c[0], hi = c[0];
+  for (const auto& p : c) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vector2d step = (hi - lo) / n;
+  Vector2d f = Vector2d::Zero();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vector2d p = lo + Vector2d((i + 0.5) * step.x(), (j + 0.5) * step.y());
+      Vector2d gc, gt;
+      if (potential_gradient(c, p, &gc) >= 0 && potential_gradient(t, p, &gt) >= 0) f += gc - gt;
+    }
+  return pn * thick * f * step.x() * step.y();
+}
+
+struct CoupleResult {
+  std::array<Vector2d, 6> force;  // nodes of triangle 0, then triangle 1
+  std::vector<real> history;
+  double dissipated = 0;
+  size_t touching = 0;
+};
+
+// Runs the contact stage on one couple (triangles 0 and 1 of a two-triangle soup).
+struct TwoTriangles {
+  Model model;
+  // `size`: the triangles' size in the tests (sets the fixed-point scale, as a mesh would).
+  TwoTriangles(double pn, double ptan, double mu, double T = std::numeric_limits<double>::max(), double b = 1.0,
+               double size = 1.0) {
+    model = test::make_model({0, size, 0, 0, size, 0}, {0, 0, size, 0, 0, size}, {{0, 1, 2}, {3, 4, 5}},
+                             {test::all_material_variants()[0]});
+    model.contact.enabled = true;
+    model.contact.pair_props = {pn, ptan, mu, T, b, (T < 1e300 || b != 1.0) ? 1.0 : 0.0, 0, 0};
+    model.contact.pair_index = {0};
+    model.contact.max_normal_penalty = pn;
+    model.contact.max_tangential_penalty = ptan;
+  }
+};
+
+class CoupleRunner {
+ public:
+  explicit CoupleRunner(const Model& m) : arrays_(test::context(), m), forces_(test::context(), arrays_, m) {
+    keys_ = test::context().allocate(sizeof(cl_ulong), "keys");
+    upload(test::context(), keys_, std::vector<cl_ulong>{(cl_ulong(0) << 32) | 1u});
+  }
+  CoupleResult step(const std::array<Vector2d, 6>& x, const std::array<Vector2d, 6>& v, double dt, bool first) {
+    auto& cl = test::context();
+    std::vector<real2> pos(6), vel(6);
+    for (int k = 0; k < 6; ++k) pos[k] = {real(x[k].x()), real(x[k].y())}, vel[k] = {real(v[k].x()), real(v[k].y())};
+    upload(cl, arrays_.position, pos);
+    upload(cl, arrays_.velocity, vel);
+    forces_.enqueue_clear();
+    forces_.enqueue(keys_, 1, first, dt);
+    const auto acc = download<cl_long>(cl, arrays_.contact_acc, 12);
+    CoupleResult r;
+    for (int k = 0; k < 6; ++k) r.force[k] = Vector2d(double(acc[2 * k]), double(acc[2 * k + 1])) / forces_.force_scale();
+    r.history = forces_.history();
+    r.dissipated = forces_.dissipated_energy();
+    r.touching = forces_.touching();
+    return r;
+  }
+
+ private:
+  DeviceArrays arrays_;
+  ContactForces forces_;
+  compute::buffer keys_;
+};
+
+std::array<Vector2d, 6> still() {
+  std::array<Vector2d, 6> v;
+  for (auto& w : v) w.setZero();
+  return v;
+}
+
+std::array<Vector2d, 3> random_triangle(std::mt19937& rng, const Vector2d& centre, double size) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::array<Vector2d, 3> v;
+  const double turn = M_PI * u(rng);
+  for (int k = 0; k < 3; ++k) {
+    const double a = turn + 2 * M_PI * k / 3 + 0.5 * u(rng);
+    v[k] = centre + size * (1 + 0.3 * u(rng)) * Vector2d(std::cos(a), std::sin(a));
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST_SUITE("contact") {
+
+TEST_CASE("two-triangle normal force equals P_n ∫(∇φc − ∇φt) dA by polygon intersection, with zero net force and moment") {
+  const double pn = 1.22e12, thick = 0.5;
+  TwoTriangles two(pn, 0.0, 0.0, std::numeric_limits<double>::max(), 1.0, 1e-3);
+  two.model.thickness = thick;
+  CoupleRunner runner(two.model);
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int overlapping = 0;
+  double worst = 0, worst_balance = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const auto c = random_triangle(rng, Vector2d(0.3, -0.2), 1e-3);
+    const auto t = random_triangle(rng, Vector2d(0.3, -0.2) + 1.4e-3 * Vector2d(u(rng), u(rng)), 1e-3 * (0.5 + u(rng) * 0.3 + 0.5));
+    const std::array<Vector2d, 6> x{c[0], c[1], c[2], t[0], t[1], t[2]};
+    const auto r = runner.step(x, still(), 1e-9, true);
+    const Vector2d expected = reference_force(c, t, pn, thick);
+    const Vector2d on_c = r.force[0] + r.force[1] + r.force[2];
+    const Vector2d on_t = r.force[3] + r.force[4] + r.force[5];
+    const double scale = std::max(expected.norm(), 1e-300);
+    if (expected.norm() == 0) {
+      CHECK(on_c.norm() == 0);
+      continue;
+    }
+    ++overlapping;
+    // Relative to the force itself, or for tiny overlaps to 1e-4 of a full-depth force
+    // P_n t L (the polygon reference loses digits to cancellation there).
+    const double err = (on_c - expected).norm() / std::max(scale, 1e-4 * pn * thick * 1e-3);
+    worst = std::max(worst, err);
+    double moment = 0, size = 1e-3;
+    for (int k = 0; k < 6; ++k) moment += cross(x[k] - Vector2d(0.3, -0.2), r.force[k]);
+    worst_balance = std::max({worst_balance, (on_c + on_t).norm() / scale, std::fabs(moment) / (scale * size)});
+  }
+  CHECK(overlapping > 100);
+  CHECK(worst < (kDoublePrecision ? 1e-10 : 1e-4));
+  CHECK(worst_balance < (kDoublePrecision ? 1e-10 : 1e-4));
+}
+
+TEST_CASE("two-triangle normal force agrees with plain fine quadrature") {
+  const double pn = 1e9;
+  TwoTriangles two(pn, 0.0, 0.0);
+  CoupleRunner runner(two.model);
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 5; ++trial) {
+    const auto c = random_triangle(rng, Vector2d(0, 0), 1.0);
+    const auto t = random_triangle(rng, Vector2d(0.7, 0.4), 1.0);
+    const auto r = runner.step({c[0], c[1], c[2], t[0], t[1], t[2]}, still(), 1e-6, true);
+    const Vector2d on_c = r.force[0] + r.force[1] + r.force[2];
+    const Vector2d q = quadrature_force(c, t, pn, two.model.thickness, 1500);
+    CAPTURE(trial);
+    CHECK((on_c - q).norm() < 5e-3 * std::max(q.norm(), 1.0));
+  }
+}
+
+TEST_CASE("friction: elastic slip below μ F_n, Coulomb cap above it, and the history survives steps") {
+  const double pn = 1e9, ptan = 1e12, mu = 0.5, dt = 1e-6;
+  TwoTriangles two(pn, ptan, mu);
+  CoupleRunner runner(two.model);
+  // Triangle 1 rests on triangle 0's flat top edge (y = 0) with a small overlap and slides along x.
+  const double depth = 1e-3;
+  const std::array<Vector2d, 6> x{Vector2d(0, 0), Vector2d(1, -1), Vector2d(1, 0),
+                                  Vector2d(0.2, -depth), Vector2d(0.8, -depth), Vector2d(0.5, 0.5)};
+  std::array<Vector2d, 6> v = still();
+  for (int k = 3; k < 6; ++k) v[k] = Vector2d(1e-3, 0);  // slow slide of the upper triangle
+  auto r = runner.step(x, v, dt, true);
+  const Vector2d normal_on_top = r.force[3] + r.force[4] + r.force[5];
+  REQUIRE(normal_on_top.norm() > 0);
+  // Slide a little: the friction force grows elastically with the slip, stays ≤ μ F_n.
+  double last_tangential = 0;
+  for (int s = 0; s < 50; ++s) {
+    r = runner.step(x, v, dt, false);
+    const Vector2d on_top = r.force[3] + r.force[4] + r.force[5];
+    const double fn = std::fabs(on_top.y()), ft = std::fabs(on_top.x());
+    CHECK(on_top.x() <= 0);  // friction opposes the upper triangle's motion
+    CHECK(ft <= mu * fn * (1 + 1e-9) + 1e-9);
+    CHECK(ft >= last_tangential * (1 - 1e-9));  // monotone while sticking or at the cap
+    last_tangential = ft;
+  }
+  CHECK(last_tangential > 0);
+  CHECK(last_tangential < mu * normal_on_top.norm());  // still sticking after 50 µm... of slip
+  // Keep sliding until the cap holds: then the tangential force is exactly μ F_n.
+  for (int s = 0; s < 200000 && r.dissipated == 0; ++s) r = runner.step(x, v, 1e-4, false);
+  CHECK(r.dissipated > 0);
+  for (int s = 0; s < 2000; ++s) r = runner.step(x, v, 1e-4, false);  // every pass at its cap
+  const Vector2d on_top = r.force[3] + r.force[4] + r.force[5];
+  // Up to the short end passes (length ~ depth), |F_t| = μ F_n.
+  CHECK(std::fabs(on_top.x()) == doctest::Approx(mu * std::fabs(on_top.y())).epsilon(5 * depth));
+  CHECK(r.touching == 1);
+}
+
+TEST_CASE("An–Tannant damping: b = 1 and T = ∞ is elastic; b > 1 returns less on unloading") {
+  const double pn = 1e9, dt = 1e-6;
+  auto unload_ratio = [&](double b, double T) {
+    TwoTriangles two(pn, 0.0, 0.0, T, b);
+    CoupleRunner runner(two.model);
+    const std::array<Vector2d, 3> c{Vector2d(0, 0), Vector2d(1, 0), Vector2d(0.5, 1)};
+    auto push = [&](double depth, bool first) {
+      const std::array<Vector2d, 6> x{c[0], c[1], c[2], Vector2d(0.2, 1 - depth), Vector2d(0.8, 1 - depth), Vector2d(0.5, 2 - depth)};
+      const auto r = runner.step(x, still(), dt, first);
+      return std::fabs((r.force[3] + r.force[4] + r.force[5]).y());
+    };
+    // Load to 0.2, unload to 0.1: compare with the elastic force at 0.1.
+    const double f1 = push(0.05, true);
+    const double f2 = push(0.1, false);
+    const double f3 = push(0.2, false);
+    const double unloading = push(0.1, false);
+    CHECK(f1 < f2);
+    CHECK(f2 < f3);
+    TwoTriangles elastic(pn, 0.0, 0.0);
+    CoupleRunner reference_runner(elastic.model);
+    const std::array<Vector2d, 6> x{c[0], c[1], c[2], Vector2d(0.2, 0.9), Vector2d(0.8, 0.9), Vector2d(0.5, 1.9)};
+    const auto r = reference_runner.step(x, still(), dt, true);
+    return unloading / std::fabs((r.force[3] + r.force[4] + r.force[5]).y());
+  };
+  CHECK(unload_ratio(1.0, std::numeric_limits<double>::max()) == doctest::Approx(1.0).epsilon(1e-12));
+  const double b2 = unload_ratio(2.0, std::numeric_limits<double>::max());
+  const double b5 = unload_ratio(5.0, std::numeric_limits<double>::max());
+  CHECK(b2 < 0.99);
+  CHECK(b5 < b2);
+  CHECK(unload_ratio(1.0, 1e3) < 1.0);  // a low transition stress caps the loading force
+}
+
+}  // TEST_SUITE
