@@ -320,6 +320,11 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       model.vy0[n] = init.velocity[1];
     }
   }
+  for (const auto& name : config.output.regions) {
+    int dim = 0;
+    const auto nodes = region_nodes(name, config.path + ": output.regions", &dim);
+    remember_region(name, dim, nodes, false);
+  }
   if (config.contact) model.contact = build_contact(*config.contact, config);
 
   // Prescribed velocities hold from the start.

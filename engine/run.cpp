@@ -61,8 +61,7 @@ struct HistoryProbe {
   bool contact = false;
 
   HistoryProbe(const Model& m, const std::vector<real2>& masses) : model(m), contact(m.contact.enabled) {
-    for (const auto& r : m.regions)
-      if (r.prescribed) regions.push_back(&r);
+    for (const auto& r : m.regions) regions.push_back(&r);
     for (const auto& mk : masses) mass.push_back(mk.x);
   }
 
@@ -78,8 +77,10 @@ struct HistoryProbe {
     }
     for (const auto* r : regions) {
       const std::string n = netcdf_name(r->name);
-      vars.push_back({n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)"});
-      vars.push_back({n + "_force_y", "N", "reaction force on region " + r->name + ", y (prescribed components)"});
+      if (r->prescribed) {
+        vars.push_back({n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)"});
+        vars.push_back({n + "_force_y", "N", "reaction force on region " + r->name + ", y (prescribed components)"});
+      }
       vars.push_back({n + "_disp_x", "m", "mean displacement of region " + r->name + ", x"});
       vars.push_back({n + "_disp_y", "m", "mean displacement of region " + r->name + ", y"});
     }
@@ -111,7 +112,8 @@ struct HistoryProbe {
         uy += x[n].y - model.y[n];
       }
       const double count = double(r->nodes.size());
-      row.insert(row.end(), {fx, fy, ux / count, uy / count});
+      if (r->prescribed) row.insert(row.end(), {fx, fy});
+      row.insert(row.end(), {ux / count, uy / count});
     }
     return row;
   }

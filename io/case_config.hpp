@@ -30,7 +30,8 @@ struct OutputConfig {
   std::string name;         // base name of the output files; default: case file stem
   int frames = -1;          // number of frames (first and last included); < 0 when every is given
   double every = -1.0;      // [s] time between frames; < 0 when frames is given
-  double history_every = -1.0;  // [s]; < 0 → every step... see docs (default: end/1000)
+  double history_every = -1.0;  // [s]; < 0: steps/1000 steps
+  std::vector<std::string> regions;  // extra regions whose mean displacement the history records
 };
 
 enum class Elasticity { NeoHookean, Hyperelastic };

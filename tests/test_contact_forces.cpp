@@ -62,12 +62,6 @@ Vector2d reference_force(const std::array<Vector2d, 3>& c, const std::array<Vect
 Vector2d quadrature_force(const std::array<Vector2d, 3>& c, const std::array<Vector2d, 3>& t, double pn, double thick, int n) {
   auto potential_gradient = [](const std::array<Vector2d, 3>& v, const Vector2d& p, Vector2d* grad) {
     double best = 1e300;
-    for (const auto& [poly, g] : pieces(v)) {
-      const double twice = cross(v[1] - v[0], v[2] - v[0]);
-      (void)twice;
-      (void)poly;
-      (void)g;
-    }
     const double twice_area = cross(v[1] - v[0], v[2] - v[0]);
     for (int k = 0; k < 3; ++k) {
       const Vector2d e = v[(k + 1) % 3] - v[k];
@@ -83,7 +77,7 @@ Vector2d quadrature_force(const std::array<Vector2d, 3>& c, const std::array<Vec
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const Vector2d p = lo + Vector2d((i + 0.5) * step.x(), (j + 0.5) * step.y());
-      Vector2d gc, gt;
+      Vector2d gc = Vector2d::Zero(), gt = Vector2d::Zero();
       if (potential_gradient(c, p, &gc) >= 0 && potential_gradient(t, p, &gt) >= 0) f += gc - gt;
     }
   return pn * thick * f * step.x() * step.y();

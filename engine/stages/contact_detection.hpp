@@ -1,0 +1,53 @@
+// Stage: contact detection (cl_kernels/contact_detection.cl).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/device_arrays.hpp"
+
+namespace fdem {
+
+class ContactDetection {
+ public:
+  // skin: margin [m] added around every triangle's bounding box (0 = touching boxes only).
+  // initial_capacity: couples the output can hold before growing (0 = 8 per triangle).
+  ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0);
+  // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
+  // every side, overlap, and that share no node. Writes them to couple_keys() as
+  // cl_ulong keys (ulong(i) << 32 | j), sorted ascending, unique; returns their count.
+  // Waits (it reads the count to grow the buffer on overflow and rerun: never drops a couple).
+  // The final sort of the keys is enqueued on the (in-order) queue after that read.
+  size_t run();
+  compute::buffer& couple_keys();        // cl_ulong × capacity(); the first `count` are valid
+  size_t capacity() const;
+  size_t last_count() const;
+  struct Grid { double cell_size, x0, y0; unsigned nx, ny; };
+  Grid grid();                           // the grid of the last run (host read; for `fdem check` and tests)
+  // Optional candidate mask for later (fracture activation): one cl_uint per triangle, nonzero =
+  // takes part. Default: every triangle takes part.
+  void set_active(const std::vector<uint32_t>& active);
+
+  // Forces Boost.Compute's radix sort for both sorts (the path it takes on GPUs) instead of
+  // its device-dependent dispatch (merge sort on CPU devices). The couples do not depend on it.
+  void use_radix_sort(bool on) { force_radix_ = on; }
+  // Most grid cells a run may use (nx·ny ≤ this): 4 per triangle + 1024.
+  size_t max_cells() const { return max_cells_; }
+
+ private:
+  void grow(size_t needed);
+  void find_couples();  // resets the counter and enqueues the scan
+
+  ClContext& cl_;
+  size_t count_;        // triangles
+  size_t groups_;       // work-groups of the box kernel
+  size_t max_cells_;
+  size_t capacity_ = 0;
+  size_t last_count_ = 0;
+  bool force_radix_ = false;
+
+  compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
+  compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_;
+  compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
+};
+
+}  // namespace fdem

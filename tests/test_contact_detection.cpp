@@ -1,0 +1,342 @@
+// Contact detection (engine/stages/contact_detection.*) against an O(n²) host reference
+// written from the rule itself: boxes grown by skin/2 overlap (closed intervals), i < j,
+// no shared node, both triangles active.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include "engine/stages/contact_detection.hpp"
+#include "fixture.hpp"
+
+using namespace fdem;
+
+namespace {
+
+std::vector<io::MaterialConfig> one_material() {
+  return {test::material_config("rock", io::Elasticity::NeoHookean, io::Plane::Strain)};
+}
+
+struct Box {
+  real lo_x, lo_y, hi_x, hi_y;
+};
+
+// The same arithmetic as the kernel (min/max are exact; one rounding in ± half skin).
+std::vector<Box> host_boxes(const Model& m, const std::vector<real2>& pos, double skin) {
+  const real h = static_cast<real>(0.5 * skin);
+  std::vector<Box> boxes;
+  for (const auto& t : m.triangles) {
+    const real2 a = pos[t[0]], b = pos[t[1]], c = pos[t[2]];
+    boxes.push_back({std::min({a.x, b.x, c.x}) - h, std::min({a.y, b.y, c.y}) - h,
+                     std::max({a.x, b.x, c.x}) + h, std::max({a.y, b.y, c.y}) + h});
+  }
+  return boxes;
+}
+
+std::vector<uint64_t> brute_force(const Model& m, const std::vector<real2>& pos, double skin,
+                                  const std::vector<uint32_t>& active = {}) {
+  const auto boxes = host_boxes(m, pos, skin);
+  std::vector<uint64_t> keys;
+  const size_t n = m.num_triangles();
+  for (size_t i = 0; i < n; ++i) {
+    if (!active.empty() && !active[i]) continue;
+    const Box& a = boxes[i];
+    for (size_t j = i + 1; j < n; ++j) {
+      if (!active.empty() && !active[j]) continue;
+      const Box& b = boxes[j];
+      if (!(a.lo_x <= b.hi_x && b.lo_x <= a.hi_x && a.lo_y <= b.hi_y && b.lo_y <= a.hi_y)) continue;
+      bool shared = false;
+      for (int p : m.triangles[i])
+        for (int q : m.triangles[j]) shared = shared || p == q;
+      if (!shared) keys.push_back(uint64_t(i) << 32 | uint64_t(j));
+    }
+  }
+  return keys;  // already ascending: i outer, j inner
+}
+
+std::vector<uint64_t> detect(ClContext& cl, ContactDetection& stage) {
+  const size_t count = stage.run();
+  CHECK(count == stage.last_count());
+  CHECK(count <= stage.capacity());
+  const auto keys = download<cl_ulong>(cl, stage.couple_keys(), count);
+  return std::vector<uint64_t>(keys.begin(), keys.end());
+}
+
+std::vector<real2> model_positions(const Model& m) {
+  std::vector<real2> pos(m.num_nodes());
+  for (size_t i = 0; i < pos.size(); ++i) pos[i] = {real(m.x[i]), real(m.y[i])};
+  return pos;
+}
+
+void add_triangle(std::vector<double>& x, std::vector<double>& y, std::vector<std::array<int, 3>>& tris,
+                  double cx, double cy, double size, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int base = static_cast<int>(x.size());
+  const double turn = M_PI * u(rng);
+  for (int k = 0; k < 3; ++k) {
+    const double angle = turn + 2.0 * M_PI * k / 3.0 + 0.4 * u(rng);
+    x.push_back(cx + size * std::cos(angle) * (1 + 0.3 * u(rng)));
+    y.push_back(cy + size * std::sin(angle) * (1 + 0.3 * u(rng)));
+  }
+  tris.push_back({base, base + 1, base + 2});
+}
+
+// A heavily overlapping soup in [-1, 1]²: sizes from 1 mm to 0.1 m (log-uniform), a few
+// large 0.4 m triangles, and a dense cluster of tiny ones within 2 cm (hundreds per cell).
+Model varied_soup(size_t count, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x, y;
+  std::vector<std::array<int, 3>> tris;
+  for (size_t t = 0; t < count; ++t) {
+    if (t % 5 == 0) {
+      add_triangle(x, y, tris, 0.3 + 0.01 * u(rng), -0.2 + 0.01 * u(rng), 0.002 + 0.004 * (u(rng) + 1), rng);
+    } else if (t % 97 == 0) {
+      add_triangle(x, y, tris, u(rng), u(rng), 0.2, rng);
+    } else {
+      add_triangle(x, y, tris, u(rng), u(rng), 0.001 * std::pow(100.0, 0.5 * (u(rng) + 1)), rng);
+    }
+  }
+  return test::make_model(x, y, tris, one_material());
+}
+
+// An n×n-square mesh of [0, n·h]² with jittered interior nodes and random diagonals:
+// neighbouring triangles share nodes.
+Model jittered_mesh(int n, double h, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x, y;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const bool interior = i > 0 && j > 0 && i < n && j < n;
+      x.push_back(h * i + (interior ? 0.3 * h * u(rng) : 0.0));
+      y.push_back(h * j + (interior ? 0.3 * h * u(rng) : 0.0));
+    }
+  std::vector<std::array<int, 3>> tris;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;  // ccw square
+      if (u(rng) > 0) {
+        tris.push_back({a, b, c});
+        tris.push_back({a, c, d});
+      } else {
+        tris.push_back({a, b, d});
+        tris.push_back({b, c, d});
+      }
+    }
+  return test::make_model(x, y, tris, one_material());
+}
+
+// The grid must cover every box, hold the largest box in one cell, and respect the cap.
+void check_grid(ContactDetection& stage, const Model& m, const std::vector<real2>& pos, double skin) {
+  const auto g = stage.grid();
+  CHECK(g.nx >= 1);
+  CHECK(g.ny >= 1);
+  CHECK(size_t(g.nx) * g.ny <= stage.max_cells());
+  double largest = 0;
+  bool covered = true;
+  for (const auto& b : host_boxes(m, pos, skin)) {
+    largest = std::max({largest, double(b.hi_x - b.lo_x), double(b.hi_y - b.lo_y)});
+    covered = covered && b.lo_x >= g.x0 && b.lo_y >= g.y0 && b.hi_x <= g.x0 + g.nx * g.cell_size &&
+              b.hi_y <= g.y0 + g.ny * g.cell_size;
+  }
+  CHECK(covered);
+  CHECK(g.cell_size >= largest);
+}
+
+}  // namespace
+
+TEST_SUITE("contact") {
+
+TEST_CASE("couples of a random soup equal the brute force, also after bodies move far away") {
+  auto& cl = test::context();
+  for (double skin : {0.0, 0.02}) {
+    CAPTURE(skin);
+    std::mt19937 rng(skin == 0.0 ? 11 : 12);
+    const Model m = varied_soup(3000, rng);
+    DeviceArrays arrays(cl, m);
+    ContactDetection stage(cl, arrays, skin);
+    auto pos = model_positions(m);
+
+    const auto expected = brute_force(m, pos, skin);
+    CHECK(expected.size() > 20000);  // heavy overlap: the test means something
+    CHECK(detect(cl, stage) == expected);
+    check_grid(stage, m, pos, skin);
+    const double first_cell = stage.grid().cell_size;
+
+    // Every triangle drifts a little; 40 of them go 1000 domain sizes away (to both sides),
+    // two of those land on top of each other there.
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto& p : pos) p = {p.x + real(0.01 * u(rng)), p.y + real(0.01 * u(rng))};
+    for (size_t t = 7; t < m.num_triangles(); t += 75) {
+      const double dx = (t % 2 ? 2000.0 : -2000.0), dy = (t % 3 ? 1000.0 : -500.0);
+      for (int n : m.triangles[t]) pos[n] = {pos[n].x + real(dx), pos[n].y + real(dy)};
+    }
+    upload(cl, arrays.position, pos);
+    const auto moved = brute_force(m, pos, skin);
+    CHECK(detect(cl, stage) == moved);
+    check_grid(stage, m, pos, skin);
+    CHECK(stage.grid().cell_size > first_cell);  // the cap made the cells grow
+
+    // Back to a compact cloud: the grid shrinks again.
+    pos = model_positions(m);
+    upload(cl, arrays.position, pos);
+    CHECK(detect(cl, stage) == expected);
+    CHECK(stage.grid().cell_size == doctest::Approx(first_cell));
+  }
+}
+
+TEST_CASE("triangles of a deformed mesh that share a node are never couples") {
+  auto& cl = test::context();
+  const double h = 0.1;
+  for (double skin : {0.0, 0.3 * h}) {
+    CAPTURE(skin);
+    std::mt19937 rng(21);
+    const Model m = jittered_mesh(40, h, rng);
+    DeviceArrays arrays(cl, m);
+    ContactDetection stage(cl, arrays, skin);
+    auto pos = model_positions(m);
+
+    auto check = [&] {
+      const auto expected = brute_force(m, pos, skin);
+      CHECK(expected.size() > 1000);
+      const auto got = detect(cl, stage);
+      CHECK(got == expected);
+      size_t sharing = 0;
+      for (uint64_t key : got) {
+        const auto& a = m.triangles[key >> 32];
+        const auto& b = m.triangles[key & 0xffffffffu];
+        for (int p : a)
+          for (int q : b) sharing += p == q;
+      }
+      CHECK(sharing == 0);
+    };
+    check();
+
+    // Deform: a smooth swirl plus node noise (the mesh stays connected through shared nodes).
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto& p : pos) {
+      const double sx = 0.3 * std::sin(3.0 * p.y), sy = 0.2 * std::sin(2.0 * p.x);
+      p = {p.x + real(sx + 0.02 * h * u(rng)), p.y + real(sy + 0.02 * h * u(rng))};
+    }
+    upload(cl, arrays.position, pos);
+    check();
+    check_grid(stage, m, pos, skin);
+  }
+}
+
+TEST_CASE("an output buffer of one couple grows and gives the same list as a large one") {
+  auto& cl = test::context();
+  std::mt19937 rng(31);
+  const Model m = varied_soup(2000, rng);
+  DeviceArrays arrays(cl, m);
+  ContactDetection large(cl, arrays, 0.01, 50 * m.num_triangles());
+  ContactDetection tiny(cl, arrays, 0.01, 1);
+  CHECK(tiny.capacity() == 1);
+  const auto expected = detect(cl, large);
+  CHECK(large.capacity() == 50 * m.num_triangles());  // did not need to grow
+  const auto got = detect(cl, tiny);
+  CHECK(got == expected);
+  CHECK(tiny.capacity() >= expected.size());
+  CHECK(tiny.capacity() <= expected.size() * 3 / 2 + 1);
+  CHECK(detect(cl, tiny) == expected);  // second run fits without growing
+  CHECK(got == brute_force(m, model_positions(m), 0.01));
+}
+
+TEST_CASE("the radix-sort path (Boost.Compute's GPU path) gives the same couples as the default path") {
+  auto& cl = test::context();
+  std::mt19937 rng(41);
+  const Model m = varied_soup(2500, rng);
+  DeviceArrays arrays(cl, m);
+  ContactDetection merge(cl, arrays, 0.005);
+  ContactDetection radix(cl, arrays, 0.005);
+  radix.use_radix_sort(true);
+  const auto a = detect(cl, merge);
+  const auto b = detect(cl, radix);
+  CHECK(a == b);
+  CHECK(b == brute_force(m, model_positions(m), 0.005));
+}
+
+TEST_CASE("two runs, and two stages, give identical couple lists") {
+  auto& cl = test::context();
+  std::mt19937 rng(51);
+  const Model m = varied_soup(2000, rng);
+  DeviceArrays arrays(cl, m);
+  ContactDetection one(cl, arrays, 0.01), two(cl, arrays, 0.01);
+  const auto first = detect(cl, one);
+  const auto second = detect(cl, one);
+  const auto third = detect(cl, two);
+  CHECK(!first.empty());
+  CHECK(first == second);
+  CHECK(first == third);
+  CHECK(std::adjacent_find(first.begin(), first.end(), [](uint64_t p, uint64_t q) { return p >= q; }) ==
+        first.end());  // strictly ascending: sorted, unique
+}
+
+TEST_CASE("the grid covers every triangle's box after the bodies moved") {
+  auto& cl = test::context();
+  std::mt19937 rng(61);
+  const Model m = varied_soup(1000, rng);
+  DeviceArrays arrays(cl, m);
+  const double skin = 0.05;
+  ContactDetection stage(cl, arrays, skin);
+  auto pos = model_positions(m);
+  stage.run();
+  check_grid(stage, m, pos, skin);
+  const auto before = stage.grid();
+
+  // The whole cloud moves and stretches: the grid follows (origin moves, box covered).
+  for (auto& p : pos) p = {real(3.0 * p.x - 50.0), real(0.5 * p.y + 20.0)};
+  upload(cl, arrays.position, pos);
+  stage.run();
+  check_grid(stage, m, pos, skin);
+  const auto after = stage.grid();
+  CHECK(after.x0 < before.x0 - 40.0);
+  CHECK(after.y0 > before.y0 + 15.0);
+  CHECK(detect(cl, stage) == brute_force(m, pos, skin));
+}
+
+TEST_CASE("only active triangles take part") {
+  auto& cl = test::context();
+  std::mt19937 rng(71);
+  const Model m = varied_soup(1500, rng);
+  DeviceArrays arrays(cl, m);
+  ContactDetection stage(cl, arrays, 0.01);
+  std::vector<uint32_t> active(m.num_triangles());
+  for (auto& a : active) a = rng() % 3 != 0 ? 1u : 0u;
+  stage.set_active(active);
+  const auto pos = model_positions(m);
+  const auto got = detect(cl, stage);
+  CHECK(got == brute_force(m, pos, 0.01, active));
+  CHECK(got.size() < brute_force(m, pos, 0.01).size());
+  stage.set_active(std::vector<uint32_t>(m.num_triangles(), 1u));
+  CHECK(detect(cl, stage) == brute_force(m, pos, 0.01));
+  CHECK_THROWS(stage.set_active({1, 0}));
+}
+
+TEST_CASE("small cases: touching boxes, a shared node, far apart, one triangle") {
+  auto& cl = test::context();
+  // 0: reference; 1: its box touches 0's box at x = 1 (no shared node); 2: shares node 2
+  // with 0; 3: far away; 4: overlaps 3 only when the skin is at least 0.5.
+  const std::vector<double> x = {0, 1, 0, 1, 2, 1, -1, 10, 11, 10, 11.5, 12.5, 11.5};
+  const std::vector<double> y = {0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 1};
+  const std::vector<std::array<int, 3>> tris = {{0, 1, 2}, {3, 4, 5}, {6, 0, 2}, {7, 8, 9}, {10, 11, 12}};
+  const Model m = test::make_model(x, y, tris, one_material());
+  DeviceArrays arrays(cl, m);
+  auto key = [](uint64_t i, uint64_t j) { return i << 32 | j; };
+  ContactDetection touching(cl, arrays, 0.0);
+  CHECK(detect(cl, touching) == std::vector<uint64_t>{key(0, 1)});
+  ContactDetection skinned(cl, arrays, 0.5);
+  CHECK(detect(cl, skinned) == std::vector<uint64_t>{key(0, 1), key(3, 4)});
+  CHECK(detect(cl, skinned) == brute_force(m, model_positions(m), 0.5));
+  skinned.use_radix_sort(true);  // radix sort on a list shorter than one of its blocks
+  CHECK(detect(cl, skinned) == std::vector<uint64_t>{key(0, 1), key(3, 4)});
+
+  const Model single = test::make_model({0, 1, 0}, {0, 0, 1}, {{0, 1, 2}}, one_material());
+  DeviceArrays one(cl, single);
+  ContactDetection alone(cl, one, 0.1);
+  CHECK(alone.run() == 0);
+  check_grid(alone, single, model_positions(single), 0.1);
+}
+
+}  // TEST_SUITE
