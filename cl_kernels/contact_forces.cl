@@ -12,10 +12,12 @@
 // Forces go to the nodes through 64-bit fixed-point atomic adds (integer addition is
 // associative, so the sums are bitwise reproducible whatever the order).
 // History per couple (CONTACT_HISTORY reals): six slips (one per edge pass), o_n_max,
-// σ_peak; carried over from the previous couple list by binary search on the key.
+// σ_peak, and the work the damped normal force has absorbed since the couple touched
+// (counted as dissipated when the couple lets go: all stored energy is back by then);
+// carried over from the previous couple list by binary search on the key.
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#define CONTACT_HISTORY 8
+#define CONTACT_HISTORY 10
 #define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
 
 // ∫ g(s) ds split into I0 = ∫(1−s) g, I1 = ∫ s g over s in [0, 1], g = max(0, min_m l_m(s)),
@@ -156,7 +158,8 @@ __kernel void contact_forces(const uint n_couples,
     }
   }
 
-  if (normal_total <= (real)0) {  // no overlap: the couple is not touching; forget its history
+  if (normal_total <= (real)0) {  // no overlap: the couple let go; forget its history
+    if (hist[8] > (real)0) atom_add(dissipated, convert_long_rte(hist[8] * energy_scale));
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
     return;
   }
@@ -164,7 +167,7 @@ __kernel void contact_forces(const uint n_couples,
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
   real ratio = (real)1;
-  real lost = (real)0;
+  real absorbed = (real)0;
   if (damped) {
     const real area = (real)0.5 * contact_length * thickness;       // contact area A_con
     const real sigma_try = normal_total / area;
@@ -208,8 +211,12 @@ __kernel void contact_forces(const uint n_couples,
       for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lbar0[p][m] + s * lbar1[p][m]) / (real)3;
       const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
       const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
-      // Damping loss this step: (1 − ratio) × |work of the trial normal force|.
-      if (damped && ratio < (real)1) lost += ((real)1 - ratio) * Pn * thickness * I * fabs(dot(nL, vA - vB)) * dt;
+      // Work absorbed by the (damped) normal force this step: −f·v over the couple's nodes.
+      if (damped) {
+        real2 vB0 = (real2)(0, 0), vB1 = (real2)(0, 0);
+        for (int m = 0; m < 3; ++m) vB0 += lbar0[p][m] / (real)3 * v[B][m], vB1 += lbar1[p][m] / (real)3 * v[B][m];
+        absorbed += k * dot(nL, I0[p] * (v[A][e] - vB0) + I1[p] * (v[A][(e + 1) % 3] - vB1)) * dt;
+      }
 
       // Friction (Eq. 16).
       if (mu == (real)0 || Ptan == (real)0) {
@@ -237,9 +244,26 @@ __kernel void contact_forces(const uint n_couples,
       }
     }
   }
+  hist[8] += absorbed;
   for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
-  const real total_lost = friction_lost + lost;
-  if (total_lost > (real)0) atom_add(dissipated, convert_long_rte(total_lost * energy_scale));
+  if (friction_lost > (real)0) atom_add(dissipated, convert_long_rte(friction_lost * energy_scale));
+}
+
+// One work-item per couple of the previous list, at a new detection: a couple that is
+// no longer a candidate has let go; the work its damped normal force absorbed counts as
+// dissipated (as contact_forces does for a couple that stops overlapping).
+__kernel void release_vanished(const uint n_previous,
+                               __global const ulong* restrict previous_keys,
+                               __global const real* restrict previous_history,
+                               const uint n_couples,
+                               __global const ulong* restrict keys,
+                               const real energy_scale,
+                               __global long* restrict dissipated) {
+  const uint c = get_global_id(0);
+  if (c >= n_previous) return;
+  const real absorbed = previous_history[CONTACT_HISTORY * c + 8];
+  if (absorbed > (real)0 && find_key(keys, n_couples, previous_keys[c]) < 0)
+    atom_add(dissipated, convert_long_rte(absorbed * energy_scale));
 }
 
 // One work-item per node: clears its fixed-point contact force (start of each step);

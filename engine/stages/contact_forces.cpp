@@ -6,7 +6,7 @@
 namespace fdem {
 
 namespace {
-constexpr int kHistory = 8;  // CONTACT_HISTORY in contact_forces.cl
+constexpr int kHistory = 10;  // CONTACT_HISTORY in contact_forces.cl
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
@@ -26,6 +26,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   const auto program = cl.build("contact_forces");
   forces_ = compute::kernel(program, "contact_forces");
   clear_ = compute::kernel(program, "clear_contact_forces");
+  release_ = compute::kernel(program, "release_vanished");
   dissipated_ = cl.allocate(sizeof(cl_long), "contact_dissipated");
   touching_ = cl.allocate(sizeof(cl_uint), "contact_touching");
   upload(cl, dissipated_, std::vector<cl_long>{0});
@@ -68,6 +69,16 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     // Grow the write side now; the previous list and history stay readable for this call.
     const size_t grown = count + count / 2;
     history_[next] = cl_.allocate(grown * kHistory * sizeof(real), "contact_history");
+  }
+  if (new_list && count_ > 0) {
+    release_.set_arg(0, static_cast<cl_uint>(count_));
+    release_.set_arg(1, keys_);
+    release_.set_arg(2, history_[current_]);
+    release_.set_arg(3, static_cast<cl_uint>(count));
+    release_.set_arg(4, keys);
+    release_.set_arg(5, static_cast<real>(energy_scale_));
+    release_.set_arg(6, dissipated_);
+    cl_.enqueue(release_, count_);
   }
   forces_.set_arg(0, static_cast<cl_uint>(count));
   forces_.set_arg(1, new_list ? keys : keys_);

@@ -21,15 +21,16 @@ class ContactForces {
 
   size_t couples() const { return count_; }
   size_t touching();             // couples in contact in the last step (waits)
-  double dissipated_energy();    // friction + damping, cumulative [J] (waits)
-  std::vector<real> history();   // per couple, 8 reals (waits; for tests)
+  // Friction (as it slips) + damping (when a couple lets go), cumulative [J] (waits).
+  double dissipated_energy();
+  std::vector<real> history();   // per couple, 10 reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
 
  private:
   ClContext& cl_;
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
-  compute::kernel forces_, clear_;
+  compute::kernel forces_, clear_, release_;
   compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_;
   size_t capacity_ = 0, count_ = 0;
   int current_ = 0;

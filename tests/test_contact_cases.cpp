@@ -1,0 +1,131 @@
+// Contact end to end: energy in impacts, friction on an incline, a settled stack,
+// and skin rebuilds against rebuilding every step.
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "case_files.hpp"
+#include "engine/run.hpp"
+#include "fixture.hpp"
+
+using namespace fdem;
+
+namespace {
+
+RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides) {
+  const PreparedCase p = prepare_case(case_path, overrides);
+  std::ostringstream log;
+  return run_case(p, test::context(), log, false);
+}
+
+std::vector<double> history(const test::TempDir& dir, const std::string& name, const std::string& var) {
+  return test::read_variable(dir.str() + "/" + name + "_history.nc", var);
+}
+
+// A soft 5 cm block on the sliding case's base, gravity tilted by `degrees`.
+std::string incline_case(const test::TempDir& dir, double degrees, const std::string& extra = "") {
+  const double g = 9.81, a = degrees * M_PI / 180;
+  std::ostringstream text;
+  text.precision(17);
+  text << "title = \"incline\"\n[mesh]\ngeo = \"" << test::source_path("cases/sliding/sliding.geo")
+       << "\"\nsize = 0.025\n[time]\ndt = \"auto\"\nend = 0.2\n[output]\ndir = \"" << dir.str()
+       << "\"\nframes = 2\nhistory_every = 0.005\nregions = [\"block\"]\n"
+       << "[[material]]\nname = \"block\"\nregions = [\"block\"]\ndensity = 2000.0\nyoung = 1e8\npoisson = 0.25\nviscosity = 2e3\n"
+       << "[[material]]\nname = \"base\"\nregions = [\"base\"]\ndensity = 2000.0\nyoung = 1e8\npoisson = 0.25\n"
+       << "[gravity]\ng = [" << g * std::sin(a) << ", " << -g * std::cos(a) << "]\n"
+       << "[contact]\nnormal_penalty = 1e8\nfriction = 0.5\ndamping = { exponent = 2.0 }\nrebuild = \"skin\"\nskin = 1e-3\n"
+       << "[[boundary]]\nregion = \"base\"\nfix = [\"x\", \"y\"]\n"
+       << extra;
+  return dir.write("incline.toml", text.str());
+}
+
+}  // namespace
+
+TEST_SUITE("contact") {
+
+TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 lose more, as contact_energy_dissipated says") {
+  const std::string impact = test::source_path("cases/impact/case.toml");
+  std::vector<double> returned;
+  for (double b : {1.0, 2.0, 5.0}) {
+    CAPTURE(b);
+    test::TempDir dir;
+    std::ostringstream damping;
+    damping << "contact.damping={exponent=" << b << "}";
+    run(impact, {"mesh.size=0.02", "time.end=0.0016", "output.dir=\"" + dir.str() + "\"", damping.str()});
+    const auto ke = history(dir, "impact", "kinetic_energy");
+    const auto touching = history(dir, "impact", "contact_couples");
+    const auto lost = history(dir, "impact", "contact_energy_dissipated");
+    REQUIRE(touching.back() == 0);  // the disc has bounced off
+    CHECK(ke.front() == doctest::Approx(4.1e3).epsilon(0.02));
+    returned.push_back(ke.back() / ke.front());
+    // Energy balance: what the disc lost is what contact damping dissipated (the rest,
+    // a few %, stays as the disc's vibration).
+    CHECK(ke.front() - ke.back() == doctest::Approx(lost.back()).epsilon(0.05).scale(0.01 * ke.front()));
+  }
+  CHECK(returned[0] > 0.99);
+  CHECK(returned[1] < returned[0] - 0.05);
+  CHECK(returned[2] < returned[1] - 0.05);
+}
+
+TEST_CASE("a block on a 20 degree incline with μ = 0.5 stays put; at 30 degrees it slides with a = g(sin θ − μ cos θ)") {
+  test::TempDir still;
+  run(incline_case(still, 20.0), {});
+  const auto x20 = history(still, "incline", "block_disp_x");
+  CHECK(std::fabs(x20.back()) < 1e-3 * 0.05);  // creep below 0.1% of the block's size over 0.2 s
+
+  test::TempDir slide;
+  run(incline_case(slide, 30.0), {});
+  const auto t = history(slide, "incline", "time");
+  const auto x = history(slide, "incline", "block_disp_x");
+  // Least-squares fit of x = x0 + v0 t + a t²/2 over the second half of the run.
+  Eigen::MatrixXd A(0, 3);
+  Eigen::VectorXd b(0);
+  for (size_t k = t.size() / 2; k < t.size(); ++k) {
+    A.conservativeResize(A.rows() + 1, 3);
+    b.conservativeResize(b.size() + 1);
+    A.row(A.rows() - 1) << 1.0, t[k], 0.5 * t[k] * t[k];
+    b(b.size() - 1) = x[k];
+  }
+  const Eigen::Vector3d fit = A.colPivHouseholderQr().solve(b);
+  const double expected = 9.81 * (std::sin(M_PI / 6) - 0.5 * std::cos(M_PI / 6));
+  CHECK(fit(2) == doctest::Approx(expected).epsilon(0.02));
+}
+
+TEST_CASE("a settled stack: the base carries the total weight within 0.5%, overlaps below 1% of the element size") {
+  test::TempDir dir;
+  run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir.str() + "\"", "mesh.size=0.025", "time.end=0.01"});
+  const double weight = 1800 * 9.81 * (0.3 * 0.02 + 3 * 0.1 * 0.05);
+  CHECK(history(dir, "stack", "base_force_y").back() == doctest::Approx(weight).epsilon(0.005));
+  const std::vector<std::pair<std::string, std::string>> faces = {
+      {"base_top", "block1_bottom"}, {"block1_top", "block2_bottom"}, {"block2_top", "block3_bottom"}};
+  for (const auto& [lower, upper] : faces) {
+    const double overlap = history(dir, "stack", lower + "_disp_y").back() - history(dir, "stack", upper + "_disp_y").back();
+    CHECK(overlap < 0.01 * 0.025);
+  }
+}
+
+TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
+  test::TempDir every, skin;
+  const std::string impact = test::source_path("cases/impact/case.toml");
+  const std::vector<std::string> common = {"mesh.size=0.02", "time.end=0.0012", "contact.damping={exponent=2.0}",
+                                           "contact.friction=0.3"};
+  auto with = [&](const test::TempDir& dir, std::vector<std::string> extra) {
+    extra.insert(extra.end(), common.begin(), common.end());
+    extra.push_back("output.dir=\"" + dir.str() + "\"");
+    return extra;
+  };
+  run(impact, with(every, {}));
+  run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
+  for (const std::string var : {"kinetic_energy", "contact_energy_dissipated", "contact_couples"}) {
+    CAPTURE(var);
+    const auto a = history(every, "impact", var), b = history(skin, "impact", var);
+    REQUIRE(a.size() == b.size());
+    CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+  }
+  CHECK(history(skin, "impact", "contact_candidates").back() >= history(every, "impact", "contact_candidates").back());
+}
+
+}  // TEST_SUITE
