@@ -36,8 +36,15 @@ build: deps
 test: build
 	cd $(BUILD) && ctest -L unit --output-on-failure
 
+# The long validation runs (minutes on a CPU); their output stays under out/validate/.
 validate: build
 	cd $(BUILD) && ctest -L validate --output-on-failure
+	$(PYTHON) tools/fdem-plot compare kinetic_energy --ms --title "Disc impact (cases/impact)" \
+	  out/validate/impact-b1/impact_history.nc:"b = 1" out/validate/impact-b2/impact_history.nc:"b = 2" \
+	  out/validate/impact-b5/impact_history.nc:"b = 5" out/validate/impact-b20/impact_history.nc:"b = 20" \
+	  out/validate/impact-b30/impact_history.nc:"b = 30" out/validate/impact-b2-pn10/impact_history.nc:"b = 2, P_n = 10 GPa" \
+	  out/validate/impact-b2-T1MPa/impact_history.nc:"b = 2, T = 1 MPa" -o out/validate/impact_kinetic_energy.png
+	@echo "validation output and plots in out/validate/"
 
 # The demo: the seed paper's geostatic column (98k TRI3, 6,400 steps) on the default
 # device, then a stress map and the convergence history as PNGs.

@@ -1,6 +1,7 @@
 #include "engine/cl_context.hpp"
 
 #include <boost/compute/exception.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <sstream>
 
@@ -108,6 +109,7 @@ ClContext::ClContext(const std::string& requested, bool profiling) {
     throw DeviceError("cannot open OpenCL device " + info_.device_name + ": " + e.what());
   }
   group_size_ = info_.is_gpu ? 256 : 64;
+  profiling_ = profiling;
 }
 
 std::string ClContext::description() const {
@@ -155,7 +157,8 @@ void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
   if (n == 0) return;
   const std::size_t global = (n + group_size_ - 1) / group_size_ * group_size_;
   try {
-    queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
+    compute::event done = queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
+    if (profiling_) pending_.emplace_back(kernel.name(), done);
   } catch (const compute::opencl_error& e) {
     throw DeviceError("enqueue of kernel '" + kernel.name() + "' over " + std::to_string(n) +
                       " items failed: " + e.what());
@@ -173,6 +176,23 @@ compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) 
     throw DeviceError("cannot allocate device array '" + what + "' (" + std::to_string(bytes) +
                       " bytes): " + e.what());
   }
+}
+
+void ClContext::collect_profile() {
+  if (!profiling_) return;
+  finish();
+  for (auto& [name, event] : pending_) {
+    auto& entry = profile_[name];
+    entry.seconds += 1e-9 * static_cast<double>(event.duration<std::chrono::nanoseconds>().count());
+    entry.launches++;
+  }
+  pending_.clear();
+}
+
+void ClContext::add_host_time(const std::string& name, double seconds) {
+  auto& entry = profile_[name];
+  entry.seconds += seconds;
+  entry.launches++;
 }
 
 void ClContext::finish() {

@@ -3,6 +3,7 @@
 // typedefs, cl_kernels/common.cl, the stage's own defines, the stage's source.
 #pragma once
 #include <boost/compute/core.hpp>
+#include <boost/compute/event.hpp>
 #include <cstddef>
 #include <map>
 #include <string>
@@ -62,12 +63,27 @@ class ClContext {
 
   void finish();  // waits for the queue; DeviceError on failure
 
+  // Kernel profiling (only with `profiling` at construction): every enqueue() keeps its
+  // event; collect_profile() adds the finished ones' device times per kernel name.
+  bool profiling() const { return profiling_; }
+  void collect_profile();
+  struct KernelTime {
+    double seconds = 0;
+    long launches = 0;
+  };
+  const std::map<std::string, KernelTime>& profile() const { return profile_; }
+  // Host-timed sections (e.g. a whole detection with its sorts), added by callers.
+  void add_host_time(const std::string& name, double seconds);
+
  private:
   compute::device device_;
   compute::context context_;
   compute::command_queue queue_;
   DeviceInfo info_;
   std::size_t group_size_ = 64;
+  bool profiling_ = false;
+  std::vector<std::pair<std::string, compute::event>> pending_;
+  std::map<std::string, KernelTime> profile_;
 };
 
 }  // namespace fdem

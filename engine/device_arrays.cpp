@@ -15,7 +15,10 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
   const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
   const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r +
                         model.materials.size() * kMaterialStride * r + 64;
-  return nodes + tris + edges + tables;
+  // Contact: couple keys and two history lists (8 + 2 × 80 bytes per couple), about 4
+  // couples per triangle to start with, plus the detection's per-triangle arrays.
+  const size_t contact = model.contact.enabled ? t * (4 * (8 + 2 * 10 * r) + 8 * 8 + 4 * r + 64) : 0;
+  return nodes + tris + edges + tables + contact;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)

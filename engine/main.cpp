@@ -15,12 +15,13 @@
 #include "engine/device_arrays.hpp"
 #include "engine/errors.hpp"
 #include "engine/run.hpp"
+#include "engine/stages/contact_detection.hpp"
 
 namespace {
 
 const char* kUsage =
     "usage:\n"
-    "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet]\n"
+    "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
     "  fdem devices\n"
     "  fdem --version\n"
@@ -30,6 +31,7 @@ struct Arguments {
   std::string command, case_path, device;
   std::vector<std::string> overrides;
   bool quiet = false;
+  bool profile = false;
 };
 
 Arguments parse(int argc, char** argv) {
@@ -47,6 +49,7 @@ Arguments parse(int argc, char** argv) {
     else if (arg == "--set") a.overrides.push_back(value(arg));
     else if (arg.rfind("--set=", 0) == 0) a.overrides.push_back(arg.substr(6));
     else if (arg == "--quiet" || arg == "-q") a.quiet = true;
+    else if (arg == "--profile") a.profile = true;
     else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);
     else if (a.case_path.empty()) a.case_path = arg;
     else throw fdem::InputError("unexpected argument '" + arg + "'\n" + kUsage);
@@ -108,6 +111,15 @@ int check_command(const Arguments& a) {
     std::cout << "device    " << cl.description() << ", " << mib(cl.info().global_memory)
               << (bytes > cl.info().global_memory ? "  -- TOO SMALL" : "  -- fits") << "\n";
     if (bytes > cl.info().global_memory) return 4;
+    if (m.contact.enabled) {
+      fdem::DeviceArrays arrays(cl, m);
+      fdem::ContactDetection detection(cl, arrays, m.contact.skin);
+      const size_t couples = detection.run();
+      const auto grid = detection.grid();
+      std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size
+                << " m, " << couples << " initial candidate couples (boxes overlapping"
+                << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
+    }
   } catch (const fdem::DeviceError& e) {
     std::cout << "device    none usable: " << e.what() << "\n";
   }
@@ -117,7 +129,7 @@ int check_command(const Arguments& a) {
 int run_command(const Arguments& a) {
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
-  fdem::ClContext cl(a.device);
+  fdem::ClContext cl(a.device, a.profile);
   std::cout << "fdem " << FDEM_VERSION << ": " << p.config.path << " on " << cl.description() << "\n"
             << p.model.num_nodes() << " nodes, " << p.model.num_triangles() << " TRI3, dt " << p.dt << " s, "
             << p.steps << " steps\n" << std::flush;
@@ -130,6 +142,14 @@ int run_command(const Arguments& a) {
             << std::defaultfloat << "final kinetic energy " << s.final_kinetic_energy << " J, unbalanced ratio "
             << s.final_unbalanced_ratio << "\n"
             << "wrote " << p.exodus_path << " (" << s.frames << " frames) and " << p.history_path << "\n";
+  if (a.profile) {
+    cl.collect_profile();
+    std::cout << "profile (device time per kernel; output and history steps included):\n";
+    for (const auto& [name, t] : cl.profile())
+      std::cout << "  " << std::left << std::setw(60) << name << std::right << std::setw(10) << t.launches
+                << " calls " << std::fixed << std::setprecision(3) << std::setw(10) << 1e3 * t.seconds << " ms "
+                << std::setw(10) << 1e6 * t.seconds / s.steps << " us/step\n" << std::defaultfloat;
+  }
   return 0;
 }
 

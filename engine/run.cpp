@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <memory>
@@ -187,7 +188,10 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
     } catch (const fs::filesystem_error& e) {
       throw OutputError("cannot create output directory '" + c.output.dir + "': " + e.what());
     }
-    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.output.dir);
+    // Meshes made from .geo files are cached in FDEM_MESH_CACHE when set (shared across
+    // runs and machines), else next to the output.
+    const char* cache = std::getenv("FDEM_MESH_CACHE");
+    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, cache && *cache ? cache : c.output.dir);
   }
   const io::Mesh mesh = io::read_gmsh(mesh_path, &p.notes);
   p.model = build_model(mesh, c, p.notes);
@@ -289,6 +293,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         ++next_frame;
       }
       solver.save_checkpoint();
+      cl.collect_profile();
     }
 
     const auto now = std::chrono::steady_clock::now();

@@ -1,5 +1,6 @@
 #include "engine/solver.hpp"
 
+#include <chrono>
 #include <climits>
 
 #include "engine/errors.hpp"
@@ -39,7 +40,11 @@ void Solver::step() {
     // half of it since the last detection (no couple can have appeared before that).
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->largest_move() > 0.5 * skin_distance_;
     if (rebuild) {
+      const auto start = std::chrono::steady_clock::now();
       const size_t count = detection_->run();
+      if (cl_.profiling())
+        cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       contact_->enqueue(detection_->couple_keys(), count, true, dt_);
       if (skin_) skin_->mark();
       ++rebuilds_;

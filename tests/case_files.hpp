@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <stdexcept>
@@ -33,7 +34,12 @@ struct TempDir {
   std::string str() const { return path.string(); }
 };
 
-inline std::string source_path(const std::string& relative) { return std::string(FDEM_SOURCE_DIR) + "/" + relative; }
+// A file of the source tree; FDEM_SOURCE_DIR in the environment overrides the build's
+// (for running the test binary on another machine).
+inline std::string source_path(const std::string& relative) {
+  const char* env = std::getenv("FDEM_SOURCE_DIR");
+  return std::string(env && *env ? env : FDEM_SOURCE_DIR) + "/" + relative;
+}
 
 // Reads a netCDF variable (all of it, as doubles) or throws.
 inline std::vector<double> read_variable(const std::string& file, const std::string& name) {

@@ -1,0 +1,33 @@
+// Plain host data of the cohesive elements (CE4s): connectivity, fracture properties per
+// material or interface, and the softening function of Eq. 10 with its integral.
+// The device stage is engine/stages/cohesive_forces.*; the law is in cl_kernels/cohesive.cl.
+#pragma once
+#include <array>
+#include <vector>
+
+namespace fdem {
+
+struct FractureProperties {           // one per fracturable material or interface
+  double tensile_strength;            // T_s [Pa]
+  double cohesion;                    // c [Pa]
+  double friction_angle;              // φ [deg]
+  double gf1, gf2;                    // G_fI, G_fII [J/m²]
+  double penalty_opening, penalty_sliding, penalty_overlap;  // P_f, P_tan, P_overlap [Pa]
+  double a = 0.63, b = 1.8, c = 6.0;  // softening shape, Eq. 10
+};
+
+// f(D) of Eq. 10: f(0) = 1, f(1) = 0, decreasing in between for the usual A, B, C.
+double softening(double D, double a, double b, double c);
+// I_f = ∫₀¹ f(D) dD, by adaptive Simpson to 1e-12 (≈ 0.38631 for 0.63, 1.8, 6.0).
+double softening_integral(double a, double b, double c);
+
+struct CohesiveModel {
+  // Nodes (i, j, j', i'): edge i→j of triangle 1 (counter-clockwise, so its interior is
+  // on the left of i→j), and its twin j'→i' of triangle 2 (i' coincides with i, j' with j).
+  std::vector<std::array<int, 4>> ce4;
+  std::vector<int> properties;           // index into `fracture` per CE4
+  std::vector<FractureProperties> fracture;
+  double thickness = 1.0;                // out-of-plane thickness t [m]
+};
+
+}  // namespace fdem

@@ -1,0 +1,145 @@
+#include "engine/stages/cohesive_forces.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "engine/device_arrays.hpp"
+#include "engine/errors.hpp"
+
+namespace fdem {
+
+namespace {
+
+void check_properties(const FractureProperties& p, size_t index) {
+  const std::string where = "fracture properties " + std::to_string(index) + ": ";
+  auto positive = [&](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) throw InputError(where + name + " must be positive, got " + std::to_string(value));
+  };
+  positive(p.tensile_strength, "tensile strength");
+  positive(p.cohesion, "cohesion");
+  positive(p.gf1, "mode I fracture energy");
+  positive(p.gf2, "mode II fracture energy");
+  positive(p.penalty_opening, "opening penalty");
+  positive(p.penalty_sliding, "sliding penalty");
+  positive(p.penalty_overlap, "overlap penalty");
+  if (!(p.friction_angle >= 0.0 && p.friction_angle < 90.0))
+    throw InputError(where + "friction angle must be in [0, 90) degrees, got " + std::to_string(p.friction_angle));
+  if (!(p.a > 0.0 && p.b > 0.0 && p.c > 0.0 && p.a + p.b > 1.0))
+    throw InputError(where + "softening shape needs a, b, c > 0 and a + b > 1");
+}
+
+}  // namespace
+
+CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
+                               compute::buffer& ref_position)
+    : cl_(cl), count_(model.ce4.size()) {
+  if (model.properties.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
+                     std::to_string(model.properties.size()) + " property indices");
+  if (!(model.thickness > 0.0)) throw InputError("cohesive model: thickness must be positive");
+
+  std::vector<double> integral(model.fracture.size());
+  for (size_t k = 0; k < model.fracture.size(); ++k) {
+    const auto& f = model.fracture[k];
+    check_properties(f, k);
+    integral[k] = softening_integral(f.a, f.b, f.c);
+  }
+
+  const size_t num_nodes = ref_position.size() / sizeof(real2);
+  const auto ref = download<real2>(cl, ref_position, num_nodes);
+  std::vector<cl_uint> nodes(4 * count_);
+  params_.assign(kStride * count_, real(0));
+  const double deg = std::acos(-1.0) / 180.0;
+  for (size_t e = 0; e < count_; ++e) {
+    for (int k = 0; k < 4; ++k) {
+      const int node = model.ce4[e][k];
+      if (node < 0 || static_cast<size_t>(node) >= num_nodes)
+        throw InputError("CE4 " + std::to_string(e) + " names node " + std::to_string(node) + ", out of range");
+      nodes[4 * e + k] = static_cast<cl_uint>(node);
+    }
+    const int prop = model.properties[e];
+    if (prop < 0 || static_cast<size_t>(prop) >= model.fracture.size())
+      throw InputError("CE4 " + std::to_string(e) + " names fracture properties " + std::to_string(prop) + ", out of range");
+    const auto& f = model.fracture[prop];
+    const real2 a = ref[model.ce4[e][0]], b = ref[model.ce4[e][1]];
+    const double h = std::hypot(double(b.x) - double(a.x), double(b.y) - double(a.y));
+    if (!(h > 0.0)) throw InputError("CE4 " + std::to_string(e) + " has a zero-length edge");
+    real* row = &params_[kStride * e];
+    row[kOp] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
+    row[kSp] = real(2.0 * h * f.cohesion / f.penalty_sliding);
+    row[kOverlap] = real(2.0 * h * f.tensile_strength / f.penalty_overlap);
+    row[kOt] = real(f.gf1 / (f.tensile_strength * integral[prop]));
+    row[kSt] = real(f.gf2 / (f.cohesion * integral[prop]));
+    row[kTs] = real(f.tensile_strength);
+    row[kC] = real(f.cohesion);
+    row[kTanPhi] = real(std::tan(f.friction_angle * deg));
+    row[kA] = real(f.a);
+    row[kB] = real(f.b);
+    row[kCexp] = real(f.c);
+    row[kH] = real(h);
+  }
+
+  nodes_ = cl.allocate(nodes.size() * sizeof(cl_uint), "ce4_nodes");
+  params_buffer_ = cl.allocate(params_.size() * sizeof(real), "ce4_params");
+  gp_state_ = cl.allocate(3 * count_ * sizeof(real4), "ce4_gauss_state");
+  status_ = cl.allocate(2 * count_ * sizeof(cl_int), "ce4_status");
+  output_ = cl.allocate(count_ * sizeof(real4), "ce4_output");
+  slots_ = cl.allocate(4 * count_ * sizeof(real2), "ce4_force");
+  upload(cl, nodes_, nodes);
+  upload(cl, params_buffer_, params_);
+  upload(cl, gp_state_, std::vector<real4>(3 * count_));
+  upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
+  upload(cl, output_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));
+  upload(cl, slots_, std::vector<real2>(4 * count_));
+
+  kernel_ = compute::kernel(cl.build("cohesive"), "cohesive_forces");
+  kernel_.set_arg(0, static_cast<cl_uint>(count_));
+  kernel_.set_arg(1, nodes_);
+  kernel_.set_arg(2, params_buffer_);
+  kernel_.set_arg(3, position);
+  kernel_.set_arg(4, static_cast<real>(model.thickness));
+  kernel_.set_arg(5, real(0));
+  kernel_.set_arg(6, gp_state_);
+  kernel_.set_arg(7, status_);
+  kernel_.set_arg(8, output_);
+  kernel_.set_arg(9, slots_);
+}
+
+void CohesiveForces::enqueue(double time) {
+  kernel_.set_arg(5, static_cast<real>(time));
+  cl_.enqueue(kernel_, count_);
+}
+
+std::vector<real> CohesiveForces::output_column(int k) {
+  const auto rows = download<real4>(cl_, output_, count_);
+  std::vector<real> column(count_);
+  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : k == 2 ? rows[e].z : rows[e].w;
+  return column;
+}
+
+std::vector<real> CohesiveForces::damage() { return output_column(0); }
+std::vector<real> CohesiveForces::opening() { return output_column(1); }
+std::vector<real> CohesiveForces::slip() { return output_column(2); }
+std::vector<real> CohesiveForces::broken_time() { return output_column(3); }
+
+std::vector<int> CohesiveForces::broken() {
+  const auto s = download<cl_int>(cl_, status_, 2 * count_);
+  std::vector<int> out(count_);
+  for (size_t e = 0; e < count_; ++e) out[e] = s[2 * e];
+  return out;
+}
+
+std::vector<int> CohesiveForces::mode() {
+  const auto s = download<cl_int>(cl_, status_, 2 * count_);
+  std::vector<int> out(count_);
+  for (size_t e = 0; e < count_; ++e) out[e] = s[2 * e + 1];
+  return out;
+}
+
+size_t CohesiveForces::count_broken() {
+  size_t n = 0;
+  for (int b : broken()) n += b != 0;
+  return n;
+}
+
+}  // namespace fdem

@@ -1,0 +1,50 @@
+// Stage: cohesive-element (CE4) forces (cl_kernels/cohesive.cl).
+#pragma once
+#include <vector>
+
+#include "engine/cl_context.hpp"
+#include "engine/cohesive_model.hpp"
+#include "engine/real.hpp"
+
+namespace fdem {
+
+class CohesiveForces {
+ public:
+  // Per-CE4 parameter row uploaded to the device (layout = COH_* in cohesive.cl).
+  static constexpr int kStride = 12;
+  enum Param { kOp, kSp, kOverlap, kOt, kSt, kTs, kC, kTanPhi, kA, kB, kCexp, kH };
+
+  // Computes the per-CE4 parameters on the host (h = initial edge length |X_j - X_i| read
+  // from ref_position), uploads them, the connectivity and the zeroed state, compiles the
+  // stage and binds everything once. Throws InputError for bad properties or a
+  // zero-length edge.
+  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
+                 compute::buffer& ref_position);
+
+  // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
+  // test; `time` [s] is recorded for the CE4s that break in this step. Never waits.
+  void enqueue(double time);
+
+  compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
+  size_t size() const { return count_; }
+  const std::vector<real>& parameters() const { return params_; }  // kStride per CE4
+
+  // Host reads (wait; for output, history and tests).
+  std::vector<real> damage();       // max over the Gauss points of D_max
+  std::vector<real> opening();      // mean opening o [m]
+  std::vector<real> slip();         // mean slip s [m]
+  std::vector<int> broken();        // 0/1
+  std::vector<int> mode();          // 0 intact, 1 mode I, 2 mode II, 3 mixed
+  std::vector<real> broken_time();  // [s]; -1 while intact
+  size_t count_broken();
+
+ private:
+  std::vector<real> output_column(int k);
+  ClContext& cl_;
+  size_t count_;
+  std::vector<real> params_;
+  compute::kernel kernel_;
+  compute::buffer nodes_, params_buffer_, gp_state_, status_, output_, slots_;
+};
+
+}  // namespace fdem
