@@ -1,0 +1,176 @@
+// Plain C++ reference of the CE4 law (Eqs. 4-14 with the conventions of
+// docs/physics-notes.md), written from the equations and independently of
+// cl_kernels/cohesive.cl. Double precision, Eigen vectors.
+#pragma once
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "engine/cohesive_model.hpp"
+
+namespace fdem::reference_cohesive {
+
+using Vec = Eigen::Vector2d;
+
+// Constants of one CE4, from its fracture properties and initial edge length h.
+struct Law {
+  double o_p, s_p, o_overlap, o_t, s_t;
+  double tensile, cohesion, tan_phi;
+  double A, B, C;
+};
+
+inline Law make_law(const FractureProperties& p, double h) {
+  const double I_f = softening_integral(p.a, p.b, p.c);
+  Law law;
+  law.o_p = 2.0 * h * p.tensile_strength / p.penalty_opening;        // Eq. 6
+  law.s_p = 2.0 * h * p.cohesion / p.penalty_sliding;                // Eq. 7
+  law.o_overlap = 2.0 * h * p.tensile_strength / p.penalty_overlap;  // Eq. 8
+  law.o_t = p.gf1 / (I_f * p.tensile_strength);                      // Eq. 11 with σ = f T_s
+  law.s_t = p.gf2 / (I_f * p.cohesion);                              // Eq. 12 at σ = 0
+  law.tensile = p.tensile_strength;
+  law.cohesion = p.cohesion;
+  law.tan_phi = std::tan(p.friction_angle * M_PI / 180.0);
+  law.A = p.a;
+  law.B = p.b;
+  law.C = p.c;
+  return law;
+}
+
+// Eq. 10.
+inline double f_of(double D, const Law& law) {
+  const double sum = law.A + law.B;
+  const double rate = (law.A + law.C * law.B) / (sum * (1.0 - sum));
+  const double first = 1.0 - std::exp(rate * D) * (sum - 1.0) / sum;
+  const double second = law.A * (1.0 - D) + law.B * std::pow(1.0 - D, law.C);
+  return first * second;
+}
+
+enum Branch { kNone = 0, kModeI = 1, kModeII = 2, kMixed = 3 };
+
+struct PointState {
+  double D_max = 0, o_max = 0, s_max = 0;
+  int branch_at_break = kNone;
+};
+
+struct Ce4State {
+  std::array<PointState, 3> point;
+  bool broken = false;
+  int mode = kNone;
+  double time = -1.0;
+};
+
+// What the branches did at one point (tests use it for coverage and bounds).
+struct PointResult {
+  double o = 0, s = 0, sigma = 0, tau = 0, weight = 0;
+  bool compressed = false, normal_unloading = false, shear_unloading = false, softening = false;
+  Vec delta = Vec::Zero();
+};
+
+struct Result {
+  std::array<Vec, 4> force;  // i, j, j', i'
+  double damage = 0, opening = 0, slip = 0;
+  std::array<PointResult, 3> point;
+};
+
+// Trial damage of Eq. 9 and the branch that produced it.
+inline std::pair<double, int> trial_damage(const Law& law, double o, double s) {
+  const bool tensile = o > law.o_p, sheared = std::fabs(s) > law.s_p;
+  if (!tensile && !sheared) return {0.0, kNone};
+  const double x = tensile ? (o - law.o_p) / law.o_t : 0.0;
+  const double y = sheared ? (std::fabs(s) - law.s_p) / law.s_t : 0.0;
+  const int branch = tensile && sheared ? kMixed : tensile ? kModeI : kModeII;
+  return {std::min(1.0, std::hypot(x, y)), branch};
+}
+
+// Tractions at one point given its (already updated) state.
+inline void tractions(const Law& law, const PointState& st, double o, double s, PointResult& r) {
+  const double f = f_of(st.D_max, law);
+  r.softening = st.D_max > 0;
+  if (o < 0) {
+    r.compressed = true;
+    r.sigma = o / law.o_overlap * 2.0 * law.tensile;
+  } else if (st.o_max > law.o_p && o < st.o_max) {
+    r.normal_unloading = true;
+    r.sigma = law.tensile * f * (o / st.o_max);  // Eq. 13
+  } else if (o > law.o_p) {
+    r.sigma = law.tensile * f;
+  } else {
+    const double q = o / law.o_p;
+    r.sigma = law.tensile * f * q * (2.0 - q);
+  }
+  const double strength = std::max(0.0, law.cohesion * f - law.tan_phi * r.sigma);
+  const double a = std::fabs(s);
+  double magnitude;
+  if (st.s_max > law.s_p && a < st.s_max) {
+    r.shear_unloading = true;
+    magnitude = strength * (a / st.s_max);  // Eq. 14
+  } else if (a > law.s_p) {
+    magnitude = strength;
+  } else {
+    const double q = a / law.s_p;
+    magnitude = strength * q * (2.0 - q);
+  }
+  r.tau = s < 0 ? -magnitude : magnitude;
+}
+
+// One step of one CE4 at nodal positions x (order i, j, j', i').
+inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x, double thickness, double time) {
+  static const double root = std::sqrt(15.0) / 10.0;
+  static const std::array<double, 3> xi{0.5 - root, 0.5, 0.5 + root};
+  static const std::array<double, 3> weight{5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+
+  const Vec face1 = x[1] - x[0], face2 = x[2] - x[3];  // both from the i side to the j side
+  const Vec sum = face1 + face2;
+  const double length = 0.5 * sum.norm();
+  const Vec t = sum.normalized();
+  const Vec n(t.y(), -t.x());  // right of t: away from triangle 1 (counter-clockwise, interior left)
+  const Vec gap_i = x[3] - x[0], gap_j = x[2] - x[1];
+
+  Result res;
+  for (auto& f : res.force) f.setZero();
+  int at_one = 0;
+  std::array<int, 3> branch_of{};
+  for (int g = 0; g < 3; ++g) {
+    PointResult& p = res.point[g];
+    p.delta = (1.0 - xi[g]) * gap_i + xi[g] * gap_j;
+    p.o = p.delta.dot(n);
+    p.s = p.delta.dot(t);
+    p.weight = weight[g];
+    res.opening += weight[g] * p.o;
+    res.slip += weight[g] * p.s;
+    PointState& st = state.point[g];
+    if (!state.broken) {
+      const auto [D, branch] = trial_damage(law, p.o, p.s);
+      if (D >= 1.0 && st.D_max < 1.0) st.branch_at_break = branch;
+      st.D_max = std::max(st.D_max, D);
+      st.o_max = std::max(st.o_max, p.o);
+      st.s_max = std::max(st.s_max, std::fabs(p.s));
+      tractions(law, st, p.o, p.s, p);
+      if (st.D_max >= 1.0) branch_of[at_one++] = st.branch_at_break;
+    }
+    res.damage = std::max(res.damage, st.D_max);
+  }
+  if (state.broken) return res;
+  if (at_one >= 2) {
+    state.broken = true;
+    state.time = time;
+    state.mode = branch_of[0];
+    for (int k = 1; k < at_one; ++k)
+      if (branch_of[k] != branch_of[0]) state.mode = kMixed;
+    return res;  // no force from the breaking step on
+  }
+  for (int g = 0; g < 3; ++g) {
+    const PointResult& p = res.point[g];
+    const Vec traction = p.sigma * n + p.tau * t;   // on face 1, towards face 2 when open
+    const Vec push = traction * (p.weight * length * thickness);
+    const double N_i = 1.0 - xi[g], N_j = xi[g];
+    res.force[0] += N_i * push;
+    res.force[1] += N_j * push;
+    res.force[2] -= N_j * push;
+    res.force[3] -= N_i * push;
+  }
+  return res;
+}
+
+}  // namespace fdem::reference_cohesive

@@ -1,0 +1,594 @@
+// Cohesive elements (CE4): the kernel against the plain C++ reference of the whole law
+// (tests/reference_cohesive.hpp), the softening function, the fracture energies of pure
+// mode I and II, irreversibility, compression, force balance and the breaking rule.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <string>
+#include <tuple>
+
+#include "engine/device_arrays.hpp"
+#include "engine/stages/cohesive_forces.hpp"
+#include "fixture.hpp"
+#include "reference_cohesive.hpp"
+
+using namespace fdem;
+namespace rc = fdem::reference_cohesive;
+using rc::Vec;
+
+namespace {
+
+constexpr double kRel = kDoublePrecision ? 1e-12 : 2e-4;
+// Float positions of a CE4 0.1-1 m from the origin are resolved to ~1e-8 m, which is not
+// small next to gaps of 1e-5 m: gap-level checks are loosened accordingly there.
+constexpr double kGapTol = kDoublePrecision ? 1e-12 : 1e-3;
+
+FractureProperties rock() {
+  FractureProperties p;
+  p.tensile_strength = 5e6;
+  p.cohesion = 12e6;
+  p.friction_angle = 30.0;
+  p.gf1 = 40.0;
+  p.gf2 = 200.0;
+  p.penalty_opening = 2e13;
+  p.penalty_sliding = 2e13;
+  p.penalty_overlap = 2e13;
+  return p;
+}
+
+// CE4s each with their own four nodes (i, j, j', i' = 4e .. 4e+3), positions driven directly.
+struct Rig {
+  ClContext& cl = test::context();
+  CohesiveModel model;
+  std::vector<real2> ref;
+  compute::buffer position, ref_position;
+  std::unique_ptr<CohesiveForces> stage;
+  std::vector<rc::Law> laws;
+
+  // One CE4 per (reference i, reference j, properties).
+  Rig(const std::vector<std::pair<Vec, Vec>>& edges, const std::vector<FractureProperties>& props, double thickness) {
+    model.thickness = thickness;
+    model.fracture = props;
+    for (size_t e = 0; e < edges.size(); ++e) {
+      const int b = static_cast<int>(4 * e);
+      model.ce4.push_back({b, b + 1, b + 2, b + 3});
+      model.properties.push_back(static_cast<int>(e % props.size()));
+      const Vec& a = edges[e].first;
+      const Vec& c = edges[e].second;
+      for (const Vec& p : {a, c, c, a}) ref.push_back({real(p.x()), real(p.y())});
+      // h from the same stored (possibly float) coordinates the stage reads
+      const double h = std::hypot(double(ref[b + 1].x) - double(ref[b].x), double(ref[b + 1].y) - double(ref[b].y));
+      laws.push_back(rc::make_law(props[e % props.size()], h));
+    }
+    position = cl.allocate(ref.size() * sizeof(real2), "test_position");
+    ref_position = cl.allocate(ref.size() * sizeof(real2), "test_ref_position");
+    upload(cl, position, ref);
+    upload(cl, ref_position, ref);
+    stage = std::make_unique<CohesiveForces>(cl, model, position, ref_position);
+  }
+
+  // Sets the positions (stored as real), runs one step and returns the slot forces.
+  std::vector<real2> step(std::vector<real2>& x, double time) {
+    upload(cl, position, x);
+    stage->enqueue(time);
+    return download<real2>(cl, stage->slots(), 4 * stage->size());
+  }
+};
+
+std::array<Vec, 4> nodes_of(const std::vector<real2>& x, size_t e) {
+  std::array<Vec, 4> out;
+  for (int k = 0; k < 4; ++k) out[k] = Vec(x[4 * e + k].x, x[4 * e + k].y);
+  return out;
+}
+
+Vec vec(real2 v) { return Vec(v.x, v.y); }
+
+std::string fixed(double v, int digits = 6) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", digits, v);
+  return text;
+}
+
+// Unit tangent and the right normal (away from triangle 1) of a reference edge a→b.
+std::pair<Vec, Vec> frame(const Vec& a, const Vec& b) {
+  const Vec t = (b - a).normalized();
+  return {t, Vec(t.y(), -t.x())};
+}
+
+// One CE4 i, j, j', i' with the gaps gap_i (at i) and gap_j (at j) given as (normal, tangential)
+// components in the frame of the reference edge; face 1 moves by -½ gap, face 2 by +½ gap.
+void place(std::vector<real2>& x, size_t e, const Vec& a, const Vec& b, const Vec& gap_i, const Vec& gap_j) {
+  const auto [t, n] = frame(a, b);
+  const Vec gi = gap_i.x() * n + gap_i.y() * t, gj = gap_j.x() * n + gap_j.y() * t;
+  const Vec p[4] = {a - 0.5 * gi, b - 0.5 * gj, b + 0.5 * gj, a + 0.5 * gi};
+  for (int k = 0; k < 4; ++k) x[4 * e + k] = {real(p[k].x()), real(p[k].y())};
+}
+
+// Normal and tangential traction on face 1 (σ, τ) from the summed face-2 force of CE4 e.
+std::pair<double, double> face_traction(const std::vector<real2>& f, const std::vector<real2>& x, size_t e,
+                                        double thickness) {
+  const auto p = nodes_of(x, e);
+  const Vec sum = (p[1] - p[0]) + (p[2] - p[3]);
+  const Vec t = sum.normalized(), n(t.y(), -t.x());
+  const double area = 0.5 * sum.norm() * thickness;
+  const Vec face2 = vec(f[4 * e + 2]) + vec(f[4 * e + 3]);
+  return {-face2.dot(n) / area, -face2.dot(t) / area};
+}
+
+// Work done on the CE4 by the agent that moves its nodes: -∫ F_coh · dx, trapezoid rule.
+double work_increment(const std::vector<real2>& f0, const std::vector<real2>& f1, const std::vector<real2>& x0,
+                      const std::vector<real2>& x1) {
+  double w = 0;
+  for (size_t a = 0; a < f0.size(); ++a)
+    w -= 0.5 * (vec(f0[a]) + vec(f1[a])).dot(vec(x1[a]) - vec(x0[a]));
+  return w;
+}
+
+}  // namespace
+
+TEST_SUITE("cohesive") {
+
+TEST_CASE("softening function: f(0) = 1, f(1) = 0, decreasing, I_f = 0.38631 by two quadratures") {
+  const double A = 0.63, B = 1.8, C = 6.0;
+  CHECK(softening(0.0, A, B, C) == doctest::Approx(1.0).epsilon(1e-15));
+  CHECK(std::fabs(softening(1.0, A, B, C)) < 1e-15);
+  double previous = 2.0;
+  for (int k = 0; k <= 1000; ++k) {
+    const double f = softening(k / 1000.0, A, B, C);
+    CHECK_MESSAGE(f < previous, "f not decreasing at D = ", k / 1000.0);
+    previous = f;
+  }
+  // Independent check: composite 8-point Gauss-Legendre on 200 panels.
+  const double gx[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+  const double gw[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  double gauss = 0;
+  const int panels = 200;
+  for (int k = 0; k < panels; ++k) {
+    const double mid = (k + 0.5) / panels, half = 0.5 / panels;
+    for (int q = 0; q < 4; ++q)
+      gauss += half * gw[q] * (softening(mid - half * gx[q], A, B, C) + softening(mid + half * gx[q], A, B, C));
+  }
+  const double I_f = softening_integral(A, B, C);
+  MESSAGE("I_f = ", I_f, " (Gauss-Legendre ", gauss, ")");
+  CHECK(std::fabs(I_f - gauss) < 1e-11);
+  CHECK(std::fabs(I_f - 0.38631) < 5e-6);
+  // A different shape gives a different integral (the value is not hard-wired).
+  CHECK(std::fabs(softening_integral(0.8, 1.2, 3.0) - softening_integral(A, B, C)) > 1e-3);
+}
+
+TEST_CASE("kernel equals the reference on random CE4s over random opening/sliding histories") {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const size_t count = 240;
+  const int steps = 90;
+  std::vector<std::pair<Vec, Vec>> edges;
+  std::vector<FractureProperties> props;
+  for (size_t e = 0; e < count; ++e) {
+    const Vec c(4 * u(rng) - 2, 4 * u(rng) - 2);
+    const double angle = 2 * M_PI * u(rng), h = 0.05 + 0.2 * u(rng);
+    const Vec d(std::cos(angle), std::sin(angle));
+    edges.push_back({c - 0.5 * h * d, c + 0.5 * h * d});
+    FractureProperties p;
+    p.tensile_strength = 1e6 + 9e6 * u(rng);
+    p.cohesion = 2e6 + 18e6 * u(rng);
+    p.friction_angle = 45 * u(rng);
+    p.gf1 = 10 + 90 * u(rng);
+    p.gf2 = 50 + 450 * u(rng);
+    if (e % 5 == 0) p.a = 0.5 + 0.3 * u(rng), p.b = 1.2 + u(rng), p.c = 3 + 4 * u(rng);
+    // Penalties chosen so that o_p, s_p, o_overlap are 3-40 % of o_t, s_t (the law's
+    // logic, not realistic stiffness, is under test; small gaps relative to the
+    // coordinates would only measure round-off of the positions).
+    const double I_f = softening_integral(p.a, p.b, p.c);
+    const double o_t = p.gf1 / (p.tensile_strength * I_f), s_t = p.gf2 / (p.cohesion * I_f);
+    p.penalty_opening = 2 * h * p.tensile_strength / ((0.03 + 0.37 * u(rng)) * o_t);
+    p.penalty_sliding = 2 * h * p.cohesion / ((0.03 + 0.37 * u(rng)) * s_t);
+    p.penalty_overlap = 2 * h * p.tensile_strength / ((0.03 + 0.37 * u(rng)) * o_t);
+    props.push_back(p);
+  }
+  const double thickness = 0.7;
+  Rig rig(edges, props, thickness);
+
+  // Random walks of the end gaps (normal, tangential) in units of o_p + o_t and s_p + s_t,
+  // with a per-CE4 drift (some mostly open, some mostly slide, some close), a small
+  // rigid rotation and translation, and a stretch of face 1.
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  struct Walk {
+    double drift_o, drift_s, on_i, on_j, sl_i, sl_j, angle, spin;
+    Vec shift;
+  };
+  std::vector<Walk> walk(count);
+  for (auto& w : walk) {
+    w = {0.08 * (u(rng) - 0.35), 0.08 * (u(rng) - 0.4), 0, 0, 0, 0, 0, 0.01 * (u(rng) - 0.5), Vec::Zero()};
+    if (u(rng) < 0.25) w.drift_s = 0;  // pure opening/closing: slip only from noise
+  }
+  std::vector<rc::Ce4State> state(count);
+  std::vector<real2> x(rig.ref.size());
+  double worst_force = 0, worst_damage = 0, worst_kin = 0;
+  int mismatched_status = 0;
+  int seen_compression = 0, seen_unload_n = 0, seen_unload_s = 0, seen_soft = 0;
+  int seen_mode[4] = {0, 0, 0, 0};
+  for (int k = 0; k < steps; ++k) {
+    const double time = 1e-3 * (k + 1);
+    for (size_t e = 0; e < count; ++e) {
+      Walk& w = walk[e];
+      const rc::Law& law = rig.laws[e];
+      const double so = law.o_p + law.o_t, ss = law.s_p + law.s_t;
+      if (k == steps / 2 && u(rng) < 0.5) w.drift_o = -w.drift_o, w.drift_s = -w.drift_s;  // unload / reverse
+      const double d_o = w.drift_o + 0.06 * gauss(rng), d_s = w.drift_s + 0.06 * gauss(rng);
+      w.on_i += so * (d_o + 0.02 * gauss(rng));
+      w.on_j += so * (d_o + 0.02 * gauss(rng));
+      w.sl_i += ss * (d_s + 0.02 * gauss(rng));
+      w.sl_j += ss * (d_s + 0.02 * gauss(rng));
+      w.angle += w.spin;
+      w.shift += Vec(1e-3 * gauss(rng), 1e-3 * gauss(rng));
+      const Vec a = edges[e].first, b = edges[e].second, mid = 0.5 * (a + b);
+      const Eigen::Rotation2Dd R(w.angle);
+      const Vec b_stretched = a + (1.0 + 0.01 * std::sin(0.1 * k)) * (b - a);
+      const Vec ra = mid + R * (a - mid) + w.shift, rb = mid + R * (b_stretched - mid) + w.shift;
+      const auto [t, n] = frame(ra, rb);
+      const Vec gi = w.on_i * n + w.sl_i * t, gj = w.on_j * n + w.sl_j * t;
+      const Vec p[4] = {ra, rb, rb + gj, ra + gi};
+      for (int q = 0; q < 4; ++q) x[4 * e + q] = {real(p[q].x()), real(p[q].y())};
+    }
+    const auto f = rig.step(x, time);
+    const auto damage = rig.stage->damage(), opening = rig.stage->opening(), slip = rig.stage->slip();
+    const auto broken = rig.stage->broken(), mode = rig.stage->mode();
+    const auto when = rig.stage->broken_time();
+    for (size_t e = 0; e < count; ++e) {
+      const rc::Law& law = rig.laws[e];
+      const bool was_broken = state[e].broken;
+      const auto r = rc::step(law, state[e], nodes_of(x, e), thickness, time);
+      const double L = 0.5 * ((nodes_of(x, e)[1] - nodes_of(x, e)[0]) + (nodes_of(x, e)[2] - nodes_of(x, e)[3])).norm();
+      double scale = 1e-3 * law.tensile * L * thickness;
+      for (const auto& v : r.force) scale = std::max(scale, v.norm());
+      for (int q = 0; q < 4; ++q) worst_force = std::max(worst_force, (vec(f[4 * e + q]) - r.force[q]).norm() / scale);
+      worst_damage = std::max(worst_damage, std::fabs(damage[e] - r.damage));
+      worst_kin = std::max({worst_kin, std::fabs(opening[e] - r.opening) / (law.o_p + law.o_t),
+                            std::fabs(slip[e] - r.slip) / (law.s_p + law.s_t)});
+      if ((broken[e] != 0) != state[e].broken || mode[e] != state[e].mode ||
+          (state[e].broken && std::fabs(when[e] - state[e].time) > kRel * time))
+        ++mismatched_status;
+      if (!was_broken)
+        for (const auto& p : r.point) {
+          seen_compression += p.compressed && std::fabs(p.tau) > 0;
+          seen_unload_n += p.normal_unloading;
+          seen_unload_s += p.shear_unloading;
+          seen_soft += p.softening;
+        }
+      if (!was_broken && state[e].broken) seen_mode[state[e].mode]++;
+    }
+  }
+  MESSAGE("worst force ", worst_force, ", damage ", worst_damage, ", kinematics ", worst_kin,
+          "; broken by mode I/II/mixed: ", seen_mode[1], "/", seen_mode[2], "/", seen_mode[3],
+          "; points seen compressed+sheared ", seen_compression, ", unloading n/s ", seen_unload_n, "/",
+          seen_unload_s, ", softened ", seen_soft);
+  CHECK(worst_force < kRel);
+  CHECK(worst_damage < kRel);
+  CHECK(worst_kin < kRel);
+  CHECK(mismatched_status == 0);
+  // The histories must have exercised every branch.
+  CHECK(seen_compression > 0);
+  CHECK(seen_unload_n > 0);
+  CHECK(seen_unload_s > 0);
+  CHECK(seen_soft > 0);
+  CHECK(seen_mode[1] > 0);
+  CHECK(seen_mode[2] > 0);
+  CHECK(seen_mode[3] > 0);
+  CHECK(rig.stage->count_broken() < count);
+}
+
+// Shared driver of the two fracture-energy tests: one rotated CE4, faces moved apart
+// symmetrically along `direction` (normal or tangential) from 0 to 1.1 (elastic limit +
+// critical value), quasi-statically (no dynamics: positions are prescribed).
+struct EnergyRun {
+  double work = 0, break_gap = 0, break_time = -1;
+  int mode = 0;
+  bool broken = false, zero_after = true;
+};
+
+EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const FractureProperties& p,
+                     double thickness, const Vec& a, const Vec& b) {
+  Rig rig({{a, b}}, {p}, thickness);
+  std::vector<real2> x(4), x_prev(4);
+  place(x, 0, a, b, Vec::Zero(), Vec::Zero());
+  std::vector<real2> f_prev = rig.step(x, 0.0);
+  x_prev = x;
+  EnergyRun run;
+  const int elastic_steps = 400, softening_steps = 4000;
+  const double end = 1.1 * (elastic_limit + critical);
+  const int total = elastic_steps + softening_steps + 400;
+  for (int k = 1; k <= total; ++k) {
+    double gap;
+    if (k <= elastic_steps) gap = elastic_limit * k / elastic_steps;
+    else gap = elastic_limit + (end - elastic_limit) * std::min(1.0, double(k - elastic_steps) / (softening_steps + 400));
+    const Vec g = opening ? Vec(gap, 0) : Vec(0, gap);
+    place(x, 0, a, b, g, g);
+    const auto f = rig.step(x, 1e-3 * k);
+    if (!run.broken) run.work += work_increment(f_prev, f, x_prev, x);
+    const bool broken_now = rig.stage->broken()[0] != 0;
+    if (broken_now && !run.broken) {
+      run.broken = true;
+      run.break_gap = gap;
+      run.break_time = rig.stage->broken_time()[0];
+      run.mode = rig.stage->mode()[0];
+    }
+    if (run.broken)
+      for (const auto& v : f) run.zero_after = run.zero_after && v.x == 0 && v.y == 0;
+    f_prev = f;
+    x_prev = x;
+  }
+  return run;
+}
+
+TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small elastic pre-peak part)") {
+  const FractureProperties p = rock();
+  const Vec a(0.31, -0.12), b = a + 0.2 * Vec(std::cos(0.7), std::sin(0.7));
+  const double L = 0.2, thickness = 0.5;
+  const rc::Law law = rc::make_law(p, L);
+  const EnergyRun run = pull_apart(true, law.o_p, law.o_t, p, thickness, a, b);
+  const double G_part = p.gf1 * L * thickness;
+  const double elastic = 2.0 / 3.0 * p.tensile_strength * law.o_p * L * thickness;  // ∫₀^o_p σ do
+  MESSAGE("mode I: work ", run.work, " J, G_fI L t = ", G_part, " J, elastic pre-peak ", elastic,
+          " J, work / (G L t) = ", fixed(run.work / G_part), ", work / (G L t + elastic) = ", fixed(run.work / (G_part + elastic)),
+          "; broke at o = ", run.break_gap, " (o_p + o_t = ", law.o_p + law.o_t, ")");
+  REQUIRE(run.broken);
+  CHECK(run.mode == 1);
+  CHECK(run.zero_after);
+  CHECK(std::fabs(run.work / G_part - 1.0) < 0.03);
+  CHECK(std::fabs(run.work / (G_part + elastic) - 1.0) < (kDoublePrecision ? 1e-3 : 2e-2));
+  CHECK(run.break_gap >= (law.o_p + law.o_t) * (1 - kGapTol));
+  CHECK(run.break_gap < (law.o_p + law.o_t) * (1 + 1e-3));
+  CHECK(run.break_time > 0);
+}
+
+TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fII L t") {
+  FractureProperties p = rock();
+  // In float, the round-off of the positions alone gives |o| ~ 1e-8 m ~ 0.1 o_overlap, so
+  // the normal traction is not zero and friction would add work; φ = 0 there.
+  if (!kDoublePrecision) p.friction_angle = 0.0;
+  const Vec a(-0.5, 0.25), b = a + 0.2 * Vec(std::cos(2.2), std::sin(2.2));
+  const double L = 0.2, thickness = 1.0;
+  const rc::Law law = rc::make_law(p, L);
+  const EnergyRun run = pull_apart(false, law.s_p, law.s_t, p, thickness, a, b);
+  const double G_part = p.gf2 * L * thickness;
+  const double elastic = 2.0 / 3.0 * p.cohesion * law.s_p * L * thickness;
+  MESSAGE("mode II: work ", run.work, " J, G_fII L t = ", G_part, " J, elastic pre-peak ", elastic,
+          " J, work / (G L t) = ", fixed(run.work / G_part), ", work / (G L t + elastic) = ", fixed(run.work / (G_part + elastic)),
+          "; broke at s = ", run.break_gap, " (s_p + s_t = ", law.s_p + law.s_t, ")");
+  REQUIRE(run.broken);
+  CHECK(run.mode == 2);
+  CHECK(run.zero_after);
+  CHECK(std::fabs(run.work / G_part - 1.0) < 0.03);
+  CHECK(std::fabs(run.work / (G_part + elastic) - 1.0) < (kDoublePrecision ? 1e-3 : 2e-2));
+  CHECK(run.break_gap >= (law.s_p + law.s_t) * (1 - kGapTol));
+  CHECK(run.break_gap < (law.s_p + law.s_t) * (1 + 1e-3));
+}
+
+TEST_CASE("irreversibility: unloading and reloading follow Eqs. 13-14 and f never recovers") {
+  FractureProperties p = rock();
+  p.penalty_opening = p.penalty_sliding = p.penalty_overlap = 2e11;  // o_p, s_p large enough to resolve in float
+  const Vec a(0.1, 0.2), b(0.25, 0.3);
+  const double L = (b - a).norm(), thickness = 0.5;
+  const rc::Law law = rc::make_law(p, L);
+  const double tol = kDoublePrecision ? 1e-9 : 2e-3;
+  auto f_of = [&](double D) { return softening(D, p.a, p.b, p.c); };
+
+  SUBCASE("normal") {
+    Rig rig({{a, b}}, {p}, thickness);
+    std::vector<real2> x(4);
+    auto traction_at = [&](double o, double s = 0) {
+      place(x, 0, a, b, Vec(o, s), Vec(o, s));
+      const auto f = rig.step(x, 0);
+      return face_traction(f, x, 0, thickness);
+    };
+    const double o1 = law.o_p + 0.3 * law.o_t;
+    const double s1 = traction_at(o1).first;
+    CHECK(s1 == doctest::Approx(f_of(0.3) * p.tensile_strength).epsilon(tol));
+    CHECK(rig.stage->damage()[0] == doctest::Approx(0.3).epsilon(tol));
+    CHECK(traction_at(0.5 * o1).first == doctest::Approx(0.5 * s1).epsilon(tol));      // Eq. 13, not the parabola
+    CHECK(rig.stage->damage()[0] == doctest::Approx(0.3).epsilon(tol));               // D kept
+    CHECK(std::fabs(traction_at(0.0).first) < tol * p.tensile_strength);
+    CHECK(traction_at(0.25 * law.o_p).first == doctest::Approx(s1 * 0.25 * law.o_p / o1).epsilon(tol));
+    CHECK(traction_at(0.8 * o1).first == doctest::Approx(0.8 * s1).epsilon(tol));      // reloading, secant
+    CHECK(traction_at(o1).first == doctest::Approx(s1).epsilon(tol));                  // back on the envelope
+    CHECK(traction_at(law.o_p + 0.5 * law.o_t).first == doctest::Approx(f_of(0.5) * p.tensile_strength).epsilon(tol));
+    CHECK(traction_at(0.5 * o1).first ==
+          doctest::Approx(f_of(0.5) * p.tensile_strength * 0.5 * o1 / (law.o_p + 0.5 * law.o_t)).epsilon(tol));
+    // Unloaded, the shear strength also keeps the lower f: below s_p the parabola × f(0.5) c
+    // minus the friction of the (tensile) normal traction.
+    const double q = 0.5, o_small = 0.1 * law.o_p;
+    const auto [sg, tau] = traction_at(o_small, q * law.s_p);
+    CHECK(tau == doctest::Approx(q * (2 - q) * (f_of(0.5) * p.cohesion - law.tan_phi * sg)).epsilon(tol));
+    CHECK(rig.stage->broken()[0] == 0);
+  }
+
+  SUBCASE("shear") {
+    Rig rig({{a, b}}, {p}, thickness);
+    std::vector<real2> x(4);
+    auto tau_at = [&](double s) {
+      place(x, 0, a, b, Vec(0, s), Vec(0, s));
+      return face_traction(rig.step(x, 0), x, 0, thickness).second;
+    };
+    const double s1 = law.s_p + 0.4 * law.s_t;
+    const double t1 = tau_at(s1);
+    CHECK(t1 == doctest::Approx(f_of(0.4) * p.cohesion).epsilon(tol));
+    CHECK(tau_at(0.5 * s1) == doctest::Approx(0.5 * t1).epsilon(tol));    // Eq. 14
+    CHECK(tau_at(-0.5 * s1) == doctest::Approx(-0.5 * t1).epsilon(tol));  // reversed slip opposes it
+    CHECK(tau_at(-s1) == doctest::Approx(-t1).epsilon(tol));
+    CHECK(rig.stage->damage()[0] == doctest::Approx(0.4).epsilon(tol));
+    CHECK(tau_at(-(law.s_p + 0.6 * law.s_t)) == doctest::Approx(-f_of(0.6) * p.cohesion).epsilon(tol));
+    CHECK(tau_at(s1) == doctest::Approx(f_of(0.6) * p.cohesion * s1 / (law.s_p + 0.6 * law.s_t)).epsilon(tol));
+  }
+}
+
+TEST_CASE("compression: overlap penalty without f(D), no damage, shear strength rises by -σ tanφ") {
+  FractureProperties p = rock();
+  p.penalty_opening = p.penalty_sliding = p.penalty_overlap = 2e11;
+  const Vec a(-0.2, 0.4), b(-0.05, 0.2);
+  const double L = (b - a).norm(), thickness = 0.8;
+  const rc::Law law = rc::make_law(p, L);
+  const double tol = kDoublePrecision ? 1e-9 : 2e-3;
+  const double f05 = softening(0.5, p.a, p.b, p.c);
+  Rig rig({{a, b}}, {p}, thickness);
+  std::vector<real2> x(4);
+  auto at = [&](double o, double s) {
+    place(x, 0, a, b, Vec(o, s), Vec(o, s));
+    return face_traction(rig.step(x, 0), x, 0, thickness);
+  };
+  // Normal: 2 o T_s / o_overlap, linear, no damage, far beyond o_overlap too.
+  CHECK(at(-0.5 * law.o_overlap, 0).first == doctest::Approx(-p.tensile_strength).epsilon(tol));
+  CHECK(at(-3.0 * law.o_overlap, 0).first == doctest::Approx(-6.0 * p.tensile_strength).epsilon(tol));
+  CHECK(rig.stage->damage()[0] == 0);
+  CHECK(rig.stage->broken()[0] == 0);
+  // Shear strength under σ = -4 T_s: at |s| = 0.9 s_p the parabola × (c + 4 T_s tanφ).
+  const double sigma = -4.0 * p.tensile_strength;
+  const double q = 0.9;
+  auto [sg, tau] = at(-2.0 * law.o_overlap, q * law.s_p);
+  CHECK(sg == doctest::Approx(sigma).epsilon(tol));
+  CHECK(tau == doctest::Approx(q * (2 - q) * (p.cohesion - sigma * law.tan_phi)).epsilon(tol));
+  CHECK(rig.stage->damage()[0] == 0);
+  // Softening: D = 0.5 in shear; only the cohesion is softened, the normal traction is not.
+  std::tie(sg, tau) = at(-2.0 * law.o_overlap, law.s_p + 0.5 * law.s_t);
+  CHECK(rig.stage->damage()[0] == doctest::Approx(0.5).epsilon(tol));
+  CHECK(sg == doctest::Approx(sigma).epsilon(tol));
+  CHECK(tau == doctest::Approx(f05 * p.cohesion - sigma * law.tan_phi).epsilon(tol));
+  CHECK(std::fabs(tau - f05 * (p.cohesion - sigma * law.tan_phi)) > 0.1 * p.cohesion);  // not f × MC
+  // Pushed further, the friction part stays as D → 1 and the CE4 breaks in mode II.
+  std::tie(sg, tau) = at(-2.0 * law.o_overlap, law.s_p + 0.999 * law.s_t);
+  CHECK(tau == doctest::Approx(softening(0.999, p.a, p.b, p.c) * p.cohesion - sigma * law.tan_phi).epsilon(tol));
+  at(-2.0 * law.o_overlap, law.s_p + 1.01 * law.s_t);
+  CHECK(rig.stage->broken()[0] == 1);
+  CHECK(rig.stage->mode()[0] == 2);
+}
+
+TEST_CASE("the four nodal forces have zero net force; zero moment when the forces act along the gap") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const size_t count = 300;
+  std::vector<std::pair<Vec, Vec>> edges;
+  for (size_t e = 0; e < count; ++e) {
+    const Vec c(20 * u(rng) - 10, 20 * u(rng) - 10);
+    const double angle = 2 * M_PI * u(rng), h = 0.05 + 0.2 * u(rng);
+    const Vec d(std::cos(angle), std::sin(angle));
+    edges.push_back({c - 0.5 * h * d, c + 0.5 * h * d});
+  }
+  FractureProperties p = rock();
+  p.penalty_opening = p.penalty_sliding = p.penalty_overlap = 1e11;
+  Rig rig(edges, {p}, 0.5);
+  std::vector<real2> x(4 * count);
+  // Three kinds: uniform opening/closing (δ ∥ n, τ = 0), uniform slip at o = 0 (δ ∥ t, σ = 0),
+  // and general (independent random end gaps).
+  for (size_t e = 0; e < count; ++e) {
+    const rc::Law& law = rig.laws[e];
+    const double o = (1.5 * u(rng) - 0.5) * (law.o_p + law.o_t), s = (2 * u(rng) - 1) * (law.s_p + law.s_t);
+    if (e % 3 == 0) place(x, e, edges[e].first, edges[e].second, Vec(o, 0), Vec(o, 0));
+    else if (e % 3 == 1) place(x, e, edges[e].first, edges[e].second, Vec(0, s), Vec(0, s));
+    else
+      place(x, e, edges[e].first, edges[e].second, Vec(o, s),
+            Vec((1.5 * u(rng) - 0.5) * law.o_p, (2 * u(rng) - 1) * (law.s_p + law.s_t)));
+  }
+  const auto f = rig.step(x, 0);
+  double worst_force = 0, worst_moment_aligned = 0, worst_moment_bound = 0;
+  int nonzero = 0;
+  for (size_t e = 0; e < count; ++e) {
+    Vec net = Vec::Zero();
+    double moment = 0, magnitude = 0;
+    const auto pos = nodes_of(x, e);
+    const Vec centre = 0.25 * (pos[0] + pos[1] + pos[2] + pos[3]);
+    for (int q = 0; q < 4; ++q) {
+      const Vec fq = vec(f[4 * e + q]), r = pos[q] - centre;
+      net += fq;
+      moment += r.x() * fq.y() - r.y() * fq.x();
+      magnitude += fq.norm();
+    }
+    if (magnitude == 0) continue;
+    ++nonzero;
+    const double L = (edges[e].second - edges[e].first).norm();
+    worst_force = std::max(worst_force, net.norm() / magnitude);
+    if (e % 3 != 2) {
+      worst_moment_aligned = std::max(worst_moment_aligned, std::fabs(moment) / (magnitude * L));
+    } else {
+      // General case: the two faces' forces form couples of arm |δ| (they are equal and
+      // opposite but act at points a gap apart), so |M| <= Σ_g |δ_g| |p_g|.
+      rc::Ce4State st;
+      const auto r = rc::step(rig.laws[e], st, pos, 0.5, 0);
+      const Vec sum = (pos[1] - pos[0]) + (pos[2] - pos[3]);
+      double bound = 0;
+      for (const auto& pt : r.point)
+        bound += pt.delta.norm() * std::hypot(pt.sigma, pt.tau) * pt.weight * 0.5 * sum.norm() * 0.5;
+      worst_moment_bound = std::max(worst_moment_bound, std::fabs(moment) / (bound * (1 + 1e-6) + 1e-300));
+    }
+  }
+  MESSAGE("net force / Σ|f| ", worst_force, "; aligned |M| / (Σ|f| L) ", worst_moment_aligned,
+          "; general |M| / (Σ|δ||p|) ", worst_moment_bound);
+  CHECK(nonzero > static_cast<int>(count / 2));
+  CHECK(worst_force < (kDoublePrecision ? 1e-14 : 1e-6));
+  CHECK(worst_moment_aligned < (kDoublePrecision ? 1e-11 : 2e-3));
+  CHECK(worst_moment_bound <= 1.0 + (kDoublePrecision ? 1e-9 : 1e-3));
+}
+
+TEST_CASE("breaking needs D = 1 at two Gauss points; a broken CE4 carries no force; mode and time kept") {
+  FractureProperties p = rock();
+  p.penalty_opening = p.penalty_sliding = p.penalty_overlap = 2e11;
+  const Vec a(0.3, 0.3), b(0.3, 0.45);
+  const double L = (b - a).norm(), thickness = 1.0;
+  const rc::Law law = rc::make_law(p, L);
+  const double xi3 = 0.5 + std::sqrt(15.0) / 10.0;
+  const double crit_o = law.o_p + law.o_t, crit_s = law.s_p + law.s_t;
+
+  SUBCASE("mode I, opening that grows along the edge") {
+    Rig rig({{a, b}}, {p}, thickness);
+    std::vector<real2> x(4);
+    // Only the point nearest j has D = 1: intact, still carries force.
+    place(x, 0, a, b, Vec::Zero(), Vec(1.2 * crit_o / xi3, 0));
+    auto f = rig.step(x, 0.125);
+    CHECK(rig.stage->damage()[0] == 1.0);
+    CHECK(rig.stage->broken()[0] == 0);
+    CHECK(rig.stage->mode()[0] == 0);
+    CHECK(vec(f[0]).norm() > 0);
+    // The middle point reaches 1 too: broken at this step's time, mode I, no force.
+    place(x, 0, a, b, Vec::Zero(), Vec(2.05 * crit_o, 0));
+    f = rig.step(x, 0.25);
+    CHECK(rig.stage->broken()[0] == 1);
+    CHECK(rig.stage->mode()[0] == 1);
+    CHECK(rig.stage->broken_time()[0] == doctest::Approx(0.25));
+    CHECK(rig.stage->count_broken() == 1);
+    for (const auto& v : f) CHECK((v.x == 0 && v.y == 0));
+    // Forever: closed, overlapping, sliding, later times.
+    for (const Vec& g : std::array<Vec, 3>{Vec(0, 0), Vec(-law.o_overlap, 0), Vec(0.5 * law.o_p, 0.5 * law.s_p)}) {
+      place(x, 0, a, b, g, g);
+      f = rig.step(x, 0.5);
+      for (const auto& v : f) CHECK((v.x == 0 && v.y == 0));
+    }
+    CHECK(rig.stage->broken_time()[0] == doctest::Approx(0.25));
+    CHECK(rig.stage->damage()[0] == 1.0);
+  }
+
+  SUBCASE("mode II, and mixed") {
+    // CE4 0: uniform slip beyond s_p + s_t → mode II. CE4 1: opening and slip together → mixed.
+    // CE4 2: the point near j broken by opening, then the others by slip → points disagree → mixed.
+    Rig rig({{a, b}, {a, b}, {a, b}}, {p}, thickness);
+    std::vector<real2> x(12);
+    place(x, 0, a, b, Vec(0, 1.01 * crit_s), Vec(0, 1.01 * crit_s));
+    place(x, 1, a, b, Vec(law.o_p + 0.8 * law.o_t, law.s_p + 0.8 * law.s_t),
+          Vec(law.o_p + 0.8 * law.o_t, law.s_p + 0.8 * law.s_t));
+    place(x, 2, a, b, Vec::Zero(), Vec(1.2 * crit_o / xi3, 0));
+    rig.step(x, 1.0);
+    CHECK(rig.stage->broken() == std::vector<int>{1, 1, 0});
+    CHECK(rig.stage->mode() == std::vector<int>{2, 3, 0});
+    place(x, 2, a, b, Vec(0, 1.1 * crit_s), Vec(0, 1.1 * crit_s));
+    const auto f = rig.step(x, 2.0);
+    CHECK(rig.stage->broken() == std::vector<int>{1, 1, 1});
+    CHECK(rig.stage->mode() == std::vector<int>{2, 3, 3});
+    const auto when = rig.stage->broken_time();
+    CHECK(when[0] == 1.0);
+    CHECK(when[1] == 1.0);
+    CHECK(when[2] == 2.0);
+    for (const auto& v : f) CHECK((v.x == 0 && v.y == 0));
+  }
+}
+
+}  // TEST_SUITE
