@@ -52,11 +52,14 @@ __kernel void triangle_mass(const uint n_triangles,
   }
 }
 
-// node_mass in: (mass, Σk); out: (mass, inertia).
+// node_mass in: (mass, Σk); out: (mass, inertia). extra_stiffness (when use_extra):
+// the CE4s' share of Σk, computed on the host.
 __kernel void node_inertia(const uint n_nodes, const int mass_scaling, const real dt,
-                           __global real2* restrict node_mass) {
+                           __global real2* restrict node_mass, const int use_extra,
+                           __global const real* restrict extra_stiffness) {
   const uint i = get_global_id(0);
   if (i >= n_nodes) return;
   const real2 mk = node_mass[i];
-  node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.3 * dt * dt * mk.y : mk.x);
+  const real k = mk.y + (use_extra ? extra_stiffness[i] : (real)0);
+  node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.3 * dt * dt * k : mk.x);
 }

@@ -1,5 +1,6 @@
 #include "engine/device_arrays.hpp"
 
+#include <algorithm>
 #include <climits>
 
 #include "engine/errors.hpp"
@@ -18,7 +19,10 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
   // Contact: couple keys and two history lists (8 + 2 × 80 bytes per couple), about 4
   // couples per triangle to start with, plus the detection's per-triangle arrays.
   const size_t contact = model.contact.enabled ? t * (4 * (8 + 2 * 10 * r) + 8 * 8 + 4 * r + 64) : 0;
-  return nodes + tris + edges + tables + contact;
+  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), status, outputs,
+  // 4 force slots, 4 CSR entries.
+  const size_t ce4 = model.ce4.size() * (4 * u + 12 * r + 3 * 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * u);
+  return nodes + tris + edges + tables + contact + ce4;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
@@ -53,6 +57,11 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   edge_force = cl.allocate(2 * e * sizeof(real2), "edge_force");
   edge_start = cl.allocate((n + 1) * sizeof(uint32_t), "edge_start");
   edge_slot = cl.allocate(2 * e * sizeof(uint32_t), "edge_slot");
+  const SlotMap ce4 = build_slot_map(n, model.ce4);
+  ce4_start = cl.allocate((n + 1) * sizeof(uint32_t), "ce4_start");
+  ce4_slot = cl.allocate(std::max<size_t>(1, ce4.slot.size()) * sizeof(uint32_t), "ce4_slot");
+  upload(cl, ce4_start, ce4.start);
+  upload(cl, ce4_slot, ce4.slot);
   contact_acc = cl.allocate((model.contact.enabled ? n : 1) * 2 * sizeof(cl_long), "contact_acc");
   conditions = cl.allocate(4 * sizeof(int), "conditions");
 

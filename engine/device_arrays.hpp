@@ -41,6 +41,10 @@ struct DeviceArrays {
   compute::buffer edge_start;    // uint, num_nodes+1: node → edge-end-slot CSR offsets
   compute::buffer edge_slot;     // uint, 2 per edge
 
+  // Cohesive elements: node → CE4-slot CSR map (the slots belong to CohesiveForces)
+  compute::buffer ce4_start;     // uint, num_nodes+1
+  compute::buffer ce4_slot;      // uint, 4 per CE4
+
   // Contact
   compute::buffer contact_acc;   // long ×2 per node: contact force in fixed point (see ContactForces)
 

@@ -100,6 +100,18 @@ int check_command(const Arguments& a) {
   std::cout << "regions   ";
   for (const auto& r : m.regions) std::cout << r.name << " (" << r.nodes.size() << " nodes" << (r.prescribed ? ", prescribed" : "") << ")  ";
   std::cout << "\nloaded edges " << m.loaded_edges.size() << "\n";
+  if (!m.ce4.empty()) {
+    std::cout << "CE4       " << m.ce4.size() << " cohesive elements\n";
+    double stiffest = 0;
+    for (const auto& mat : p.config.materials)
+      if (mat.fracture) stiffest = std::max(stiffest, mat.young);
+    for (const auto& f : m.fracture)
+      for (const auto& [name, value] : {std::pair{"opening", f.penalty_opening}, std::pair{"sliding", f.penalty_sliding},
+                                        std::pair{"overlap", f.penalty_overlap}})
+        if (value < 10 * stiffest)
+          std::cout << "warning: CE4 " << name << " penalty " << value << " Pa is below 10 x E (" << 10 * stiffest
+                    << " Pa): intact rock will be too soft and stress waves too slow (seed paper, Section 3.4)\n";
+  }
   std::cout << "stable dt " << p.stable.dt << " s (triangle " << m.triangle_tags[p.stable.triangle] << ")\n"
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"

@@ -84,6 +84,153 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
   return contact;
 }
 
+FractureProperties fracture_properties(const io::FractureConfig& f) {
+  FractureProperties p;
+  p.tensile_strength = f.tensile_strength;
+  p.cohesion = f.cohesion;
+  p.friction_angle = f.friction_angle;
+  p.gf1 = f.gf1;
+  p.gf2 = f.gf2;
+  p.penalty_opening = f.penalty_opening;
+  p.penalty_sliding = f.penalty_sliding;
+  p.penalty_overlap = f.penalty_overlap;
+  p.a = f.softening_a;
+  p.b = f.softening_b;
+  p.c = f.softening_c;
+  return p;
+}
+
+// Gives every triangle of a fracturable material its own three nodes and puts a CE4 on
+// every interior edge between two fracturable triangles (same material, or two
+// materials joined by an [[interface]]). Every node-indexed array of the model follows:
+// a region, boundary condition or initial velocity on an original node applies to all
+// of its copies; a loaded edge moves to the copies of its one triangle.
+void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<std::string>& notes) {
+  const size_t n_materials = config.materials.size();
+  std::vector<int> material_fracture(n_materials, -1);
+  for (size_t m = 0; m < n_materials; ++m)
+    if (config.materials[m].fracture) {
+      material_fracture[m] = static_cast<int>(model.fracture.size());
+      model.fracture.push_back(fracture_properties(*config.materials[m].fracture));
+    }
+  model.triangle_fracturable.assign(model.num_triangles(), false);
+  bool any = false;
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    any |= model.triangle_fracturable[t] = material_fracture[model.triangle_material[t]] >= 0;
+  if (!any) return;
+  std::vector<int> pair_fracture(n_materials * n_materials, -1);
+  for (size_t m = 0; m < n_materials; ++m) pair_fracture[m * n_materials + m] = material_fracture[m];
+  for (const auto& interface : config.interfaces) {
+    size_t a = 0, b = 0;
+    for (size_t m = 0; m < n_materials; ++m) {
+      if (config.materials[m].name == interface.materials[0]) a = m;
+      if (config.materials[m].name == interface.materials[1]) b = m;
+    }
+    const int index = static_cast<int>(model.fracture.size());
+    model.fracture.push_back(fracture_properties(interface.fracture));
+    pair_fracture[a * n_materials + b] = pair_fracture[b * n_materials + a] = index;
+  }
+
+  // Interior edges of the unsplit mesh: (a, b) of triangle t1 in its CCW order, the
+  // twin (b, a) of t2.
+  struct Side {
+    int triangle = -1, corner = 0;  // the edge runs from corner to corner + 1
+  };
+  std::map<std::pair<int, int>, std::array<Side, 2>> edges;
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      const int a = model.triangles[t][e], b = model.triangles[t][(e + 1) % 3];
+      auto& sides = edges[edge_key(a, b)];
+      sides[sides[0].triangle < 0 ? 0 : 1] = {static_cast<int>(t), e};
+    }
+
+  // New nodes in triangle order (keeps neighbours close in memory): a shared node keeps
+  // one index for the non-fracturable triangles; each fracturable corner gets its own.
+  const size_t old_nodes = model.num_nodes();
+  std::vector<int> shared_index(old_nodes, -1);
+  std::vector<std::vector<int>> copies(old_nodes);
+  std::vector<int> origin;  // original node of each new node
+  auto new_node = [&](int old) {
+    origin.push_back(old);
+    copies[old].push_back(static_cast<int>(origin.size() - 1));
+    return static_cast<int>(origin.size() - 1);
+  };
+  std::vector<std::array<int, 3>> triangles = model.triangles;
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int old = model.triangles[t][k];
+      if (model.triangle_fracturable[t]) {
+        triangles[t][k] = new_node(old);
+      } else {
+        if (shared_index[old] < 0) shared_index[old] = new_node(old);
+        triangles[t][k] = shared_index[old];
+      }
+    }
+
+  // CE4s on interior fracturable edges.
+  size_t unbonded = 0;
+  for (const auto& [key, sides] : edges) {
+    if (sides[1].triangle < 0) continue;  // boundary edge
+    const int t1 = sides[0].triangle, t2 = sides[1].triangle;
+    if (!model.triangle_fracturable[t1] || !model.triangle_fracturable[t2]) continue;
+    const int props = pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
+    if (props < 0) {
+      ++unbonded;
+      continue;
+    }
+    const int c1 = sides[0].corner, c2 = sides[1].corner;
+    // t1 runs a → b, t2 runs b → a: i = a in t1, j = b in t1, j' = b in t2, i' = a in t2.
+    model.ce4.push_back({triangles[t1][c1], triangles[t1][(c1 + 1) % 3], triangles[t2][c2], triangles[t2][(c2 + 1) % 3]});
+    model.ce4_triangles.push_back({t1, t2});
+    model.ce4_properties.push_back(props);
+  }
+  if (unbonded)
+    notes.push_back(std::to_string(unbonded) + " edges between two different fracturable materials have no [[interface]]: "
+                    "they are not bonded (free surfaces in contact)");
+
+  // Node-indexed arrays follow the split.
+  const Model old = model;
+  model.x.clear(), model.y.clear(), model.node_tags.clear(), model.node_group.clear();
+  model.vx0.clear(), model.vy0.clear();
+  for (int o : origin) {
+    model.x.push_back(old.x[o]);
+    model.y.push_back(old.y[o]);
+    model.node_tags.push_back(old.node_tags[o]);
+    model.node_group.push_back(old.node_group[o]);
+    model.vx0.push_back(old.vx0[o]);
+    model.vy0.push_back(old.vy0[o]);
+  }
+  for (auto& region : model.regions) {
+    std::vector<int> nodes;
+    for (int o : region.nodes) nodes.insert(nodes.end(), copies[o].begin(), copies[o].end());
+    std::sort(nodes.begin(), nodes.end());
+    region.nodes = nodes;
+  }
+  for (auto& edge : model.loaded_edges) {
+    const auto& sides = edges.at(edge_key(edge.a, edge.b));
+    const Side& side = sides[0];  // a loaded edge is a boundary edge: one triangle
+    edge.a = triangles[side.triangle][side.corner];
+    edge.b = triangles[side.triangle][(side.corner + 1) % 3];
+  }
+  model.triangles = triangles;
+  notes.push_back("fracturable regions split: " + std::to_string(old_nodes) + " → " + std::to_string(model.num_nodes()) +
+                  " nodes, " + std::to_string(model.ce4.size()) + " CE4s");
+}
+
+// Contact candidates for activation = "fractured": triangles with a node in a listed region.
+std::vector<uint32_t> initial_candidates(const Model& model, const io::ContactConfig& contact) {
+  if (contact.activation != "fractured") return {};
+  std::vector<char> listed(model.num_nodes(), 0);
+  for (const auto& name : contact.regions)
+    for (const auto& region : model.regions)
+      if (region.name == name)
+        for (int n : region.nodes) listed[n] = 1;
+  std::vector<uint32_t> active(model.num_triangles(), 0);
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int n : model.triangles[t]) active[t] |= listed[n];
+  return active;
+}
+
 }  // namespace
 
 Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
@@ -325,7 +472,14 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     const auto nodes = region_nodes(name, config.path + ": output.regions", &dim);
     remember_region(name, dim, nodes, false);
   }
-  if (config.contact) model.contact = build_contact(*config.contact, config);
+  if (config.contact) {
+    model.contact = build_contact(*config.contact, config);
+    for (const auto& name : config.contact->regions) {
+      int dim = 0;
+      const auto nodes = region_nodes(name, config.path + ": contact.regions", &dim);
+      remember_region(name, dim, nodes, false);
+    }
+  }
 
   // Prescribed velocities hold from the start.
   for (size_t n = 0; n < model.num_nodes(); ++n) {
@@ -334,6 +488,8 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     if (g.mask & 1u) model.vx0[n] = g.vx;
     if (g.mask & 2u) model.vy0[n] = g.vy;
   }
+  split_fracturable(model, config, notes);
+  if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   return model;
 }
 
@@ -353,9 +509,14 @@ StableStep stable_time_step(const Model& model) {
     // Contact springs: two triangles of height H overlapping by d over L push back with
     // about 6 P_n d L / H, a modulus of about 6 P_n; the friction spring P_tan × L is
     // a modulus of about P_tan × h.
-    const double modulus = model.contact.enabled ? std::max({m.wave_modulus, 6.0 * model.contact.max_normal_penalty,
-                                                              model.contact.max_tangential_penalty * h})
-                                                 : m.wave_modulus;
+    double modulus = model.contact.enabled ? std::max({m.wave_modulus, 6.0 * model.contact.max_normal_penalty,
+                                                        model.contact.max_tangential_penalty * h})
+                                           : m.wave_modulus;
+    // Intact CE4s: the traction slope at the origin is P/h on an element of size h, a
+    // modulus of about P (the largest of the opening, sliding and overlap penalties).
+    if (!model.triangle_fracturable.empty() && model.triangle_fracturable[t])
+      for (const auto& f : model.fracture)
+        modulus = std::max({modulus, f.penalty_opening, f.penalty_sliding, f.penalty_overlap});
     const double c = std::sqrt(modulus / m.density);
     const double omega = 2.0 * c / h;
     const double xi = m.viscosity * omega / (2.0 * modulus);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cohesive_model.hpp"
 #include "engine/materials.hpp"
 #include "io/case_config.hpp"
 #include "io/mesh.hpp"
@@ -81,6 +82,17 @@ struct Model {
   std::vector<Region> regions;    // every boundary and initial-condition region of the case
 
   ContactModel contact;
+  // Contact candidates at the start, one per triangle (1 = candidate); empty = every
+  // triangle (activation "all"). With activation "fractured" the triangles of the listed
+  // regions; triangles next to a CE4 join when it breaks.
+  std::vector<uint32_t> contact_active;
+
+  // Cohesive elements (fracturable regions own their nodes: three per triangle).
+  std::vector<std::array<int, 4>> ce4;            // nodes (i, j, j', i')
+  std::vector<std::array<int, 2>> ce4_triangles;  // the two triangles it joins
+  std::vector<int> ce4_properties;                // index into fracture
+  std::vector<FractureProperties> fracture;       // per fracturable material, then per interface
+  std::vector<bool> triangle_fracturable;
 
   std::array<double, 2> gravity{0, 0};
   double local_damping = 0;  // Cundall α (0: none)

@@ -60,8 +60,12 @@ struct HistoryProbe {
   std::vector<double> mass;
 
   bool contact = false;
+  bool fracture = false;
+  std::vector<double> ce4_length;  // initial length of each CE4 [m]
 
-  HistoryProbe(const Model& m, const std::vector<real2>& masses) : model(m), contact(m.contact.enabled) {
+  HistoryProbe(const Model& m, const std::vector<real2>& masses)
+      : model(m), contact(m.contact.enabled), fracture(!m.ce4.empty()) {
+    for (const auto& c : m.ce4) ce4_length.push_back(std::hypot(m.x[c[1]] - m.x[c[0]], m.y[c[1]] - m.y[c[0]]));
     for (const auto& r : m.regions) regions.push_back(&r);
     for (const auto& mk : masses) mass.push_back(mk.x);
   }
@@ -75,6 +79,13 @@ struct HistoryProbe {
       vars.push_back({"contact_couples", "1", "triangle couples in contact (overlapping) in the last step"});
       vars.push_back({"contact_candidates", "1", "candidate couples from the last contact detection"});
       vars.push_back({"contact_energy_dissipated", "J", "energy dissipated by contact friction and damping, cumulative"});
+    }
+    if (fracture) {
+      vars.push_back({"broken_ce4", "1", "broken cohesive elements"});
+      vars.push_back({"broken_mode1", "1", "CE4s broken in mode I"});
+      vars.push_back({"broken_mode2", "1", "CE4s broken in mode II"});
+      vars.push_back({"broken_mixed", "1", "CE4s broken in mixed mode I-II"});
+      vars.push_back({"crack_length", "m", "total initial length of the broken CE4s"});
     }
     for (const auto* r : regions) {
       const std::string n = netcdf_name(r->name);
@@ -103,6 +114,18 @@ struct HistoryProbe {
     if (contact)
       row.insert(row.end(), {double(solver.contact_touching()), double(solver.contact_candidates()),
                              solver.contact_dissipated()});
+    if (fracture) {
+      const auto broken = solver.cohesive()->broken();
+      const auto mode = solver.cohesive()->mode();
+      double count[4] = {0, 0, 0, 0}, length = 0;
+      for (size_t e = 0; e < broken.size(); ++e)
+        if (broken[e]) {
+          count[0] += 1;
+          if (mode[e] >= 1 && mode[e] <= 3) count[mode[e]] += 1;
+          length += ce4_length[e];
+        }
+      row.insert(row.end(), {count[0], count[1], count[2], count[3], length});
+    }
     for (const auto* r : regions) {
       double fx = 0, fy = 0, ux = 0, uy = 0;
       for (int n : r->nodes) {
@@ -119,6 +142,12 @@ struct HistoryProbe {
     return row;
   }
 };
+
+std::vector<std::string> element_names(const Model& model) {
+  std::vector<std::string> names = {"SXX", "SYY", "SXY", "PS1", "PS2"};
+  if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP"});
+  return names;
+}
 
 std::vector<std::string> nodal_names(const Model& model) {
   std::vector<std::string> names = {"DISPLX", "DISPLY", "VELX", "VELY"};
@@ -142,16 +171,34 @@ void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver) {
     const auto fc = solver.contact_forces();
     for (size_t i = 0; i < n; ++i) nodal[4][i] = fc[i].x, nodal[5][i] = fc[i].y;
   }
-  std::vector<std::vector<std::vector<double>>> elem(5);
+  const bool fracture = !model.ce4.empty();
+  std::vector<std::vector<std::vector<double>>> elem(element_names(model).size());
   for (size_t m = 0; m < model.materials.size(); ++m) {
     const size_t begin = model.block_start[m], end = model.block_start[m + 1];
     if (begin == end) continue;
-    for (auto& var : elem) var.emplace_back();
+    for (auto& var : elem) var.emplace_back(fracture ? end - begin : 0, 0.0);
     for (size_t t = begin; t < end; ++t) {
       const double sxx = stress[t].x, syy = stress[t].y, sxy = stress[t].z;
       const double centre = 0.5 * (sxx + syy), radius = std::hypot(0.5 * (sxx - syy), sxy);
       const double values[5] = {sxx, syy, sxy, centre + radius, centre - radius};
-      for (int k = 0; k < 5; ++k) elem[k].back().push_back(values[k]);
+      for (int k = 0; k < 5; ++k) {
+        if (fracture) elem[k].back()[t - begin] = values[k];
+        else elem[k].back().push_back(values[k]);
+      }
+    }
+  }
+  if (fracture) {  // the cohesive block: CE4 variables, zero stresses
+    auto& ce4 = *solver.cohesive();
+    const auto damage = ce4.damage(), opening = ce4.opening(), slip = ce4.slip();
+    const auto broken = ce4.broken(), mode = ce4.mode();
+    const size_t n = model.ce4.size();
+    for (auto& var : elem) var.emplace_back(n, 0.0);
+    for (size_t e = 0; e < n; ++e) {
+      elem[5].back()[e] = damage[e];
+      elem[6].back()[e] = broken[e];
+      elem[7].back()[e] = mode[e];
+      elem[8].back()[e] = opening[e];
+      elem[9].back()[e] = slip[e];
     }
   }
   exo.write_frame(solver.time(), nodal, elem);
@@ -197,6 +244,9 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   p.model = build_model(mesh, c, p.notes);
   p.stable = stable_time_step(p.model);
 
+  if (p.model.mass_scaling && p.model.contact.enabled)
+    throw InputError(c.path + ": [damping] mass_scaling does not account for contact springs, so the step would be "
+                     "unstable; relax a contact case with local damping on true masses (mass_scaling = false, dt = \"auto\")");
   if (c.time.dt_auto) {
     p.dt = c.time.safety * p.stable.dt;
   } else {
@@ -233,8 +283,14 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       block.connectivity.insert(block.connectivity.end(), model.triangles[t].begin(), model.triangles[t].end());
     if (!block.connectivity.empty()) blocks.push_back(std::move(block));
   }
+  if (!model.ce4.empty()) {
+    // Nodes (i, j, j', i'): a zero-area quadrilateral that opens as the crack does.
+    io::ExodusBlock block{"cohesive", "QUAD4", 4, {}};
+    for (const auto& c : model.ce4) block.connectivity.insert(block.connectivity.end(), c.begin(), c.end());
+    blocks.push_back(std::move(block));
+  }
   io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
-                          nodal_names(model), {"SXX", "SYY", "SXY", "PS1", "PS2"});
+                          nodal_names(model), element_names(model));
   const HistoryProbe probe(model, solver.masses());
   io::HistoryWriter history(p.history_path, config.title, probe.variables());
 

@@ -1,6 +1,8 @@
 #include "engine/solver.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <climits>
 
 #include "engine/errors.hpp"
@@ -15,8 +17,19 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
       gather_(cl, arrays_),
       boundary_loads_(cl, arrays_, model.thickness),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt) {
+  if (!model.ce4.empty()) {
+    CohesiveModel ce4{model.ce4, model.ce4_properties, model.fracture, model.thickness};
+    cohesive_ = std::make_unique<CohesiveForces>(cl, ce4, arrays_.position, arrays_.ref_position);
+    gather_.add_cohesive(cohesive_->slots());
+  }
   if (model.contact.enabled) {
     detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin);
+    if (!model.contact_active.empty()) {
+      detection_->set_active(model.contact_active);
+      if (cohesive_)
+        activation_ = std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
+                                                          detection_->active_mask());
+    }
     contact_ = std::make_unique<ContactForces>(cl, arrays_, model);
     gather_.add_contact(contact_->force_scale());
     if (model.contact.rebuild_skin) {
@@ -25,6 +38,18 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
     }
   }
   LumpedMass mass(cl, arrays_, model.thickness);
+  if (!model.ce4.empty()) {
+    // An intact CE4 of penalty P on an edge of length L (= its h) is a spring of at most
+    // (P/h) L t between its faces; the absolute row sums of its stiffness at a node are
+    // below √2 P t (∫N = ½ per node, two faces, the normal/tangent mix of x and y).
+    std::vector<real> extra(model.num_nodes(), 0);
+    for (size_t e = 0; e < model.ce4.size(); ++e) {
+      const auto& f = model.fracture[model.ce4_properties[e]];
+      const double k = std::sqrt(2.0) * std::max({f.penalty_opening, f.penalty_sliding, f.penalty_overlap}) * model.thickness;
+      for (int n : model.ce4[e]) extra[n] += static_cast<real>(k);
+    }
+    mass.set_extra_stiffness(extra);
+  }
   mass.enqueue(gather_, model.mass_scaling, dt);
   saved_position_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_position");
   saved_velocity_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_velocity");
@@ -38,7 +63,9 @@ void Solver::step() {
     contact_->enqueue_clear();
     // Detection every step, or with a skin only once some node has moved more than
     // half of it since the last detection (no couple can have appeared before that).
-    const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->largest_move() > 0.5 * skin_distance_;
+    // With activation "fractured", triangles next to newly broken CE4s join: detect again.
+    const bool joined = activation_ && activation_->update();
+    const bool rebuild = !skin_ || rebuilds_ == 0 || joined || skin_->largest_move() > 0.5 * skin_distance_;
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
       const size_t count = detection_->run();
@@ -54,6 +81,7 @@ void Solver::step() {
   }
   boundary_loads_.enqueue(t);
   triangle_forces_.enqueue(static_cast<int>(steps_), false);
+  if (cohesive_) cohesive_->enqueue(t);
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_));
   ++steps_;

@@ -7,6 +7,8 @@
 #include "engine/device_arrays.hpp"
 #include "engine/model.hpp"
 #include "engine/stages/boundary_loads.hpp"
+#include "engine/stages/cohesive_forces.hpp"
+#include "engine/stages/contact_activation.hpp"
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include "engine/stages/contact_skin.hpp"
@@ -62,6 +64,7 @@ class Solver {
   std::vector<real2> contact_forces();  // per node [N] (waits)
   long contact_rebuilds() const { return rebuilds_; }
   ContactDetection* detection() { return detection_.get(); }
+  CohesiveForces* cohesive() { return cohesive_.get(); }
   ContactForces* contact() { return contact_.get(); }
 
   ClContext& context() { return cl_; }
@@ -76,6 +79,8 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
+  std::unique_ptr<CohesiveForces> cohesive_;
+  std::unique_ptr<ContactActivation> activation_;
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactForces> contact_;
   std::unique_ptr<ContactSkin> skin_;

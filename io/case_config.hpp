@@ -45,6 +45,14 @@ struct Stiffness {
   double angle = 0.0;
 };
 
+// Cohesive properties of a [material.fracture] or an [[interface]]: the CE4 law of
+// Eqs. 4–14 (engine/cohesive_model.hpp's FractureProperties).
+struct FractureConfig {
+  double tensile_strength = 0, cohesion = 0, friction_angle = 0, gf1 = 0, gf2 = 0;
+  double penalty_opening = 0, penalty_sliding = 0, penalty_overlap = 0;
+  double softening_a = 0.63, softening_b = 1.8, softening_c = 6.0;
+};
+
 struct MaterialConfig {
   std::string name;
   std::vector<std::string> regions;  // Gmsh physical surfaces
@@ -56,6 +64,14 @@ struct MaterialConfig {
   std::optional<Stiffness> stiffness;  // only with elasticity = hyperelastic
   bool viscosity_critical = false;     // viscosity = "critical": 2 h √(ρE)
   double viscosity = 0.0;              // [Pa·s] when not critical
+  std::optional<FractureConfig> fracture;  // [material.fracture]: its regions can fracture
+};
+
+// One [[interface]]: the cohesive properties of the CE4s between two different
+// fracturable materials (names of [[material]] entries that have [material.fracture]).
+struct InterfaceConfig {
+  std::array<std::string, 2> materials;
+  FractureConfig fracture;
 };
 
 struct GravityConfig {
@@ -104,10 +120,13 @@ struct ContactConfig {
   double tangential_penalty = 0.0;  // P_tan [Pa/m]; when not given, = normal_penalty (numerically)
   double friction = 0.0;            // Coulomb μ
   std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
-  std::string activation = "all";   // only "all" for now
+  std::string activation = "all";   // "all" or "fractured"
   ContactRebuild rebuild = ContactRebuild::Step;
   double skin = 0.0;                // [m] margin added to the boxes; > 0 with Skin
   std::vector<ContactPairConfig> pairs;
+  // With activation = "fractured": regions (Gmsh physical groups) whose triangles are
+  // contact candidates from the start.
+  std::vector<std::string> regions;
 };
 
 struct CaseConfig {
@@ -123,6 +142,7 @@ struct CaseConfig {
   std::vector<BoundaryConfig> boundaries;
   std::vector<InitialConfig> initials;
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
+  std::vector<InterfaceConfig> interfaces;
 };
 
 // Reads and validates a case file. `overrides` are "key.path=value" strings from

@@ -52,9 +52,21 @@ const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
 const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}, {"regions"}}};
 const Schema kStiffnessKeys{
     {{"c11"}, {"c22"}, {"c12"}, {"c66"}, {"c16"}, {"c26"}, {"angle"}}};
+const Schema kPenaltyKeys{{{"opening"}, {"sliding"}, {"overlap"}}};
+const Schema kSofteningKeys{{{"a"}, {"b"}, {"c"}}};
+const Schema kFractureKeys{{{"tensile_strength"}, {"cohesion"}, {"friction_angle"}, {"gf1"},
+                            {"gf2"}, {"penalty", Shape::Table, &kPenaltyKeys},
+                            {"softening", Shape::Table, &kSofteningKeys}}};
 const Schema kMaterialKeys{{{"name"}, {"regions"}, {"density"}, {"young"}, {"poisson"},
                             {"elasticity"}, {"plane"}, {"viscosity"},
-                            {"stiffness", Shape::Table, &kStiffnessKeys}}};
+                            {"stiffness", Shape::Table, &kStiffnessKeys},
+                            {"fracture", Shape::Table, &kFractureKeys}}};
+// An [[interface]] has the keys of [material.fracture] and the pair of materials.
+Schema with_fields(std::vector<Field> fields, const Schema& more) {
+  fields.insert(fields.end(), more.fields.begin(), more.fields.end());
+  return Schema{std::move(fields)};
+}
+const Schema kInterfaceKeys = with_fields({{"materials"}}, kFractureKeys);
 const Schema kGravityKeys{{{"g"}}};
 const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
 const Schema kBoundaryKeys{
@@ -65,13 +77,14 @@ const Schema kContactPairKeys{{{"materials"}, {"normal_penalty"}, {"tangential_p
                                {"friction"}, {"damping", Shape::Table, &kContactDampingKeys}}};
 const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"friction"},
                            {"damping", Shape::Table, &kContactDampingKeys}, {"activation"},
-                           {"rebuild"}, {"skin"},
+                           {"regions"}, {"rebuild"}, {"skin"},
                            {"pair", Shape::TableArray, &kContactPairKeys}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
                         {"output", Shape::Table, &kOutputKeys},
                         {"material", Shape::TableArray, &kMaterialKeys},
+                        {"interface", Shape::TableArray, &kInterfaceKeys},
                         {"gravity", Shape::Table, &kGravityKeys},
                         {"damping", Shape::Table, &kDampingKeys},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},
@@ -281,14 +294,19 @@ class TableReader {
   [[noreturn]] void missing(std::string_view key) const {
     ctx_.fail(table_, title_ + " is missing required key '" + std::string(key) + "'");
   }
-  // Reported at the one given by --set, else at the later of the two in the file.
-  void exclusive(std::string_view a, std::string_view b) const {
-    if (!has(a) || !has(b)) return;
+  // Of two keys, the one a message about both is reported at: the only one present,
+  // else the one given by --set, else the later of the two in the file.
+  std::string_view blamed(std::string_view a, std::string_view b) const {
+    if (!has(a) || !has(b)) return has(a) ? a : b;
     const toml::node &na = *find(a), &nb = *find(b);
     const bool blame_a = ctx_.from_override(na) != ctx_.from_override(nb)
                              ? ctx_.from_override(na)
                              : na.source().begin.line > nb.source().begin.line;
-    fail(blame_a ? a : b, key_path(a) + " and " + key_path(b) + " are exclusive: give only one");
+    return blame_a ? a : b;
+  }
+  void exclusive(std::string_view a, std::string_view b) const {
+    if (!has(a) || !has(b)) return;
+    fail(blamed(a, b), key_path(a) + " and " + key_path(b) + " are exclusive: give only one");
   }
   void exactly_one(std::string_view a, std::string_view b) const {
     exclusive(a, b);
@@ -517,6 +535,39 @@ Stiffness read_stiffness(const TableReader& r) {
   return s;
 }
 
+// The keys [material.fracture] and [[interface]] share (the CE4 law, Eqs. 4–14); the
+// caller checks for unknown keys, since an [[interface]] has one more.
+FractureConfig read_fracture_keys(const TableReader& r) {
+  FractureConfig f;
+  f.tensile_strength = r.required_number("tensile_strength", kPositive);
+  f.cohesion = r.required_number("cohesion", kPositive);
+  f.friction_angle = r.required_number("friction_angle", Range{0.0, 90.0, false, true});
+  f.gf1 = r.required_number("gf1", kPositive);
+  f.gf2 = r.required_number("gf2", kPositive);
+  if (!r.has("penalty")) r.missing("penalty");
+  const std::string penalty_path = r.key_path("penalty");
+  const TableReader penalty(r.ctx(), *subtable(r, "penalty"), penalty_path, penalty_path,
+                            penalty_path);
+  penalty.check_keys(kPenaltyKeys);
+  f.penalty_opening = penalty.required_number("opening", kPositive);
+  f.penalty_sliding = penalty.required_number("sliding", kPositive);
+  f.penalty_overlap = penalty.required_number("overlap", kPositive);
+  if (const toml::table* t = subtable(r, "softening")) {
+    const std::string path = r.key_path("softening");
+    const TableReader softening(r.ctx(), *t, path, path, path);
+    softening.check_keys(kSofteningKeys);
+    f.softening_a = softening.number("a", kPositive).value_or(f.softening_a);
+    f.softening_b = softening.number("b", kPositive).value_or(f.softening_b);
+    f.softening_c = softening.number("c", kPositive).value_or(f.softening_c);
+    // Eq. 10 divides by 1 - a - b and needs f(0) = 1 > f(1) = 0 in between.
+    if (!(f.softening_a + f.softening_b > 1.0))
+      softening.fail(softening.blamed("a", "b"),
+                     path + ": a + b = " + format_number(f.softening_a + f.softening_b) +
+                         " is out of range (allowed: a + b > 1)");
+  }
+  return f;
+}
+
 MaterialConfig read_material(const TableReader& r) {
   r.check_keys(kMaterialKeys);
   MaterialConfig m;
@@ -537,6 +588,13 @@ MaterialConfig read_material(const TableReader& r) {
                               " is only allowed with elasticity = \"hyperelastic\"");
     const std::string path = r.key_path("stiffness");
     m.stiffness = read_stiffness(TableReader(r.ctx(), *t, path, path, path));
+  }
+  if (const toml::table* t = subtable(r, "fracture")) {
+    const std::string path = r.key_path("fracture");
+    const TableReader fracture(r.ctx(), *t, path, path,
+                               "[material.fracture] of " + r.path() + " ('" + m.name + "')");
+    fracture.check_keys(kFractureKeys);
+    m.fracture = read_fracture_keys(fracture);
   }
   if (auto v = r.number_or_keyword("viscosity", "critical", kNonNegative)) {
     m.viscosity_critical = !*v;
@@ -647,10 +705,11 @@ std::optional<ContactDampingConfig> read_contact_damping_in(const TableReader& r
   return read_contact_damping(TableReader(r.ctx(), *t, path, path, path));
 }
 
-ContactPairConfig read_contact_pair(const TableReader& r,
-                                    const std::vector<MaterialConfig>& materials) {
-  r.check_keys(kContactPairKeys);
-  ContactPairConfig p;
+// `materials = ["rock", "steel"]` of a [[contact.pair]] or an [[interface]]: two names of
+// [[material]] entries; a misspelt one gets a suggestion.
+std::array<std::string, 2> material_names(const TableReader& r,
+                                          const std::vector<MaterialConfig>& materials) {
+  std::array<std::string, 2> out;
   if (!r.has("materials")) r.missing("materials");
   const toml::node& names = *r.find("materials");
   const toml::array* a = names.as_array();
@@ -662,13 +721,32 @@ ContactPairConfig read_contact_pair(const TableReader& r,
   for (std::size_t i = 0; i < 2; ++i) {
     const toml::node& n = *a->get(i);
     const std::string path = r.key_path("materials") + "[" + std::to_string(i) + "]";
-    p.materials[i] = as_string(r.ctx(), n, path);
-    if (std::find(known.begin(), known.end(), p.materials[i]) != known.end()) continue;
-    std::string msg = path + " = \"" + p.materials[i] + "\" is not the name of a [[material]]";
-    if (auto guess = nearest(p.materials[i], known))
+    out[i] = as_string(r.ctx(), n, path);
+    if (std::find(known.begin(), known.end(), out[i]) != known.end()) continue;
+    std::string msg = path + " = \"" + out[i] + "\" is not the name of a [[material]]";
+    if (auto guess = nearest(out[i], known))
       msg += " (did you mean \"" + std::string(*guess) + "\"?)";
     r.ctx().fail(n, msg);
   }
+  return out;
+}
+
+// Each unordered pair once: ("rock", "steel") and ("steel", "rock") are the same.
+// `seen` maps the pairs so far to the entry that gave them ("contact.pair[0]").
+using PairEntries = std::map<std::pair<std::string, std::string>, std::string>;
+void check_new_pair(PairEntries& seen, const TableReader& entry,
+                    const std::array<std::string, 2>& names) {
+  const auto key = std::minmax(names[0], names[1]);
+  if (auto [it, fresh] = seen.emplace(key, entry.path()); !fresh)
+    entry.fail("materials", entry.key_path("materials") + ": the pair ('" + key.first +
+                                "', '" + key.second + "') is already given in " + it->second);
+}
+
+ContactPairConfig read_contact_pair(const TableReader& r,
+                                    const std::vector<MaterialConfig>& materials) {
+  r.check_keys(kContactPairKeys);
+  ContactPairConfig p;
+  p.materials = material_names(r, materials);
   p.normal_penalty = r.number("normal_penalty", kPositive);
   p.tangential_penalty = r.number("tangential_penalty", kNonNegative);
   p.friction = r.number("friction", kNonNegative);
@@ -688,11 +766,13 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
   c.tangential_penalty = r.number("tangential_penalty", kNonNegative).value_or(c.normal_penalty);
   c.friction = r.number("friction", kNonNegative).value_or(0.0);
   c.damping = read_contact_damping_in(r);
-  if (r.string("activation") == "fractured")
-    r.fail("activation", r.key_path("activation") + " = \"fractured\" comes with cohesive "
-                         "fracture ([material.fracture]), which this version does not have "
-                         "yet: use \"all\"");
-  c.activation = r.choice<std::string>("activation", {{"all", "all"}}).value_or("all");
+  c.activation = r.choice<std::string>("activation", {{"all", "all"}, {"fractured", "fractured"}})
+                     .value_or("all");
+  if (r.has("regions") && c.activation != "fractured")
+    r.fail("regions", r.key_path("regions") + " is only allowed with " +
+                          r.key_path("activation") + " = \"fractured\" (with \"all\" every "
+                          "triangle takes part in contact from the start)");
+  if (r.has("regions")) c.regions = *r.strings("regions");
   c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
                                                    {"skin", ContactRebuild::Skin}})
                   .value_or(ContactRebuild::Step);
@@ -702,18 +782,45 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
   c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative)
                .value_or(0.0);
 
-  // Each unordered pair once: ("rock", "steel") and ("steel", "rock") are the same.
-  std::map<std::pair<std::string, std::string>, std::string> path_of_pair;
+  PairEntries seen;
   c.pairs = read_entries(r, "pair", "", [&](const TableReader& entry) {
     ContactPairConfig p = read_contact_pair(entry, materials);
-    const auto key = std::minmax(p.materials[0], p.materials[1]);
-    if (auto [it, fresh] = path_of_pair.emplace(key, entry.path()); !fresh)
-      entry.fail("materials", entry.key_path("materials") + ": the pair ('" + key.first +
-                                  "', '" + key.second + "') is already given in " +
-                                  it->second);
+    check_new_pair(seen, entry, p.materials);
     return p;
   });
   return c;
+}
+
+InterfaceConfig read_interface(const TableReader& r,
+                               const std::vector<MaterialConfig>& materials) {
+  r.check_keys(kInterfaceKeys);
+  InterfaceConfig i;
+  i.materials = material_names(r, materials);
+  if (i.materials[0] == i.materials[1])
+    r.fail("materials", r.key_path("materials") + " names '" + i.materials[0] +
+                            "' twice: an interface joins two different materials (within one "
+                            "material its [material.fracture] applies)");
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto m = std::find_if(materials.begin(), materials.end(),
+                                [&](const MaterialConfig& c) { return c.name == i.materials[k]; });
+    if (!m->fracture)
+      r.ctx().fail(*r.find("materials")->as_array()->get(k),
+                   r.key_path("materials") + "[" + std::to_string(k) + "] = \"" +
+                       i.materials[k] + "\" is a [[material]] without [material.fracture]: an "
+                       "interface joins two fracturable materials");
+  }
+  i.fracture = read_fracture_keys(r);
+  return i;
+}
+
+std::vector<InterfaceConfig> read_interfaces(const TableReader& top,
+                                             const std::vector<MaterialConfig>& materials) {
+  PairEntries seen;
+  return read_entries(top, "interface", "", [&](const TableReader& entry) {
+    InterfaceConfig i = read_interface(entry, materials);
+    check_new_pair(seen, entry, i.materials);
+    return i;
+  });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -871,6 +978,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
                              TableReader(ctx, no_output, "output", "[output]", "[output]")),
                          path);
   c.materials = read_materials(top);
+  c.interfaces = read_interfaces(top, c.materials);
   if (auto gravity = reader("gravity")) c.gravity = read_gravity(*gravity);
   if (auto damping = reader("damping")) c.damping = read_damping(*damping);
 

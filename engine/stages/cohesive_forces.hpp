@@ -26,6 +26,7 @@ class CohesiveForces {
   void enqueue(double time);
 
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
+  compute::buffer& status() { return status_; }  // int2 per CE4: (broken, mode)
   size_t size() const { return count_; }
   const std::vector<real>& parameters() const { return params_; }  // kStride per CE4
 

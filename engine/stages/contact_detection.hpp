@@ -26,6 +26,7 @@ class ContactDetection {
   // Optional candidate mask for later (fracture activation): one cl_uint per triangle, nonzero =
   // takes part. Default: every triangle takes part.
   void set_active(const std::vector<uint32_t>& active);
+  compute::buffer& active_mask() { return active_; }  // cl_uint per triangle, on the device
 
   // Forces Boost.Compute's radix sort for both sorts (the path it takes on GPUs) instead of
   // its device-dependent dispatch (merge sort on CPU devices). The couples do not depend on it.

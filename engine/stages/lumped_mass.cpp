@@ -17,6 +17,16 @@ LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, double thickness)
   inertia_ = compute::kernel(program, "node_inertia");
   inertia_.set_arg(0, static_cast<cl_uint>(nodes_));
   inertia_.set_arg(3, a.node_mass);
+  extra_ = cl.allocate(sizeof(real), "extra_stiffness");
+  inertia_.set_arg(4, cl_int(0));
+  inertia_.set_arg(5, extra_);
+}
+
+void LumpedMass::set_extra_stiffness(const std::vector<real>& per_node) {
+  extra_ = cl_.allocate(per_node.size() * sizeof(real), "extra_stiffness");
+  upload(cl_, extra_, per_node);
+  inertia_.set_arg(4, cl_int(1));
+  inertia_.set_arg(5, extra_);
 }
 
 void LumpedMass::enqueue(NodeGather& gather, bool mass_scaling, double dt) {

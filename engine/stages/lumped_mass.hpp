@@ -9,6 +9,8 @@ namespace fdem {
 class LumpedMass {
  public:
   LumpedMass(ClContext& cl, DeviceArrays& arrays, double thickness);
+  // Extra stiffness per node [N/m] that mass scaling must cover (intact CE4 springs).
+  void set_extra_stiffness(const std::vector<real>& per_node);
   // node_mass = (Σ ρA₀t/3, inertia); inertia = 0.3 Δt²Σk with mass scaling, else the mass.
   void enqueue(NodeGather& gather, bool mass_scaling, double dt);
 
@@ -16,6 +18,7 @@ class LumpedMass {
   ClContext& cl_;
   size_t triangles_, nodes_;
   compute::kernel corner_, inertia_;
+  compute::buffer extra_;
 };
 
 }  // namespace fdem

@@ -11,6 +11,9 @@ class NodeGather {
   // From now on the force gather also adds the fixed-point contact forces
   // (contact_acc / force_scale).
   void add_contact(double force_scale);
+  // From now on the force gather also adds the CE4 slots (4 real2 per CE4, through the
+  // node → CE4-slot map of DeviceArrays).
+  void add_cohesive(const compute::buffer& ce4_slots);
   // node_force = Σ corner_force + Σ edge_force (+ contact). Never waits.
   void enqueue_forces();
   // node_mass = Σ corner values (the corner masses written by LumpedMass). Never waits.

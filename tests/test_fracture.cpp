@@ -1,0 +1,176 @@
+// Fracturable regions end to end: mesh splitting, CE4 insertion, breaking, output.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <sstream>
+
+#include "case_files.hpp"
+#include "engine/run.hpp"
+#include "fixture.hpp"
+
+using namespace fdem;
+
+namespace {
+
+const char* kFracture = R"(
+[material.fracture]
+tensile_strength = 2e6
+cohesion = 10e6
+friction_angle = 30.0
+gf1 = 20.0
+gf2 = 200.0
+penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
+)";
+
+std::string bar(const test::TempDir& dir, const std::string& material_extra, const std::string& extra) {
+  return dir.write("bar.toml", "title = \"bar\"\n[mesh]\ngeo = \"" + test::source_path("tests/data/cases/bar.geo") +
+                                   "\"\nsize = 0.05\n[time]\ndt = \"auto\"\nend = 2e-3\n[output]\ndir = \"" + dir.str() +
+                                   "\"\nframes = 3\nhistory_every = 2e-5\n[[material]]\nname = \"rock\"\nregions = [\"bar\"]\n"
+                                   "density = 2000.0\nyoung = 10e9\npoisson = 0.2\nviscosity = \"critical\"\n" +
+                                   material_extra + extra);
+}
+
+const char* kPull = R"(
+[[boundary]]
+region = "left"
+fix = ["x"]
+[[boundary]]
+region = "bottom"
+fix = ["y"]
+[[boundary]]
+region = "right"
+velocity = [0.5, 0.0]
+rise = 1e-4
+)";
+
+}  // namespace
+
+TEST_SUITE("cohesive") {
+
+TEST_CASE("splitting: every fracturable triangle owns three nodes, one CE4 per interior edge, BCs on every copy") {
+  test::TempDir dir;
+  const PreparedCase whole = prepare_case(bar(dir, "", kPull), {});
+  const PreparedCase split = prepare_case(bar(dir, kFracture, kPull), {});
+  const Model& m = split.model;
+  CHECK(m.num_nodes() == 3 * m.num_triangles());
+  // Interior edges of the unsplit mesh: 3 T = 2 I + B, with B boundary edges.
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : whole.model.triangles)
+    for (int e = 0; e < 3; ++e) edges[{std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])}]++;
+  size_t interior = 0;
+  for (const auto& [key, count] : edges) interior += count == 2;
+  CHECK(m.ce4.size() == interior);
+  for (const auto& c : m.ce4) {  // i' on i, j' on j, and the two faces run opposite in their triangles
+    CHECK(m.x[c[0]] == m.x[c[3]]);
+    CHECK(m.y[c[0]] == m.y[c[3]]);
+    CHECK(m.x[c[1]] == m.x[c[2]]);
+    CHECK(m.y[c[1]] == m.y[c[2]]);
+  }
+  // Every copy of a node on "left" is in the region and fixed in x.
+  size_t on_left = 0;
+  for (size_t n = 0; n < m.num_nodes(); ++n)
+    if (std::fabs(m.x[n]) < 1e-12) {
+      ++on_left;
+      CHECK((m.groups[m.node_group[n]].mask & 1u) != 0);
+    }
+  for (const auto& r : m.regions)
+    if (r.name == "left") CHECK(r.nodes.size() == on_left);
+  // Same mass in total (each copy carries its triangle's share).
+  CHECK(m.num_triangles() == whole.model.num_triangles());
+}
+
+TEST_CASE("an intact fracturable bar under a small load matches the unsplit bar to the CE4 compliance") {
+  const std::string load = R"(
+[damping]
+local = 0.8
+mass_scaling = true
+[[boundary]]
+region = "left"
+fix = ["x"]
+[[boundary]]
+region = "bottom"
+fix = ["y"]
+[[boundary]]
+region = "right"
+traction = [0.5e6, 0.0]
+)";
+  test::TempDir a, b;
+  std::ostringstream log;
+  for (auto* d : {&a, &b}) {
+    auto p = prepare_case(bar(*d, d == &a ? "" : kFracture, load),
+                          {"time.dt=1.0", "time.end=40000.0", "material.0.viscosity=0.0", "output.history_every=1000.0"});
+    run_case(p, test::context(), log, false);
+  }
+  const auto sa = test::last_element_values(a.str() + "/bar.exo", "SXX");
+  const auto sb = test::last_element_values(b.str() + "/bar.exo", "SXX");
+  // Uniform in the unsplit bar; with CE4s (penalties 10 E) the interfaces' finite
+  // stiffness perturbs it by a few %, the mean staying the applied traction.
+  double mean = 0;
+  for (size_t e = 0; e < sa.size(); ++e) CHECK(sa[e] == doctest::Approx(0.5e6).epsilon(1e-3));
+  for (size_t e = 0; e < sb.size(); ++e) {
+    CHECK(sb[e] == doctest::Approx(0.5e6).epsilon(0.04));
+    mean += sb[e] / sb.size();
+  }
+  CHECK(mean == doctest::Approx(0.5e6).epsilon(0.01));
+  // The split bar stretches more, by the CE4s' compliance: about h σ / P per layer of
+  // CE4s across the load (20 layers of h = 0.05 m here: 5e-6 m on 4.8e-5 m).
+  const double ua = test::read_variable(a.str() + "/bar_history.nc", "right_disp_x").back();
+  const double ub = test::read_variable(b.str() + "/bar_history.nc", "right_disp_x").back();
+  CHECK(ub > ua);
+  CHECK(ub - ua < 3 * 20 * 0.05 * 0.5e6 / 100e9);
+  CHECK(test::read_variable(b.str() + "/bar_history.nc", "broken_ce4").back() == 0);
+}
+
+TEST_CASE("a bar pulled apart breaks in mode I near the tensile strength; the crack is in the output") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(bar(dir, kFracture, kPull), {});
+  std::ostringstream log;
+  run_case(p, test::context(), log, false);
+  const std::string hist = dir.str() + "/bar_history.nc";
+  const auto force = test::read_variable(hist, "left_force_x");
+  double peak = 0;
+  for (double f : force) peak = std::max(peak, -f);
+  CHECK(peak / (0.2 * 1.0) == doctest::Approx(2e6).epsilon(0.15));  // σ = F / (height × thickness)
+  const double broken = test::read_variable(hist, "broken_ce4").back();
+  CHECK(broken >= 4);  // at least a crack across the 0.2 m bar (4 elements at h = 0.05)
+  CHECK(test::read_variable(hist, "broken_mode1").back() >= 0.5 * broken);
+  CHECK(test::read_variable(hist, "crack_length").back() >= 0.2);
+  // After breaking, the bar carries no load.
+  CHECK(std::fabs(force.back()) < 0.02 * peak);
+  // The Exodus file has the cohesive QUAD4 block with its variables.
+  const std::string exo = dir.str() + "/bar.exo";
+  const auto broken_flags = test::last_element_values(exo, "BROKEN", 2);
+  CHECK(broken_flags.size() == p.model.ce4.size());
+  double sum = 0;
+  for (double b : broken_flags) sum += b;
+  CHECK(sum == broken);
+}
+
+TEST_CASE("activation 'fractured': only listed regions are candidates until CE4s break; runs are bitwise repeatable") {
+  const std::string contact = std::string(kPull) + R"(
+[contact]
+normal_penalty = 10e9
+friction = 0.5
+activation = "fractured"
+regions = ["right"]
+)";
+  test::TempDir a, b;
+  std::ostringstream log;
+  for (auto* d : {&a, &b}) {
+    auto p = prepare_case(bar(*d, kFracture, contact), {});
+    run_case(p, test::context(), log, false);
+  }
+  const auto candidates = test::read_variable(a.str() + "/bar_history.nc", "contact_candidates");
+  const auto broken = test::read_variable(a.str() + "/bar_history.nc", "broken_ce4");
+  CHECK(broken.back() > 0);
+  CHECK(candidates.back() > candidates.front());  // triangles at the crack joined
+  for (const std::string var : {"vals_elem_var1eb1", "vals_nod_var1"}) {
+    const auto x = test::read_variable(a.str() + "/bar.exo", var), y = test::read_variable(b.str() + "/bar.exo", var);
+    REQUIRE(x.size() == y.size());
+    CHECK(std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+  }
+}
+
+}  // TEST_SUITE
