@@ -109,7 +109,7 @@ TEST_CASE("a rigid rotation of 90 degrees gives zero stress") {
   stage.enqueue(0, true);
   const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
   double worst = 0;
-  for (const auto& s : stress) worst = std::max({worst, std::fabs(s.x), std::fabs(s.y), std::fabs(s.z)});
+  for (const auto& s : stress) worst = std::max({worst, double(std::fabs(s.x)), double(std::fabs(s.y)), double(std::fabs(s.z))});
   CHECK(worst < (kDoublePrecision ? 1e-12 : 1e-4) * 30e9);
 }
 
@@ -161,7 +161,7 @@ TEST_CASE("patch test: a linear displacement field gives the exact uniform stres
     // Interior nodes are in equilibrium: their forces cancel to round-off of scale × area.
     double interior = 0;
     for (int j = 1; j < n - 1; ++j)
-      for (int i = 1; i < n - 1; ++i) interior = std::max(interior, std::hypot(node_force[j * n + i].x, node_force[j * n + i].y));
+      for (int i = 1; i < n - 1; ++i) interior = std::max(interior, double(std::hypot(node_force[j * n + i].x, node_force[j * n + i].y)));
     CHECK(interior / (scale * m.thickness) < (kDoublePrecision ? 1e-9 : 1e-3));
   }
 }
