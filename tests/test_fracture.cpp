@@ -174,3 +174,46 @@ regions = ["right"]
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("cohesive") {
+
+TEST_CASE("apparent Young's modulus of an intact fracturable bar: within 1% of E at penalties 1000 E, far lower at 1 E") {
+  // Plane strain, σyy = 0 (rollers): the bar's apparent modulus σ L / u is E/(1 − ν²).
+  const double E = 10e9, nu = 0.2, traction = 0.5e6, length = 1.0;
+  auto apparent = [&](double penalty) {
+    test::TempDir dir;
+    std::ostringstream fracture;
+    fracture << kFracture;
+    std::string text = fracture.str();
+    const std::string from = "penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }";
+    std::ostringstream to;
+    to << "penalty = { opening = " << penalty << ", sliding = " << penalty << ", overlap = " << penalty << " }";
+    text.replace(text.find(from), from.size(), to.str());
+    const std::string load = R"(
+[damping]
+local = 0.8
+mass_scaling = true
+[[boundary]]
+region = "left"
+fix = ["x"]
+[[boundary]]
+region = "bottom"
+fix = ["y"]
+[[boundary]]
+region = "right"
+traction = [0.5e6, 0.0]
+)";
+    auto p = prepare_case(bar(dir, text, load), {"mesh.size=0.1", "time.dt=1.0", "time.end=200000.0",
+                                                 "material.0.viscosity=0.0", "output.history_every=10000.0"});
+    std::ostringstream log;
+    run_case(p, test::context(), log, false);
+    const double u = test::read_variable(dir.str() + "/bar_history.nc", "right_disp_x").back();
+    return traction * length / u / (E / (1 - nu * nu));
+  };
+  const double stiff = apparent(1000 * E), soft = apparent(1 * E);
+  MESSAGE("apparent modulus / (E/(1-ν²)): " << stiff << " at penalties 1000 E, " << soft << " at 1 E");
+  CHECK(stiff == doctest::Approx(1.0).epsilon(0.01));
+  CHECK(soft < 0.5);
+}
+
+}  // TEST_SUITE
