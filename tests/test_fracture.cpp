@@ -217,3 +217,56 @@ traction = [0.5e6, 0.0]
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("cohesive") {
+
+TEST_CASE("splitting a square of two triangles: 6 nodes, 1 CE4; two materials bond only through an [[interface]]") {
+  io::Mesh mesh;
+  mesh.source = "square";
+  mesh.x = {0, 1, 1, 0};
+  mesh.y = {0, 0, 1, 1};
+  mesh.node_tags = {1, 2, 3, 4};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  mesh.triangle_tags = {1, 2};
+  mesh.groups = {{2, 1, "a"}, {2, 2, "b"}};
+  io::FractureConfig f;
+  f.tensile_strength = 1e6, f.cohesion = 2e6, f.friction_angle = 30, f.gf1 = 10, f.gf2 = 100;
+  f.penalty_opening = f.penalty_sliding = f.penalty_overlap = 1e12;
+  io::CaseConfig config;
+  config.path = "square.toml";
+  config.materials = {test::material_config("one", io::Elasticity::NeoHookean, io::Plane::Strain)};
+  config.materials[0].regions = {"a", "b"};
+  config.materials[0].fracture = f;
+  std::vector<std::string> notes;
+
+  mesh.triangle_group = {0, 1};
+  Model same = build_model(mesh, config, notes);
+  CHECK(same.num_nodes() == 6);
+  REQUIRE(same.ce4.size() == 1);
+  const auto& c = same.ce4[0];
+  CHECK(same.x[c[0]] == same.x[c[3]]);  // i' on i
+  CHECK(same.x[c[1]] == same.x[c[2]]);  // j' on j
+  CHECK(same.ce4_triangles[0][0] != same.ce4_triangles[0][1]);
+
+  // Two fracturable materials: no CE4 unless an interface names the pair.
+  config.materials = {test::material_config("one", io::Elasticity::NeoHookean, io::Plane::Strain),
+                      test::material_config("two", io::Elasticity::NeoHookean, io::Plane::Strain)};
+  config.materials[0].regions = {"a"};
+  config.materials[1].regions = {"b"};
+  config.materials[0].fracture = config.materials[1].fracture = f;
+  CHECK(build_model(mesh, config, notes).ce4.empty());
+  config.interfaces = {io::InterfaceConfig{{"one", "two"}, f}};
+  const Model bonded = build_model(mesh, config, notes);
+  CHECK(bonded.ce4.size() == 1);
+  CHECK(bonded.fracture.size() == 3);  // one per material, then the interface
+  CHECK(bonded.ce4_properties[0] == 2);
+
+  // One fracturable and one plain material: the plain triangle keeps shared nodes.
+  config.interfaces.clear();
+  config.materials[1].fracture.reset();
+  const Model mixed = build_model(mesh, config, notes);
+  CHECK(mixed.num_nodes() == 6);  // 3 own nodes + 3 for the plain triangle
+  CHECK(mixed.ce4.empty());
+}
+
+}  // TEST_SUITE
