@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/bench.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/errors.hpp"
@@ -24,6 +25,7 @@ const char* kUsage =
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
     "  fdem devices\n"
+    "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--csv FILE] [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
     "The device defaults to $FDEM_DEVICE, else auto (first GPU with fp64, else a CPU device).\n";
 
@@ -32,6 +34,7 @@ struct Arguments {
   std::vector<std::string> overrides;
   bool quiet = false;
   bool profile = false;
+  fdem::BenchOptions bench;
 };
 
 Arguments parse(int argc, char** argv) {
@@ -50,6 +53,24 @@ Arguments parse(int argc, char** argv) {
     else if (arg.rfind("--set=", 0) == 0) a.overrides.push_back(arg.substr(6));
     else if (arg == "--quiet" || arg == "-q") a.quiet = true;
     else if (arg == "--profile") a.profile = true;
+    else if (arg == "--sizes") {
+      a.bench.sizes.clear();
+      std::istringstream list(value(arg));
+      std::string item;
+      while (std::getline(list, item, ','))
+        try {
+          a.bench.sizes.push_back(std::stod(item));
+        } catch (const std::exception&) {
+          throw fdem::InputError("--sizes: '" + item + "' is not a number (h_ave in mm, e.g. 0.6,0.3)");
+        }
+    } else if (arg == "--steps") {
+      try {
+        a.bench.steps = std::stol(value(arg));
+      } catch (const std::exception&) {
+        throw fdem::InputError("--steps needs a whole number");
+      }
+    } else if (arg == "--csv") a.bench.csv = value(arg);
+    else if (arg == "--case") a.bench.case_path = value(arg);
     else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);
     else if (a.case_path.empty()) a.case_path = arg;
     else throw fdem::InputError("unexpected argument '" + arg + "'\n" + kUsage);
@@ -179,6 +200,10 @@ int main(int argc, char** argv) {
     }
     const Arguments a = parse(argc, argv);
     if (a.command == "devices") return list_devices_command();
+    if (a.command == "bench") {
+      fdem::ClContext cl(a.device, true);
+      return fdem::run_bench(a.bench, cl, std::cout);
+    }
     if (a.command == "run" || a.command == "check") {
       if (a.case_path.empty()) throw fdem::InputError("fdem " + a.command + " needs a case file\n" + kUsage);
       return a.command == "run" ? run_command(a) : check_command(a);

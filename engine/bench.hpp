@@ -1,0 +1,22 @@
+// `fdem bench`: the seed paper's Table 2 benchmark (uniaxial compression specimen at
+// several element sizes, Δt 0.5 ns, every triangle a contact candidate).
+#pragma once
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "engine/cl_context.hpp"
+
+namespace fdem {
+
+struct BenchOptions {
+  std::string case_path = "cases/ucs/case.toml";
+  std::vector<double> sizes{0.6, 0.5, 0.4, 0.3, 0.2, 0.15};  // h_ave [mm] of Table 2
+  long warmup = 20, steps = 200;
+  std::string csv;  // also write the table here when not empty
+};
+
+// Runs the benchmark rows on `cl` and prints the table to `out`. Returns 0.
+int run_bench(const BenchOptions& options, ClContext& cl, std::ostream& out);
+
+}  // namespace fdem
