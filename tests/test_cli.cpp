@@ -122,4 +122,16 @@ TEST_CASE("a numerical failure exits 3; a missing device exits 4") {
   CHECK(run.code == 4);
 }
 
+TEST_CASE("bench prints a Table 2 row and its CSV") {
+  fdem::test::TempDir dir;
+  const auto r = run_fdem("bench --device cpu --sizes 3.0 --steps 2 --case " +
+                          fdem::test::source_path("cases/ucs/case.toml") + " --csv " + dir.str() + "/bench.csv");
+  INFO(r.output);
+  CHECK(r.code == 0);
+  CHECK(has(r, "ms/step"));
+  CHECK(has(r, "contact_forces"));
+  CHECK(std::filesystem::exists(dir.str() + "/bench.csv"));
+  CHECK(run_fdem("bench --sizes abc").code == 2);
+}
+
 }  // TEST_SUITE
