@@ -83,6 +83,90 @@ assert hist.units == {"kinetic_energy": "J", "top_force_y": "N", "bottom_force_y
 assert hist.times.shape == (5,) and hist.values["top_force_y"][2] == -4e4
 PY
 
+# Fracture output (cohesive QUAD4 block, BROKEN/MODE, platen history): written by
+# tests/make_fracture_sample.py in the C++ writer's layout until the engine writes it.
+sample=$(/usr/bin/python3 "$repo/tests/make_fracture_sample.py" "$work") ||
+  { echo "FAIL: tests/make_fracture_sample.py" >&2; exit 1; }
+fexo="$work/fracture.exo"
+fhist="$work/fracture_history.nc"
+value_of() { echo "$sample" | tr ' ' '\n' | sed -n "s/^$1=//p"; }
+peak_sigma_t=$(value_of peak_sigma_t)
+peak_ucs=$(value_of peak_ucs)
+
+"$plot" field "$fexo" --var PS1 --cracks -o "$work/frac_field.png" || fail "field --cracks"
+check_png "$work/frac_field.png"
+"$plot" field "$fexo" --var SXX --cracks --frames 0 1 -1 --deformed-scale 5 \
+  -o "$work/frac_frames.png" || fail "field --frames --cracks"
+check_png "$work/frac_frames.png"
+"$plot" field "$fexo" --var SYY --times 0 1e-3 -o "$work/frac_times.png" || fail "field --times"
+check_png "$work/frac_times.png"
+"$plot" cracks "$fexo" -o "$work/cracks.png" >"$work/cracks.txt" || fail "cracks"
+check_png "$work/cracks.png"
+grep -q "11 broken CE4s (mode I 8, mode II 2, mixed 1)" "$work/cracks.txt" ||
+  fail "cracks counts: $(cat "$work/cracks.txt")"
+"$plot" cracks "$fexo" --frame 1 -o "$work/cracks1.png" >"$work/cracks1.txt" || fail "cracks --frame 1"
+check_png "$work/cracks1.png"
+grep -q "4 broken CE4s (mode I 4, mode II 0, mixed 0)" "$work/cracks1.txt" ||
+  fail "cracks --frame 1 counts: $(cat "$work/cracks1.txt")"
+
+"$plot" stress-strain "$fhist" --test brazilian --load-region platen_top \
+  --support-region platen_bottom --size 0.0517 --thickness 0.02595 \
+  --mark-times 8e-4 1.2e-3 1.6e-3 -o "$work/bd.png" --csv "$work/bd.csv" >"$work/bd.txt" ||
+  fail "stress-strain brazilian"
+check_png "$work/bd.png"
+"$plot" stress-strain "$fhist" --test ucs --load-region platen_top \
+  --support-region platen_bottom --size 0.1295 --width 0.0517 --thickness 0.02595 \
+  -o "$work/ucs.png" --csv "$work/ucs.csv" >"$work/ucs.txt" || fail "stress-strain ucs"
+check_png "$work/ucs.png"
+/usr/bin/python3 - "$work" "$peak_sigma_t" "$peak_ucs" <<'PY' || fail "stress-strain peaks"
+import csv, re, sys
+work, expected = sys.argv[1], {"bd": float(sys.argv[2]), "ucs": float(sys.argv[3])}
+for name, want in expected.items():
+    with open(f"{work}/{name}.csv") as f:
+        rows = list(csv.DictReader(f))
+    peak = max(float(r["stress_Pa"]) for r in rows)
+    assert abs(peak - want) <= 1e-9 * want, (name, peak, want)
+    printed = open(f"{work}/{name}.txt").read()
+    m = re.search(r"peak stress: ([0-9.eE+-]+) MPa", printed)
+    assert m and abs(float(m.group(1)) * 1e6 - want) <= 1e-5 * want, (name, printed, want)
+    # strain at the peak: relative platen displacement (2 x 0.025 m/s x 1.2 ms) / size
+    size = 0.0517 if name == "bd" else 0.1295
+    peak_row = max(rows, key=lambda r: float(r["stress_Pa"]))
+    assert abs(float(peak_row["strain"]) - 0.05 * 1.2e-3 / size) < 1e-12, peak_row
+PY
+
+expect_error "available: kinetic_energy, platen_top_force_x" "$plot" stress-strain "$fhist" \
+  --test brazilian --load-region top --size 0.05 --thickness 1 -o "$work/x.png"
+expect_error "platen_side_disp_y" "$plot" stress-strain "$fhist" --test brazilian \
+  --load-region platen_top --support-region platen_side --size 0.05 --thickness 1 -o "$work/x.png"
+expect_error "needs --width" "$plot" stress-strain "$fhist" --test ucs \
+  --load-region platen_top --size 0.1 --thickness 1 -o "$work/x.png"
+expect_error "available: kinetic_energy, top_force_y" "$plot" stress-strain "$hist" \
+  --test brazilian --load-region top_platen --size 0.05 --thickness 1 -o "$work/x.png"
+expect_error "no 'cohesive' element block" "$plot" cracks "$exo" -o "$work/x.png"
+expect_error "no 'cohesive' element block" "$plot" field "$exo" --var SXX --cracks -o "$work/x.png"
+expect_error "out of range" "$plot" field "$fexo" --var SXX --frames 0 3 -o "$work/x.png"
+
+# The cohesive block is not filled; broken faces and the outline come from the right nodes.
+/usr/bin/python3 - "$repo/tools/fdem-plot" "$fexo" <<'PY' || fail "fdem-plot fracture helpers"
+import importlib.machinery, importlib.util, sys
+loader = importlib.machinery.SourceFileLoader("fdem_plot", sys.argv[1])
+spec = importlib.util.spec_from_loader("fdem_plot", loader)
+plot = importlib.util.module_from_spec(spec)
+loader.exec_module(plot)
+exo = plot.fdem_load.load_exodus(sys.argv[2])
+assert [(b.name, b.elem_type) for b in exo.blocks] == \
+    [("rock", "TRI3"), ("steel", "TRI3"), ("cohesive", "QUAD4")]
+tris, owner, skipped = plot.triangles_of(exo.blocks)
+assert len(tris) == 130 and owner.max() == 129 and not skipped, (len(tris), skipped)
+pairs, modes = plot.broken_faces(exo, -1, "sample")
+assert len(pairs) == 22 and sorted(modes.tolist()) == [1] * 16 + [2] * 4 + [3] * 2
+pairs, modes = plot.broken_faces(exo, 0, "sample")
+assert len(pairs) == 0
+# outline: 4 x 8 rock edges + 4 platen edges
+assert len(plot.outline_edges(exo)) == 36, len(plot.outline_edges(exo))
+PY
+
 if [ "$failures" -ne 0 ]; then
   echo "test_tools.sh: $failures failure(s)" >&2
   exit 1
