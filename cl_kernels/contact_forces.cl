@@ -93,8 +93,8 @@ __kernel void contact_forces(const uint n_couples,
                              __global const ulong* restrict keys,
                              const uint n_previous,
                              __global const ulong* restrict previous_keys,
-                             __global const real* restrict previous_history,
-                             __global real* restrict history,
+                             __global const real* previous_history,
+                             __global real* history,
                              __global const uint* restrict tri_nodes,
                              __global const uint* restrict tri_material,
                              const uint n_materials,
@@ -108,46 +108,65 @@ __kernel void contact_forces(const uint n_couples,
                              const real energy_scale,
                              __global long* restrict contact_acc,
                              __global long* restrict dissipated,
-                             __global uint* restrict touching) {
+                             __global uint* restrict touching,
+                             const uint same_list) {
   const uint c = get_global_id(0);
   if (c >= n_couples) return;
   const ulong key = keys[c];
   const uint tri[2] = {(uint)(key >> 32), (uint)(key & 0xffffffffUL)};
   uint nodes[2][3];
-  real2 x[2][3], v[2][3];
+  real2 x[2][3];
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) {
       nodes[k][a] = tri_nodes[3 * tri[k] + a];
       x[k][a] = position[nodes[k][a]];
-      v[k][a] = velocity[nodes[k][a]];
     }
+
+  // lv[dir][a][m]: three times the barycentric weight, in triangle B = 1 − dir, of the
+  // vertex opposite B's edge m, at vertex a of triangle dir (l_m = 3 A_m / A; negative
+  // outside edge m). If one triangle's three vertices all lie on or outside one edge
+  // line of the other, that line separates them: no overlap, and the passes below are
+  // skipped (most candidate couples, e.g. neighbours across an intact CE4).
+  real lv[2][3][3];
+  bool separated = false;
+  for (int dir = 0; dir < 2; ++dir) {
+    const int B = 1 - dir;
+    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
+    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+    for (int m = 0; m < 3; ++m) {
+      const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
+      const real2 edge = wn - wm;
+      bool outside = true;
+      for (int a = 0; a < 3; ++a) {
+        const real2 p = x[dir][a];
+        lv[dir][a][m] = (real)3 * (edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) / twice_area;
+        outside = outside && !(lv[dir][a][m] > (real)0);
+      }
+      separated = separated || outside;
+    }
+  }
+
   __global const real* props =
       pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
   const real Pn = props[0], Ptan = props[1], mu = props[2], T = props[3], b = props[4];
   const int damped = props[5] != (real)0;
 
   real hist[CONTACT_HISTORY];
-  const int found = find_key(previous_keys, n_previous, key);
+  const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
   for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
 
   // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
   real I0[6], I1[6], inside[6];
   real lbar0[6][3], lbar1[6][3];  // barycentric weights (×3) of B's vertices at the edge ends
   real normal_total = 0, contact_length = 0;
-  for (int dir = 0; dir < 2; ++dir) {
-    const int B = 1 - dir;
-    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
-    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+  for (int dir = 0; dir < 2 && !separated; ++dir) {
     for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real2 pa = x[dir][e], pb = x[dir][(e + 1) % 3];
       real l0[3], l1[3];
       for (int m = 0; m < 3; ++m) {
-        const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
-        const real2 edge = wn - wm;
-        // l_m = 3 A_m / A: three times the barycentric weight of the vertex opposite edge m
-        l0[m] = (real)3 * (edge.x * (pa.y - wm.y) - edge.y * (pa.x - wm.x)) / twice_area;
-        l1[m] = (real)3 * (edge.x * (pb.y - wm.y) - edge.y * (pb.x - wm.x)) / twice_area;
+        l0[m] = lv[dir][e][m];
+        l1[m] = lv[dir][(e + 1) % 3][m];
         lbar0[p][(m + 2) % 3] = l0[m];
         lbar1[p][(m + 2) % 3] = l1[m];
       }
@@ -160,9 +179,15 @@ __kernel void contact_forces(const uint n_couples,
 
   if (normal_total <= (real)0) {  // no overlap: the couple let go; forget its history
     if (hist[8] > (real)0) atom_add(dissipated, convert_long_rte(hist[8] * energy_scale));
-    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
+    bool stored = !same_list;       // a new list's slot must be written; in place only if not zero yet
+    for (int h = 0; h < CONTACT_HISTORY; ++h) stored = stored || hist[h] != (real)0;
+    if (stored)
+      for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
     return;
   }
+  real2 v[2][3];
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 3; ++a) v[k][a] = velocity[nodes[k][a]];
   atomic_inc(touching);
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.

@@ -79,6 +79,7 @@ struct HistoryProbe {
       vars.push_back({"contact_couples", "1", "triangle couples in contact (overlapping) in the last step"});
       vars.push_back({"contact_candidates", "1", "candidate couples from the last contact detection"});
       vars.push_back({"contact_energy_dissipated", "J", "energy dissipated by contact friction and damping, cumulative"});
+      vars.push_back({"contact_rebuilds", "1", "contact detections run since the start"});
     }
     if (fracture) {
       vars.push_back({"broken_ce4", "1", "broken cohesive elements"});
@@ -113,7 +114,7 @@ struct HistoryProbe {
     std::vector<double> row = {kinetic, max_unbalanced, mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
     if (contact)
       row.insert(row.end(), {double(solver.contact_touching()), double(solver.contact_candidates()),
-                             solver.contact_dissipated()});
+                             solver.contact_dissipated(), double(solver.contact_rebuilds())});
     if (fracture) {
       const auto broken = solver.cohesive()->broken();
       const auto mode = solver.cohesive()->mode();

@@ -24,18 +24,19 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
   }
   if (model.contact.enabled) {
     detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin);
+    if (model.contact.rebuild_skin) skin_ = std::make_unique<ContactSkin>(cl, arrays_, model.contact.skin, dt);
     if (!model.contact_active.empty()) {
       detection_->set_active(model.contact_active);
-      if (cohesive_)
+      if (cohesive_) {
+        // Without a skin detection runs every step and nobody reads the join flags.
+        if (!skin_) unread_monitor_ = cl.allocate(4 * ContactSkin::kSlots * sizeof(cl_uint), "unread join flags");
         activation_ = std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
-                                                          detection_->active_mask());
+                                                          detection_->active_mask(),
+                                                          skin_ ? skin_->monitor() : unread_monitor_);
+      }
     }
     contact_ = std::make_unique<ContactForces>(cl, arrays_, model);
     gather_.add_contact(contact_->force_scale());
-    if (model.contact.rebuild_skin) {
-      skin_ = std::make_unique<ContactSkin>(cl, arrays_);
-      skin_distance_ = model.contact.skin;
-    }
   }
   LumpedMass mass(cl, arrays_, model.thickness);
   if (!model.ce4.empty()) {
@@ -61,11 +62,11 @@ void Solver::step() {
   // The step, stage by stage. Each stage writes its own slots; the gather sums them.
   if (contact_) {
     contact_->enqueue_clear();
-    // Detection every step, or with a skin only once some node has moved more than
-    // half of it since the last detection (no couple can have appeared before that).
-    // With activation "fractured", triangles next to newly broken CE4s join: detect again.
-    const bool joined = activation_ && activation_->update();
-    const bool rebuild = !skin_ || rebuilds_ == 0 || joined || skin_->largest_move() > 0.5 * skin_distance_;
+    // Detection every step, or with a skin once some node may have moved more than half
+    // of it since the last detection (no couple can have appeared before that), or when
+    // triangles next to newly broken CE4s joined the candidates ("fractured").
+    if (activation_) activation_->enqueue(ContactSkin::slot_of(steps_));
+    const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
       const size_t count = detection_->run();

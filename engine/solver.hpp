@@ -84,7 +84,7 @@ class Solver {
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactForces> contact_;
   std::unique_ptr<ContactSkin> skin_;
-  double skin_distance_ = 0;
+  compute::buffer unread_monitor_;
   long rebuilds_ = 0;
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;

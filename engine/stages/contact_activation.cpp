@@ -3,27 +3,24 @@
 namespace fdem {
 
 ContactActivation::ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles,
-                                     compute::buffer& status, compute::buffer& active)
+                                     compute::buffer& status, compute::buffer& active, compute::buffer& monitor)
     : cl_(cl), count_(ce4_triangles.size()) {
   std::vector<cl_uint> pairs;
   for (const auto& t : ce4_triangles) pairs.insert(pairs.end(), {cl_uint(t[0]), cl_uint(t[1])});
-  triangles_ = cl.allocate(pairs.size() * sizeof(cl_uint), "ce4_triangles");
-  changed_ = cl.allocate(sizeof(cl_uint), "activation_changed");
-  upload(cl, triangles_, pairs);
-  upload(cl, changed_, std::vector<cl_uint>{0});
+  triangles_ = cl.allocate(std::max<size_t>(pairs.size(), 2) * sizeof(cl_uint), "ce4_triangles");
+  if (!pairs.empty()) upload(cl, triangles_, pairs);
   kernel_ = compute::kernel(cl.build("contact_activation"), "activate_broken");
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, status);
   kernel_.set_arg(2, triangles_);
   kernel_.set_arg(3, active);
-  kernel_.set_arg(4, changed_);
+  kernel_.set_arg(4, monitor);
 }
 
-bool ContactActivation::update() {
+void ContactActivation::enqueue(unsigned slot) {
+  if (count_ == 0) return;
+  kernel_.set_arg(5, static_cast<cl_uint>(slot));
   cl_.enqueue(kernel_, count_);
-  const bool changed = download<cl_uint>(cl_, changed_, 1)[0] != 0;
-  if (changed) upload(cl_, changed_, std::vector<cl_uint>{0});
-  return changed;
 }
 
 }  // namespace fdem

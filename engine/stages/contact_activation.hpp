@@ -11,17 +11,19 @@ namespace fdem {
 class ContactActivation {
  public:
   // `status`: the CE4 stage's (broken, mode) per CE4; `active`: the detection's
-  // candidate mask (one uint per triangle).
+  // candidate mask (one uint per triangle); `monitor`: the skin test's ring
+  // (ContactSkin::monitor()), where a join is flagged for the host to read later.
   ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
-                    compute::buffer& active);
-  // Marks the triangles of broken CE4s as candidates; true when any joined (waits).
-  bool update();
+                    compute::buffer& active, compute::buffer& monitor);
+  // Marks the triangles of broken CE4s as candidates and flags a join in the ring's
+  // slot `slot`. Never waits.
+  void enqueue(unsigned slot);
 
  private:
   ClContext& cl_;
   size_t count_;
   compute::kernel kernel_;
-  compute::buffer triangles_, changed_;
+  compute::buffer triangles_;
 };
 
 }  // namespace fdem

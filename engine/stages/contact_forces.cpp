@@ -87,6 +87,8 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(4, history_[current_]);
   forces_.set_arg(5, history_[next]);
   forces_.set_arg(14, static_cast<real>(dt));
+  // Same list as the last step: couple c's history is at c, in place (no key search).
+  forces_.set_arg(20, static_cast<cl_uint>(new_list ? 0 : 1));
   cl_.enqueue(forces_, count);
   if (new_list) {
     if (count > capacity_) {
