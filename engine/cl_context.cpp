@@ -171,7 +171,27 @@ compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) 
                       " bytes, more than the device's largest allocation (" +
                       std::to_string(info_.max_allocation) + " bytes)");
   try {
-    return compute::buffer(context_, bytes == 0 ? sizeof(real) : bytes, compute::memory_object::read_write);
+    const std::size_t size = bytes == 0 ? sizeof(real) : bytes;
+    compute::buffer buffer(context_, size, compute::memory_object::read_write);
+    // The callback owns a reference to the counter, so it may run after this context is gone.
+    auto* owner = new std::pair<std::shared_ptr<LiveBytes>, std::size_t>(live_, size);
+    const cl_int status = clSetMemObjectDestructorCallback(
+        buffer.get(),
+        [](cl_mem, void* data) {
+          auto* o = static_cast<std::pair<std::shared_ptr<LiveBytes>, std::size_t>*>(data);
+          o->first->bytes -= o->second;
+          delete o;
+        },
+        owner);
+    if (status != CL_SUCCESS) {
+      delete owner;
+    } else {
+      const std::size_t now = live_->bytes += size;
+      std::size_t peak = live_->peak.load();
+      while (now > peak && !live_->peak.compare_exchange_weak(peak, now)) {
+      }
+    }
+    return buffer;
   } catch (const compute::opencl_error& e) {
     throw DeviceError("cannot allocate device array '" + what + "' (" + std::to_string(bytes) +
                       " bytes): " + e.what());

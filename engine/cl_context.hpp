@@ -2,6 +2,8 @@
 // stage programs. Programs are assembled in a fixed order: global defines, precision
 // typedefs, cl_kernels/common.cl, the stage's own defines, the stage's source.
 #pragma once
+#include <atomic>
+#include <memory>
 #include <boost/compute/core.hpp>
 #include <boost/compute/event.hpp>
 #include <cstddef>
@@ -60,6 +62,10 @@ class ClContext {
 
   // Allocates a device buffer; `what` names it in the error when allocation fails.
   compute::buffer allocate(std::size_t bytes, const std::string& what) const;
+  // Bytes of the buffers allocate() made that are still alive (OpenCL destructor
+  // callbacks count them down), and the most there ever were.
+  std::size_t device_bytes_in_use() const { return live_->bytes.load(); }
+  std::size_t device_bytes_peak() const { return live_->peak.load(); }
 
   void finish();  // waits for the queue; DeviceError on failure
 
@@ -83,6 +89,10 @@ class ClContext {
   std::size_t group_size_ = 64;
   bool profiling_ = false;
   std::vector<std::pair<std::string, compute::event>> pending_;
+  struct LiveBytes {
+    std::atomic<std::size_t> bytes{0}, peak{0};
+  };
+  std::shared_ptr<LiveBytes> live_ = std::make_shared<LiveBytes>();
   std::map<std::string, KernelTime> profile_;
 };
 
