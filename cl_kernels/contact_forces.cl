@@ -89,6 +89,114 @@ inline int find_key(__global const ulong* keys, uint n, ulong key) {
   return -1;
 }
 
+// The couple's two triangles (i, j from its key): node indices and positions.
+inline void couple_nodes(const ulong key, __global const uint* tri_nodes, __global const real2* position,
+                         uint tri[2], uint nodes[2][3], real2 x[2][3]) {
+  tri[0] = (uint)(key >> 32);
+  tri[1] = (uint)(key & 0xffffffffUL);
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 3; ++a) {
+      nodes[k][a] = tri_nodes[3 * tri[k] + a];
+      x[k][a] = position[nodes[k][a]];
+    }
+}
+
+// lv[dir][a][m]: three times the barycentric weight, in triangle B = 1 − dir, of the
+// vertex opposite B's edge m, at vertex a of triangle dir (l_m = 3 A_m / A; negative
+// outside edge m).
+inline void barycentric_values(real2 x[2][3], real lv[2][3][3]) {
+  for (int dir = 0; dir < 2; ++dir) {
+    const int B = 1 - dir;
+    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
+    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+    for (int m = 0; m < 3; ++m) {
+      const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
+      const real2 edge = wn - wm;
+      for (int a = 0; a < 3; ++a) {
+        const real2 p = x[dir][a];
+        lv[dir][a][m] = (real)3 * (edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) / twice_area;
+      }
+    }
+  }
+}
+
+// Whether one triangle's three vertices all lie on or outside one edge line of the
+// other: that line separates them, so they do not overlap. The same cross products as
+// barycentric_values, by sign only (no division): where this says separated, every
+// l_m there is ≤ 0 as well.
+inline bool separated(real2 x[2][3]) {
+  bool apart = false;
+  for (int dir = 0; dir < 2; ++dir) {
+    const int B = 1 - dir;
+    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
+    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+    for (int m = 0; m < 3; ++m) {
+      const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
+      const real2 edge = wn - wm;
+      bool outside = true;
+      for (int a = 0; a < 3; ++a) {
+        const real2 p = x[dir][a];
+        outside = outside && !((edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) * twice_area > (real)0);
+      }
+      apart = apart || outside;
+    }
+  }
+  return apart;
+}
+
+// A couple that does not touch: the couple let go, so the work its damped normal force
+// absorbed counts as dissipated, and its history is forgotten (zeroed; in place only
+// where not zero yet, so untouched couples write nothing).
+inline void forget_couple(const uint c, const int found, __global const real* previous_history,
+                          __global real* history, const uint same_list, const real energy_scale,
+                          __global long* dissipated) {
+  real absorbed = (real)0;
+  bool stored = !same_list;  // a new list's slot must be written
+  for (int h = 0; h < CONTACT_HISTORY; ++h) {
+    const real value = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
+    if (h == 8) absorbed = value;
+    stored = stored || value != (real)0;
+  }
+  if (absorbed > (real)0) atom_add(dissipated, convert_long_rte(absorbed * energy_scale));
+  if (stored)
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
+}
+
+// One work-item per candidate couple c: the cheap separation test. Separated couples are
+// done here (forget_couple); the others are appended to `overlap_list` for
+// contact_forces, so that its work-items all do the full evaluation together instead of
+// idling beside separated neighbours. The list's order depends on scheduling, but what
+// contact_forces does per couple does not, and its sums are integer: the result does not.
+// counters[1]: entries in overlap_list (cleared by clear_contact_forces).
+__kernel void contact_classify(const uint n_couples,
+                               __global const ulong* restrict keys,
+                               const uint n_previous,
+                               __global const ulong* restrict previous_keys,
+                               __global const real* previous_history,
+                               __global real* history,
+                               __global const uint* restrict tri_nodes,
+                               __global const real2* restrict position,
+                               const real energy_scale,
+                               __global long* restrict dissipated,
+                               const uint same_list,
+                               __global uint* restrict counters,
+                               __global uint* restrict overlap_list) {
+  const uint c = get_global_id(0);
+  if (c >= n_couples) return;
+  const ulong key = keys[c];
+  uint tri[2], nodes[2][3];
+  real2 x[2][3];
+  couple_nodes(key, tri_nodes, position, tri, nodes, x);
+  if (!separated(x)) {
+    overlap_list[atomic_inc(&counters[1])] = c;
+    return;
+  }
+  const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
+  forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
+}
+
+// One work-item per entry k of overlap_list (launched over all couples; those past the
+// list's length return): the full evaluation of couple overlap_list[k].
 __kernel void contact_forces(const uint n_couples,
                              __global const ulong* restrict keys,
                              const uint n_previous,
@@ -108,58 +216,31 @@ __kernel void contact_forces(const uint n_couples,
                              const real energy_scale,
                              __global long* restrict contact_acc,
                              __global long* restrict dissipated,
-                             __global uint* restrict touching,
-                             const uint same_list) {
-  const uint c = get_global_id(0);
-  if (c >= n_couples) return;
+                             __global uint* restrict counters,
+                             const uint same_list,
+                             __global const uint* restrict overlap_list) {
+  const uint entry = get_global_id(0);
+  if (entry >= n_couples || entry >= counters[1]) return;
+  const uint c = overlap_list[entry];
   const ulong key = keys[c];
-  const uint tri[2] = {(uint)(key >> 32), (uint)(key & 0xffffffffUL)};
-  uint nodes[2][3];
+  uint tri[2], nodes[2][3];
   real2 x[2][3];
-  for (int k = 0; k < 2; ++k)
-    for (int a = 0; a < 3; ++a) {
-      nodes[k][a] = tri_nodes[3 * tri[k] + a];
-      x[k][a] = position[nodes[k][a]];
-    }
-
-  // lv[dir][a][m]: three times the barycentric weight, in triangle B = 1 − dir, of the
-  // vertex opposite B's edge m, at vertex a of triangle dir (l_m = 3 A_m / A; negative
-  // outside edge m). If one triangle's three vertices all lie on or outside one edge
-  // line of the other, that line separates them: no overlap, and the passes below are
-  // skipped (most candidate couples, e.g. neighbours across an intact CE4).
   real lv[2][3][3];
-  bool separated = false;
-  for (int dir = 0; dir < 2; ++dir) {
-    const int B = 1 - dir;
-    const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
-    const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
-    for (int m = 0; m < 3; ++m) {
-      const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
-      const real2 edge = wn - wm;
-      bool outside = true;
-      for (int a = 0; a < 3; ++a) {
-        const real2 p = x[dir][a];
-        lv[dir][a][m] = (real)3 * (edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) / twice_area;
-        outside = outside && !(lv[dir][a][m] > (real)0);
-      }
-      separated = separated || outside;
-    }
-  }
-
+  couple_nodes(key, tri_nodes, position, tri, nodes, x);
+  barycentric_values(x, lv);
   __global const real* props =
       pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
   const real Pn = props[0], Ptan = props[1], mu = props[2], T = props[3], b = props[4];
   const int damped = props[5] != (real)0;
 
-  real hist[CONTACT_HISTORY];
   const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-  for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
 
   // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
+  // The barycentric weights (×3) of B's vertex q at the ends of A's edge e are
+  // lv[dir][e][(q + 1) % 3] and lv[dir][(e + 1) % 3][(q + 1) % 3].
   real I0[6], I1[6], inside[6];
-  real lbar0[6][3], lbar1[6][3];  // barycentric weights (×3) of B's vertices at the edge ends
   real normal_total = 0, contact_length = 0;
-  for (int dir = 0; dir < 2 && !separated; ++dir) {
+  for (int dir = 0; dir < 2; ++dir) {
     for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real2 pa = x[dir][e], pb = x[dir][(e + 1) % 3];
@@ -167,8 +248,6 @@ __kernel void contact_forces(const uint n_couples,
       for (int m = 0; m < 3; ++m) {
         l0[m] = lv[dir][e][m];
         l1[m] = lv[dir][(e + 1) % 3][m];
-        lbar0[p][(m + 2) % 3] = l0[m];
-        lbar1[p][(m + 2) % 3] = l1[m];
       }
       integrate_potential(l0, l1, &I0[p], &I1[p], &inside[p]);
       const real L = length(pb - pa);
@@ -177,18 +256,16 @@ __kernel void contact_forces(const uint n_couples,
     }
   }
 
-  if (normal_total <= (real)0) {  // no overlap: the couple let go; forget its history
-    if (hist[8] > (real)0) atom_add(dissipated, convert_long_rte(hist[8] * energy_scale));
-    bool stored = !same_list;       // a new list's slot must be written; in place only if not zero yet
-    for (int h = 0; h < CONTACT_HISTORY; ++h) stored = stored || hist[h] != (real)0;
-    if (stored)
-      for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
+  if (normal_total <= (real)0) {  // no overlap after all
+    forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
     return;
   }
+  real hist[CONTACT_HISTORY];
+  for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
   real2 v[2][3];
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) v[k][a] = velocity[nodes[k][a]];
-  atomic_inc(touching);
+  atomic_inc(&counters[0]);
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
   real ratio = (real)1;
@@ -228,18 +305,18 @@ __kernel void contact_forces(const uint n_couples,
       add_force(contact_acc, na, -k * I0[p] * nL, force_scale);
       add_force(contact_acc, nb, -k * I1[p] * nL, force_scale);
       for (int m = 0; m < 3; ++m)
-        add_force(contact_acc, nodes[B][m], k * (lbar0[p][m] * I0[p] + lbar1[p][m] * I1[p]) / (real)3 * nL, force_scale);
+        add_force(contact_acc, nodes[B][m], k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL, force_scale);
 
       // Relative velocity at the acting point s* of this pass's normal force.
       const real s = I1[p] / I;
       real wB[3];
-      for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lbar0[p][m] + s * lbar1[p][m]) / (real)3;
+      for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
       const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
       const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
       // Work absorbed by the (damped) normal force this step: −f·v over the couple's nodes.
       if (damped) {
         real2 vB0 = (real2)(0, 0), vB1 = (real2)(0, 0);
-        for (int m = 0; m < 3; ++m) vB0 += lbar0[p][m] / (real)3 * v[B][m], vB1 += lbar1[p][m] / (real)3 * v[B][m];
+        for (int m = 0; m < 3; ++m) vB0 += lv[dir][e][(m + 1) % 3] / (real)3 * v[B][m], vB1 += lv[dir][(e + 1) % 3][(m + 1) % 3] / (real)3 * v[B][m];
         absorbed += k * dot(nL, I0[p] * (v[A][e] - vB0) + I1[p] * (v[A][(e + 1) % 3] - vB1)) * dt;
       }
 
@@ -292,11 +369,14 @@ __kernel void release_vanished(const uint n_previous,
 }
 
 // One work-item per node: clears its fixed-point contact force (start of each step);
-// work-item 0 also clears the count of touching couples.
+// work-item 0 also clears the counters (touching couples, overlap list length).
 __kernel void clear_contact_forces(const uint n_nodes, __global long* restrict contact_acc,
-                                   __global uint* restrict touching) {
+                                   __global uint* restrict counters) {
   const uint i = get_global_id(0);
-  if (i == 0) *touching = 0;
+  if (i == 0) {
+    counters[0] = 0;
+    counters[1] = 0;
+  }
   if (i >= n_nodes) return;
   contact_acc[2 * i] = 0;
   contact_acc[2 * i + 1] = 0;

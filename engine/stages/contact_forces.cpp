@@ -25,15 +25,18 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
 
   const auto program = cl.build("contact_forces");
   forces_ = compute::kernel(program, "contact_forces");
+  classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
   dissipated_ = cl.allocate(sizeof(cl_long), "contact_dissipated");
-  touching_ = cl.allocate(sizeof(cl_uint), "contact_touching");
+  touching_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
   upload(cl, dissipated_, std::vector<cl_long>{0});
-  upload(cl, touching_, std::vector<cl_uint>{0});
+  upload(cl, touching_, std::vector<cl_uint>{0, 0});
   capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
   keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
   for (auto& h : history_) h = cl.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+  list_capacity_ = capacity_;
+  overlap_list_ = cl.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
 
   const size_t n_materials = model.materials.size();
   std::vector<cl_uint> index(model.contact.pair_index.begin(), model.contact.pair_index.end());
@@ -56,6 +59,11 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   forces_.set_arg(17, a.contact_acc);
   forces_.set_arg(18, dissipated_);
   forces_.set_arg(19, touching_);
+  classify_.set_arg(6, a.tri_nodes);
+  classify_.set_arg(7, a.position);
+  classify_.set_arg(8, static_cast<real>(energy_scale_));
+  classify_.set_arg(9, dissipated_);
+  classify_.set_arg(11, touching_);
   clear_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
   clear_.set_arg(1, a.contact_acc);
   clear_.set_arg(2, touching_);
@@ -80,15 +88,31 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     release_.set_arg(6, dissipated_);
     cl_.enqueue(release_, count_);
   }
+  if (count > list_capacity_) {
+    list_capacity_ = count + count / 2;
+    overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
+  }
+  // Same list as the last step: couple c's history is at c, in place (no key search).
+  const cl_uint same_list = new_list ? 0 : 1;
+  const compute::buffer& list_keys = new_list ? keys : keys_;
+  classify_.set_arg(0, static_cast<cl_uint>(count));
+  classify_.set_arg(1, list_keys);
+  classify_.set_arg(2, static_cast<cl_uint>(count_));
+  classify_.set_arg(3, keys_);
+  classify_.set_arg(4, history_[current_]);
+  classify_.set_arg(5, history_[next]);
+  classify_.set_arg(10, same_list);
+  classify_.set_arg(12, overlap_list_);
+  cl_.enqueue(classify_, count);
   forces_.set_arg(0, static_cast<cl_uint>(count));
-  forces_.set_arg(1, new_list ? keys : keys_);
+  forces_.set_arg(1, list_keys);
   forces_.set_arg(2, static_cast<cl_uint>(count_));
   forces_.set_arg(3, keys_);
   forces_.set_arg(4, history_[current_]);
   forces_.set_arg(5, history_[next]);
   forces_.set_arg(14, static_cast<real>(dt));
-  // Same list as the last step: couple c's history is at c, in place (no key search).
-  forces_.set_arg(20, static_cast<cl_uint>(new_list ? 0 : 1));
+  forces_.set_arg(20, same_list);
+  forces_.set_arg(21, overlap_list_);
   cl_.enqueue(forces_, count);
   if (new_list) {
     if (count > capacity_) {

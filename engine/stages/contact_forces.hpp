@@ -30,9 +30,9 @@ class ContactForces {
   ClContext& cl_;
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
-  compute::kernel forces_, clear_, release_;
-  compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_;
-  size_t capacity_ = 0, count_ = 0;
+  compute::kernel classify_, forces_, clear_, release_;
+  compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_, overlap_list_;
+  size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
 };
 

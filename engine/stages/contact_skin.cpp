@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace fdem {
 
@@ -21,7 +22,7 @@ ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, double skin, double dt)
   at_build_ = cl.allocate(a.num_nodes * sizeof(real2), "position_at_build");
   monitor_ = cl.allocate(4 * kSlots * sizeof(cl_uint), "skin monitor ring");
   upload(cl, monitor_, host_);
-  kernel_ = compute::kernel(cl.build("contact_skin"), "max_displacement");
+  kernel_ = compute::kernel(cl.build("contact_skin", {{"GROUP_SIZE", std::to_string(cl.group_size())}}), "max_displacement");
   kernel_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
   kernel_.set_arg(1, a.position);
   kernel_.set_arg(2, a.velocity);
