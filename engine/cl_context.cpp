@@ -109,6 +109,15 @@ ClContext::ClContext(const std::string& requested, bool profiling) {
     throw DeviceError("cannot open OpenCL device " + info_.device_name + ": " + e.what());
   }
   group_size_ = info_.is_gpu ? 256 : 64;
+  // FDEM_GROUP_SIZE (a power of two up to the device's limit) overrides it, for tuning.
+  if (const char* env = std::getenv("FDEM_GROUP_SIZE"); env && *env) {
+    char* end = nullptr;
+    const unsigned long size = std::strtoul(env, &end, 10);
+    if (*end != '\0' || size == 0 || (size & (size - 1)) != 0 || size > device_.max_work_group_size())
+      throw DeviceError(std::string("FDEM_GROUP_SIZE=") + env + " is not a power of two up to " +
+                        std::to_string(device_.max_work_group_size()));
+    group_size_ = size;
+  }
   profiling_ = profiling;
 }
 
