@@ -37,6 +37,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   for (auto& h : history_) h = cl.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
   list_capacity_ = capacity_;
   overlap_list_ = cl.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
+  live_ = cl.allocate(list_capacity_, "contact live flags");
 
   const size_t n_materials = model.materials.size();
   std::vector<cl_uint> index(model.contact.pair_index.begin(), model.contact.pair_index.end());
@@ -91,6 +92,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   if (count > list_capacity_) {
     list_capacity_ = count + count / 2;
     overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
+    live_ = cl_.allocate(list_capacity_, "contact live flags");  // a new list writes every flag
   }
   // Same list as the last step: couple c's history is at c, in place (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
@@ -103,6 +105,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   classify_.set_arg(5, history_[next]);
   classify_.set_arg(10, same_list);
   classify_.set_arg(12, overlap_list_);
+  classify_.set_arg(13, live_);
   cl_.enqueue(classify_, count);
   forces_.set_arg(0, static_cast<cl_uint>(count));
   forces_.set_arg(1, list_keys);
@@ -113,6 +116,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(14, static_cast<real>(dt));
   forces_.set_arg(20, same_list);
   forces_.set_arg(21, overlap_list_);
+  forces_.set_arg(22, live_);
   cl_.enqueue(forces_, count);
   if (new_list) {
     if (count > capacity_) {

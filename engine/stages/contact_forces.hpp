@@ -31,7 +31,7 @@ class ContactForces {
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
   compute::kernel classify_, forces_, clear_, release_;
-  compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_, overlap_list_;
+  compute::buffer keys_, history_[2], dissipated_, touching_, pair_index_, pair_props_, overlap_list_, live_;
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
 };
