@@ -20,41 +20,44 @@
 #define CONTACT_HISTORY 10
 #define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
 
+// Compare-exchange: a ≤ b afterwards.
+#define SORT2(a, b)           \
+  {                           \
+    const real lo = fmin(a, b); \
+    b = fmax(a, b);           \
+    a = lo;                   \
+  }
+
 // ∫ g(s) ds split into I0 = ∫(1−s) g, I1 = ∫ s g over s in [0, 1], g = max(0, min_m l_m(s)),
 // l_m(s) = l0[m] + s (l1[m] − l0[m]); also the length fraction where g > 0.
+// g is linear between its kinks: where some l_m = 0 and where two l_m cross. The six
+// candidates (those outside (0, 1) moved to 1, where they only add pieces of zero width,
+// which add exact zeros) are ordered by a fixed sorting network, so everything stays in
+// registers; the trapezoid rule is then exact on each piece.
 inline void integrate_potential(const real l0[3], const real l1[3], real* I0, real* I1, real* inside) {
-  real s[9];
-  int n = 0;
-  s[n++] = (real)0;
-  s[n++] = (real)1;
+  real z[6];
   for (int m = 0; m < 3; ++m) {
     const real d = l1[m] - l0[m];
-    if (d != (real)0) {
-      const real z = -l0[m] / d;  // l_m = 0
-      if (z > (real)0 && z < (real)1) s[n++] = z;
-    }
-    for (int k = m + 1; k < 3; ++k) {  // l_m = l_k
+    const real root = d != (real)0 ? -l0[m] / d : (real)1;  // l_m = 0
+    z[m] = root > (real)0 && root < (real)1 ? root : (real)1;
+  }
+  for (int m = 0, q = 3; m < 3; ++m)
+    for (int k = m + 1; k < 3; ++k, ++q) {  // l_m = l_k
       const real dd = (l1[m] - l0[m]) - (l1[k] - l0[k]);
-      if (dd != (real)0) {
-        const real z = (l0[k] - l0[m]) / dd;
-        if (z > (real)0 && z < (real)1) s[n++] = z;
-      }
+      const real cross = dd != (real)0 ? (l0[k] - l0[m]) / dd : (real)1;
+      z[q] = cross > (real)0 && cross < (real)1 ? cross : (real)1;
     }
-  }
-  for (int a = 1; a < n; ++a) {  // insertion sort, at most 9 points
-    const real v = s[a];
-    int b = a - 1;
-    while (b >= 0 && s[b] > v) {
-      s[b + 1] = s[b];
-      --b;
-    }
-    s[b + 1] = v;
-  }
+  // Optimal 12-comparator network for six values.
+  SORT2(z[0], z[5]) SORT2(z[1], z[3]) SORT2(z[2], z[4])
+  SORT2(z[1], z[2]) SORT2(z[3], z[4])
+  SORT2(z[0], z[3]) SORT2(z[2], z[5])
+  SORT2(z[0], z[1]) SORT2(z[2], z[3]) SORT2(z[4], z[5])
+  SORT2(z[1], z[2]) SORT2(z[3], z[4])
   real i_all = 0, i_s = 0, length = 0;
-  real prev_s = s[0];
+  real prev_s = (real)0;
   real prev_g = fmax((real)0, fmin(l0[0], fmin(l0[1], l0[2])));
-  for (int a = 1; a < n; ++a) {
-    const real t = s[a];
+  for (int a = 0; a < 7; ++a) {
+    const real t = a < 6 ? z[a] : (real)1;
     const real g = fmax((real)0, fmin(l0[0] + t * (l1[0] - l0[0]), fmin(l0[1] + t * (l1[1] - l0[1]), l0[2] + t * (l1[2] - l0[2]))));
     const real w = t - prev_s;
     i_all += w * (real)0.5 * (prev_g + g);
@@ -269,12 +272,9 @@ __kernel void contact_forces(const uint n_couples,
   }
   real hist[CONTACT_HISTORY];
   for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
-  real2 v[2][3], fnode[2][3];
+  real2 v[2][3];
   for (int k = 0; k < 2; ++k)
-    for (int a = 0; a < 3; ++a) {
-      v[k][a] = velocity[nodes[k][a]];
-      fnode[k][a] = (real2)(0, 0);
-    }
+    for (int a = 0; a < 3; ++a) v[k][a] = velocity[nodes[k][a]];
   atomic_inc(&counters[0]);
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
@@ -312,10 +312,10 @@ __kernel void contact_forces(const uint n_couples,
       const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
       const real k = ratio * Pn * thickness;
       // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
-      fnode[A][e] += -k * I0[p] * nL;
-      fnode[A][(e + 1) % 3] += -k * I1[p] * nL;
+      add_force(contact_acc, na, -k * I0[p] * nL, force_scale);
+      add_force(contact_acc, nb, -k * I1[p] * nL, force_scale);
       for (int m = 0; m < 3; ++m)
-        fnode[B][m] += k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL;
+        add_force(contact_acc, nodes[B][m], k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL, force_scale);
 
       // Relative velocity at the acting point s* of this pass's normal force.
       const real s = I1[p] / I;
@@ -350,19 +350,15 @@ __kernel void contact_forces(const uint n_couples,
       hist[p] = slip;
       if (ft != (real)0) {
         const real2 f = ft * tangent;
-        fnode[A][e] += (1 - s) * f;
-        fnode[A][(e + 1) % 3] += s * f;
-        for (int m = 0; m < 3; ++m) fnode[B][m] += -wB[m] * f;
+        add_force(contact_acc, na, (1 - s) * f, force_scale);
+        add_force(contact_acc, nb, s * f, force_scale);
+        for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], -wB[m] * f, force_scale);
       }
     }
   }
   hist[8] += absorbed;
   for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
   live[c] = 1;
-  // The couple's force on each of its six nodes, summed over the passes in a fixed order
-  // here, then added once per node (a twelfth of the atomics of adding each term).
-  for (int t = 0; t < 2; ++t)
-    for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[t][a], fnode[t][a], force_scale);
   if (friction_lost > (real)0) atom_add(dissipated, convert_long_rte(friction_lost * energy_scale));
 }
 
