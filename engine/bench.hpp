@@ -16,7 +16,8 @@ struct BenchOptions {
   std::string csv;  // also write the table here when not empty
 };
 
-// Runs the benchmark rows on `cl` and prints the table to `out`. Returns 0.
-int run_bench(const BenchOptions& options, ClContext& cl, std::ostream& out);
+// Runs the benchmark rows on `device` (a ClContext choice) and prints the table to `out`.
+// Returns 0.
+int run_bench(const BenchOptions& options, const std::string& device, std::ostream& out);
 
 }  // namespace fdem

@@ -201,8 +201,7 @@ int main(int argc, char** argv) {
     const Arguments a = parse(argc, argv);
     if (a.command == "devices") return list_devices_command();
     if (a.command == "bench") {
-      fdem::ClContext cl(a.device, true);
-      return fdem::run_bench(a.bench, cl, std::cout);
+      return fdem::run_bench(a.bench, a.device, std::cout);
     }
     if (a.command == "run" || a.command == "check") {
       if (a.case_path.empty()) throw fdem::InputError("fdem " + a.command + " needs a case file\n" + kUsage);

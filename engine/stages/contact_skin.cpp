@@ -1,5 +1,6 @@
 #include "engine/stages/contact_skin.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -36,34 +37,50 @@ void ContactSkin::mark() {
 }
 
 bool ContactSkin::decide(unsigned slot, bool exact) {
-  reads_[slot].wait();
-  pending_[slot] = false;
   const cl_uint* w = &host_[4 * slot];
   const double moved = as_value(w[0]);
-  largest_speed_ = as_value(w[1]);
+  largest_speed_ = std::max(largest_speed_, as_value(w[1]));
   if (generation_of_[slot] != generation_) return false;  // measured against an older detection
   if (w[2] != 0) return true;                              // triangles joined the candidates
   const double margin = exact ? 0.0 : 2.0 * kSlots * largest_speed_ * dt_;
   return !(moved + margin <= half_skin_);                  // NaN: rebuild (the NaN check stops the run)
 }
 
+bool ContactSkin::decide_batch() {
+  batch_read_.wait();
+  batch_pending_ = false;
+  speed_known_ = true;
+  largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
+  bool due = false;
+  for (unsigned k = 0; k < kBatch; ++k) due = decide(batch_first_ + k, false) || due;
+  return due;
+}
+
 bool ContactSkin::rebuild_due(long step) {
   const unsigned slot = slot_of(step), next = slot_of(step + 1);
+  const bool batch_ends = slot % kBatch == kBatch - 1;
   // The far margin would eat more than half of the half-skin: test this step exactly.
-  const bool exact = !(2.0 * kSlots * largest_speed_ * dt_ <= 0.5 * half_skin_);
-  // The oldest test still in flight is the next slot's: read it before its words are
-  // cleared (its activation flag counts in both modes).
-  bool due = pending_[next] && decide(next, false);
+  // Until a first batch has told the speeds, every step is exact too.
+  const bool exact = !speed_known_ || !(2.0 * kSlots * largest_speed_ * dt_ <= 0.5 * half_skin_);
+  bool due = false;
+  // The batch read kBatch steps ago: look at it before its slots are measured again.
+  if (batch_ends && batch_pending_) due = decide_batch();
   kernel_.set_arg(5, static_cast<cl_uint>(slot));
   kernel_.set_arg(6, static_cast<cl_uint>(next));
   cl_.enqueue(kernel_, arrays_.num_nodes);
-  reads_[slot] = cl_.queue().enqueue_read_buffer_async(monitor_, 4 * slot * sizeof(cl_uint), 4 * sizeof(cl_uint),
-                                                       &host_[4 * slot]);
   generation_of_[slot] = generation_;
-  pending_[slot] = true;
   if (exact) {
     ++synchronous_;
+    cl_.queue().enqueue_read_buffer(monitor_, 4 * slot * sizeof(cl_uint), 4 * sizeof(cl_uint), &host_[4 * slot]);
+    const double speed_before = largest_speed_;
     due = decide(slot, true) || due;
+    largest_speed_ = std::max(speed_before, largest_speed_);
+  }
+  if (batch_ends) {
+    batch_first_ = slot + 1 - kBatch;
+    batch_read_ = cl_.queue().enqueue_read_buffer_async(monitor_, 4 * batch_first_ * sizeof(cl_uint),
+                                                        4 * kBatch * sizeof(cl_uint), &host_[4 * batch_first_]);
+    batch_pending_ = true;
   }
   return due;
 }

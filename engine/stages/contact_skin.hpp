@@ -9,22 +9,24 @@ namespace fdem {
 
 // Decides when contact detection must run again with a skin: a couple can only appear
 // once some node has moved more than half the skin since the last detection. The test
-// runs on the device every step and is read back SKIN_SLOTS − 1 steps late (the host
-// never waits for the device in the step loop); the nodes can move a little in those
-// steps, so the test asks for a margin of 2 × (slots) × (largest speed seen) × Δt on
-// top (2: room for the speed to double in that time). When that margin would exceed a
-// quarter of the skin (very fast nodes or a thin skin), the step waits for the test of
-// its own step instead, which is exact.
+// runs on the device every step into a ring of kSlots slots; the host reads the ring
+// kBatch slots at a time, asynchronously, and looks at a batch kBatch steps after it
+// was read, so a test is seen up to kSlots − 1 steps late and the host never waits for
+// the device in the step loop. The nodes can move a little in those steps, so the test
+// asks for a margin of 2 × kSlots × (largest speed seen) × Δt on top (2: room for the
+// speed to double in that time). When that margin would exceed a quarter of the skin
+// (very fast nodes or a thin skin), and until a first batch has told the speeds, each
+// step waits for its own test instead (exact).
 class ContactSkin {
  public:
-  static constexpr unsigned kSlots = 4;
+  static constexpr unsigned kSlots = 8, kBatch = 4;
 
   ContactSkin(ClContext& cl, DeviceArrays& arrays, double skin, double dt);
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
   // Enqueues this step's test (positions now against those at mark()) and says whether
-  // detection must run now. Waits only for a test enqueued kSlots − 1 steps ago, or for
-  // its own in the exact mode described above.
+  // detection must run now. Waits only for a batch read kBatch steps ago, or for its
+  // own test in the exact mode described above.
   bool rebuild_due(long step);
   // The device ring that the activation stage flags in (word 2 of a slot).
   compute::buffer& monitor() { return monitor_; }
@@ -33,6 +35,7 @@ class ContactSkin {
 
  private:
   bool decide(unsigned slot, bool exact);
+  bool decide_batch();
 
   ClContext& cl_;
   DeviceArrays& arrays_;
@@ -40,9 +43,10 @@ class ContactSkin {
   compute::kernel kernel_;
   compute::buffer at_build_, monitor_;
   std::vector<cl_uint> host_;                  // kSlots × 4 words, filled by async reads
-  std::array<compute::event, kSlots> reads_;
+  compute::event batch_read_;                  // the last batch read (slots batch_first_ …)
+  unsigned batch_first_ = 0;
+  bool batch_pending_ = false, speed_known_ = false;
   std::array<long, kSlots> generation_of_{};   // mark() count when the slot was measured
-  std::array<bool, kSlots> pending_{};
   long generation_ = 0;
   double largest_speed_ = 0;                   // from the latest test read [m/s]
   long synchronous_ = 0;
