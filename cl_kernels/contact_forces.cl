@@ -112,12 +112,13 @@ inline void barycentric_values(real2 x[2][3], real lv[2][3][3]) {
     const int B = 1 - dir;
     const real2 w0 = x[B][0], w1 = x[B][1], w2 = x[B][2];
     const real twice_area = (w1.x - w0.x) * (w2.y - w0.y) - (w1.y - w0.y) * (w2.x - w0.x);
+    const real three_over_area = (real)3 / twice_area;  // one division, not nine
     for (int m = 0; m < 3; ++m) {
       const real2 wm = x[B][m], wn = x[B][(m + 1) % 3];
       const real2 edge = wn - wm;
       for (int a = 0; a < 3; ++a) {
         const real2 p = x[dir][a];
-        lv[dir][a][m] = (real)3 * (edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) / twice_area;
+        lv[dir][a][m] = (edge.x * (p.y - wm.y) - edge.y * (p.x - wm.x)) * three_over_area;
       }
     }
   }
@@ -250,7 +251,7 @@ __kernel void contact_forces(const uint n_couples,
   real I0[6], I1[6], inside[6];
   real normal_total = 0, contact_length = 0;
   for (int dir = 0; dir < 2; ++dir) {
-    for (int e = 0; e < 3; ++e) {
+      for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real2 pa = x[dir][e], pb = x[dir][(e + 1) % 3];
       real l0[3], l1[3];
@@ -298,7 +299,7 @@ __kernel void contact_forces(const uint n_couples,
   real friction_lost = (real)0;
   for (int dir = 0; dir < 2; ++dir) {
     const int A = dir, B = 1 - dir;
-    for (int e = 0; e < 3; ++e) {
+      for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real I = I0[p] + I1[p];
       if (!(I > (real)0)) {
