@@ -172,8 +172,9 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
 // idling beside separated neighbours. The list's order depends on scheduling, but what
 // contact_forces does per couple does not, and its sums are integer: the result does not.
 // counters[1]: entries in overlap_list (cleared by clear_contact_forces).
-// live[c]: 1 while couple c's history may be non-zero (written by both kernels; only
-// read in place, to skip the history of couples that are apart and already forgotten).
+// live[c]: 1 when couple c touched in the last step (written by both kernels; read in
+// place, to skip the history of couples that are apart and already forgotten; the host
+// counts them for the number of touching couples).
 __kernel void contact_classify(const uint n_couples,
                                __global const ulong* restrict keys,
                                const uint n_previous,
@@ -188,20 +189,32 @@ __kernel void contact_classify(const uint n_couples,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live) {
+  // The list grows by one global atomic per work-group: a local count first (a single
+  // global counter hit by every overlapping couple would serialise them).
+  __local uint group_count, group_base;
   const uint c = get_global_id(0);
-  if (c >= n_couples) return;
-  const ulong key = keys[c];
-  uint tri[2], nodes[2][3];
-  real2 x[2][3];
-  couple_nodes(key, tri_nodes, position, tri, nodes, x);
-  if (!separated(x)) {
-    overlap_list[atomic_inc(&counters[1])] = c;
-    return;
+  if (get_local_id(0) == 0) group_count = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  bool listed = false;
+  uint position_in_group = 0;
+  if (c < n_couples) {
+    const ulong key = keys[c];
+    uint tri[2], nodes[2][3];
+    real2 x[2][3];
+    couple_nodes(key, tri_nodes, position, tri, nodes, x);
+    if (!separated(x)) {
+      listed = true;
+      position_in_group = atomic_inc(&group_count);
+    } else if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
+      const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
+      forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
+      live[c] = 0;
+    }
   }
-  if (same_list && !live[c]) return;  // in place and already forgotten: nothing to read or write
-  const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-  forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
-  live[c] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (listed) overlap_list[group_base + position_in_group] = c;
 }
 
 // One work-item per entry k of overlap_list (launched over all couples; those past the
@@ -276,7 +289,6 @@ __kernel void contact_forces(const uint n_couples,
   real2 v[2][3];
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) v[k][a] = velocity[nodes[k][a]];
-  atomic_inc(&counters[0]);
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
   real ratio = (real)1;
@@ -381,7 +393,7 @@ __kernel void release_vanished(const uint n_previous,
 }
 
 // One work-item per node: clears its fixed-point contact force (start of each step);
-// work-item 0 also clears the counters (touching couples, overlap list length).
+// work-item 0 also clears the counters (counters[0] unused, overlap list length).
 __kernel void clear_contact_forces(const uint n_nodes, __global long* restrict contact_acc,
                                    __global uint* restrict counters) {
   const uint i = get_global_id(0);

@@ -29,9 +29,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
   dissipated_ = cl.allocate(sizeof(cl_long), "contact_dissipated");
-  touching_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
+  counters_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
   upload(cl, dissipated_, std::vector<cl_long>{0});
-  upload(cl, touching_, std::vector<cl_uint>{0, 0});
+  upload(cl, counters_, std::vector<cl_uint>{0, 0});
   capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
   keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
   for (auto& h : history_) h = cl.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
@@ -59,15 +59,15 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   forces_.set_arg(16, static_cast<real>(energy_scale_));
   forces_.set_arg(17, a.contact_acc);
   forces_.set_arg(18, dissipated_);
-  forces_.set_arg(19, touching_);
+  forces_.set_arg(19, counters_);
   classify_.set_arg(6, a.tri_nodes);
   classify_.set_arg(7, a.position);
   classify_.set_arg(8, static_cast<real>(energy_scale_));
   classify_.set_arg(9, dissipated_);
-  classify_.set_arg(11, touching_);
+  classify_.set_arg(11, counters_);
   clear_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
   clear_.set_arg(1, a.contact_acc);
-  clear_.set_arg(2, touching_);
+  clear_.set_arg(2, counters_);
 }
 
 void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
@@ -130,7 +130,11 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   }
 }
 
-size_t ContactForces::touching() { return download<cl_uint>(cl_, touching_, 1)[0]; }
+size_t ContactForces::touching() {
+  if (count_ == 0) return 0;
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  return static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
+}
 
 double ContactForces::dissipated_energy() {
   return static_cast<double>(download<cl_long>(cl_, dissipated_, 1)[0]) / energy_scale_;
