@@ -1,7 +1,7 @@
 // Contact activation "fractured". One work-item per CE4: once it has broken, the two
 // triangles it joined become contact candidates (their new faces are free surfaces).
 // When a triangle joins, word 2 of this step's slot of the skin monitor ring
-// (contact_skin.cl) is set, so the host runs a new detection when it reads that slot.
+// (engine/stages/contact_skin.hpp) is set, so the host runs a new detection when it reads that slot.
 // Every writer writes the same value, so the result does not depend on the order.
 __kernel void activate_broken(const uint n_ce4,
                               __global const int2* restrict status,

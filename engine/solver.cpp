@@ -24,7 +24,10 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
   }
   if (model.contact.enabled) {
     detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin);
-    if (model.contact.rebuild_skin) skin_ = std::make_unique<ContactSkin>(cl, arrays_, model.contact.skin, dt);
+    if (model.contact.rebuild_skin) {
+      skin_ = std::make_unique<ContactSkin>(cl, arrays_, model.contact.skin, dt);
+      integrate_.add_skin_test(skin_->position_at_build(), skin_->monitor(), &ContactSkin::slot_of);
+    }
     if (!model.contact_active.empty()) {
       detection_->set_active(model.contact_active);
       if (cohesive_) {
@@ -85,6 +88,7 @@ void Solver::step() {
   if (cohesive_) cohesive_->enqueue(t);
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_));
+  if (skin_) skin_->measured(steps_ + 1);
   ++steps_;
 }
 

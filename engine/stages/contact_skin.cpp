@@ -23,12 +23,6 @@ ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, double skin, double dt)
   at_build_ = cl.allocate(a.num_nodes * sizeof(real2), "position_at_build");
   monitor_ = cl.allocate(4 * kSlots * sizeof(cl_uint), "skin monitor ring");
   upload(cl, monitor_, host_);
-  kernel_ = compute::kernel(cl.build("contact_skin", {{"GROUP_SIZE", std::to_string(cl.group_size())}}), "max_displacement");
-  kernel_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
-  kernel_.set_arg(1, a.position);
-  kernel_.set_arg(2, a.velocity);
-  kernel_.set_arg(3, at_build_);
-  kernel_.set_arg(4, monitor_);
 }
 
 void ContactSkin::mark() {
@@ -56,8 +50,10 @@ bool ContactSkin::decide_batch() {
   return due;
 }
 
+void ContactSkin::measured(long step) { generation_of_[slot_of(step)] = generation_; }
+
 bool ContactSkin::rebuild_due(long step) {
-  const unsigned slot = slot_of(step), next = slot_of(step + 1);
+  const unsigned slot = slot_of(step);
   const bool batch_ends = slot % kBatch == kBatch - 1;
   // The far margin would eat more than half of the half-skin: test this step exactly.
   // Until a first batch has told the speeds, every step is exact too.
@@ -65,10 +61,6 @@ bool ContactSkin::rebuild_due(long step) {
   bool due = false;
   // The batch read kBatch steps ago: look at it before its slots are measured again.
   if (batch_ends && batch_pending_) due = decide_batch();
-  kernel_.set_arg(5, static_cast<cl_uint>(slot));
-  kernel_.set_arg(6, static_cast<cl_uint>(next));
-  cl_.enqueue(kernel_, arrays_.num_nodes);
-  generation_of_[slot] = generation_;
   if (exact) {
     ++synchronous_;
     cl_.queue().enqueue_read_buffer(monitor_, 4 * slot * sizeof(cl_uint), 4 * sizeof(cl_uint), &host_[4 * slot]);

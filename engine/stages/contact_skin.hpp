@@ -1,4 +1,4 @@
-// Stage: skin rebuild test for contact detection (cl_kernels/contact_skin.cl).
+// Skin rebuild test for contact detection (the test itself runs in cl_kernels/integrate.cl).
 #pragma once
 #include <array>
 #include <vector>
@@ -9,7 +9,8 @@ namespace fdem {
 
 // Decides when contact detection must run again with a skin: a couple can only appear
 // once some node has moved more than half the skin since the last detection. The test
-// runs on the device every step into a ring of kSlots slots; the host reads the ring
+// runs on the device every step, inside the previous step's integration (integrate.cl,
+// Integrate::add_skin_test), into a ring of kSlots slots; the host reads the ring
 // kBatch slots at a time, asynchronously, and looks at a batch kBatch steps after it
 // was read, so a test is seen up to kSlots − 1 steps late and the host never waits for
 // the device in the step loop. The nodes can move a little in those steps, so the test
@@ -24,10 +25,13 @@ class ContactSkin {
   ContactSkin(ClContext& cl, DeviceArrays& arrays, double skin, double dt);
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
-  // Enqueues this step's test (positions now against those at mark()) and says whether
-  // detection must run now. Waits only for a batch read kBatch steps ago, or for its
-  // own test in the exact mode described above.
+  // The integration that ends step − 1 has enqueued the test of `step` (positions then
+  // against those at the last mark()). Never waits.
+  void measured(long step);
+  // Says whether detection must run at `step`, from the tests read so far. Waits only
+  // for a batch read kBatch steps ago, or for its own test in the exact mode above.
   bool rebuild_due(long step);
+  compute::buffer& position_at_build() { return at_build_; }
   // The device ring that the activation stage flags in (word 2 of a slot).
   compute::buffer& monitor() { return monitor_; }
   static unsigned slot_of(long step) { return static_cast<unsigned>(step % kSlots); }
@@ -40,7 +44,6 @@ class ContactSkin {
   ClContext& cl_;
   DeviceArrays& arrays_;
   double half_skin_, dt_;
-  compute::kernel kernel_;
   compute::buffer at_build_, monitor_;
   std::vector<cl_uint> host_;                  // kSlots × 4 words, filled by async reads
   compute::event batch_read_;                  // the last batch read (slots batch_first_ …)

@@ -1,11 +1,13 @@
 #include "engine/stages/integrate.hpp"
 
+#include <string>
+
 namespace fdem {
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity,
                      double local_damping, double dt)
     : cl_(cl), count_(a.num_nodes) {
-  kernel_ = compute::kernel(cl.build("integrate"), "integrate");
+  kernel_ = compute::kernel(cl.build("integrate", {{"GROUP_SIZE", std::to_string(cl.group_size())}}), "integrate");
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, a.position);
   kernel_.set_arg(2, a.velocity);
@@ -20,11 +22,29 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   kernel_.set_arg(11, real(0));
   kernel_.set_arg(12, cl_int(0));
   kernel_.set_arg(13, a.conditions);
+  // No skin test until add_skin_test(); the buffers only need to be valid.
+  kernel_.set_arg(14, cl_int(0));
+  kernel_.set_arg(15, a.position);
+  kernel_.set_arg(16, a.conditions);
+  kernel_.set_arg(17, cl_uint(0));
+  kernel_.set_arg(18, cl_uint(0));
+}
+
+void Integrate::add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor,
+                              unsigned (*slot_of)(long)) {
+  kernel_.set_arg(14, cl_int(1));
+  kernel_.set_arg(15, position_at_build);
+  kernel_.set_arg(16, monitor);
+  slot_of_ = slot_of;
 }
 
 void Integrate::enqueue(double time_after, int step) {
   kernel_.set_arg(11, static_cast<real>(time_after));
   kernel_.set_arg(12, cl_int(step));
+  if (slot_of_) {
+    kernel_.set_arg(17, static_cast<cl_uint>(slot_of_(step + 1)));
+    kernel_.set_arg(18, static_cast<cl_uint>(slot_of_(step + 2)));
+  }
   cl_.enqueue(kernel_, count_);
 }
 

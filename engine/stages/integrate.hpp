@@ -13,11 +13,15 @@ class Integrate {
             double local_damping, double dt);
   // Advances every node from t to time_after = t + Δt. Never waits.
   void enqueue(double time_after, int step);
+  // From now on each step also writes the contact skin test of the next step into ring
+  // slot slot_of(step + 1) of `monitor` (ContactSkin), against `position_at_build`.
+  void add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor, unsigned (*slot_of)(long));
 
  private:
   ClContext& cl_;
   size_t count_;
   compute::kernel kernel_;
+  unsigned (*slot_of_)(long) = nullptr;
 };
 
 }  // namespace fdem
