@@ -133,3 +133,24 @@ TEST_CASE("orthotropic sample at 30° under uniaxial stretch: strains match the 
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("anisotropic") {
+
+TEST_CASE("stable step modulus of a rotated orthotropic material: the fastest direction, whatever the angle") {
+  // ρv² along the material 1 axis is c11 = 60 GPa, the largest over directions for these
+  // constants; rotated by 30° the global C11 and C22 are only 45.5 and 25.5 GPa, so a
+  // modulus read off them would overestimate the stable step by √(60/45.5) = 15%.
+  for (double angle : {0.0, 30.0, 45.0, 90.0, 150.0}) {
+    CAPTURE(angle);
+    io::MaterialConfig m = test::material_config("slate", io::Elasticity::Hyperelastic, io::Plane::Strain);
+    m.stiffness = io::Stiffness{kC11, kC22, kC12, kC66, 0.0, 0.0, angle};
+    const MaterialConstants c = make_material(m, 0.1);
+    CHECK(c.wave_modulus == doctest::Approx(kC11).epsilon(1e-6));
+    if (angle == 30.0) CHECK(std::max(c.c[0], c.c[3]) == doctest::Approx(45.5e9).epsilon(1e-9));
+  }
+  // Isotropic hyperelastic: λ + 2μ.
+  const auto iso = make_material(test::material_config("he", io::Elasticity::Hyperelastic, io::Plane::Strain), 0.1);
+  CHECK(iso.wave_modulus == doctest::Approx(iso.lambda + 2 * iso.mu).epsilon(1e-12));
+}
+
+}  // TEST_SUITE
