@@ -148,6 +148,8 @@ expect_error "probes there: x02, x05" "$wave" arrival "$hist" --centre 0 0.05 --
 expect_error "no probe 'x99'" "$wave" arrival "$hist" --centre 0 0.05 --probes x02 x99
 expect_error "none of the points lies in the mesh" "$wave" arrival "$exo" --centre 0 0.05 --radii 5 6 --angles 0
 expect_error "needs --centre" "$wave" arrival "$hist"
+# Before 50 us the front (at 3000 m/s) has not come near x = 0.5 m: no front to time.
+expect_error "x05 (element [0-9]*): no compressive change" "$wave" arrival "$hist" --centre 0 0.05 --until 5e-5
 expect_error "select them with --probes" "$wave" arrival "$hist" --centre 0 0 --radii 1
 expect_error "needs --split T, or --boundary-distance" "$wave" reflection "$hist" --probe x17
 # A run without [[probe]] entries: its history file has no probe variables.
