@@ -42,7 +42,10 @@ Physical Point("corner") = {1};
 
 // Material-frame constants [Pa] (orthotropic: c16 = c26 = 0) and the angle of the 1 axis.
 constexpr double kC11 = 60e9, kC22 = 20e9, kC12 = 8e9, kC66 = 10e9, kAngle = 30.0;
-constexpr double kTraction = 10e6;  // σ_xx [Pa]: strains ~3e-4, geometric nonlinearity ~0.03%
+// σ_xx [Pa]: strains ~3e-5. The dead load stays along x while the sample shears by γ,
+// an O(γ) out-of-balance that bends it slightly: ±0.025% in σ_xx at 1 MPa (±0.25% at
+// 10 MPa), so a small load keeps the check on the constitutive path.
+constexpr double kTraction = 1e6;
 
 // True masses and local damping relax it: with mass scaling (inertia 0.3 Δt² Σk) and
 // α = 0.8 this sample diverges, because for these constants ω²Δt² reaches 2.57 and the
@@ -111,9 +114,10 @@ TEST_CASE("orthotropic sample at 30° under uniaxial stretch: strains match the 
   const Eigen::Vector3d measured(gx(1), gy(2), gx(2) + gy(1));
   const Eigen::Vector3d exact = closed_form_strain(kTraction);
   MESSAGE("strain (xx, yy, γxy): measured " << measured.transpose() << ", closed form " << exact.transpose());
-  // The closed form for these constants: (2.9313e-4, -9.947e-5, -1.8601e-4); each
-  // component is sizeable, so each is checked against its own magnitude.
-  CHECK(exact(0) == doctest::Approx(2.9313e-4).epsilon(1e-4));
+  // The closed form for these constants: (2.9313e-5, -9.947e-6, -1.8601e-5); each
+  // component is sizeable, so each is checked against its own magnitude (measured on
+  // PoCL: -0.006%, +0.0004%, -0.014%).
+  CHECK(exact(0) == doctest::Approx(2.9313e-5).epsilon(1e-4));
   for (int k = 0; k < 3; ++k) {
     CAPTURE(k);
     CHECK(std::fabs(measured(k) - exact(k)) < 0.005 * std::fabs(exact(k)));
