@@ -50,8 +50,8 @@ constexpr double kTraction = 1e6;
 // True masses and local damping relax it: with mass scaling (inertia 0.3 Δt² Σk) and
 // α = 0.8 this sample diverges, because for these constants ω²Δt² reaches 2.57 and the
 // local damping scales the force by up to 1 + α when it opposes the velocity
-// (2.57 × 1.8 > 4); α ≤ 0.55 converges there. That is the mass-scaling bound, not the
-// anisotropic stress, and is left to the mass-scaling code.
+// (2.57 × 1.8 > 4); α ≤ 0.5 converges (cases/anisotropic/README.md). That is the
+// mass-scaling bound, not the anisotropic stress, and is left to the mass-scaling code.
 std::string sample_case(const std::string& geo, const std::string& out) {
   std::ostringstream c;
   c << "title = \"anisotropic uniaxial stretch\"\n[mesh]\ngeo = \"" << geo << "\"\nsize = 0.05\n"
