@@ -124,15 +124,16 @@ check_speed "history probes, h = 10 mm" "$v_fine" 0.01
 
 # --- reflection at the free right end ----------------------------------------------------
 # x17 is 0.3 m from the free end: sigma_xx comes back as tension that cancels the step,
-# reflected/incident = -1 (5%: the overshoot of the discrete front differs slightly
-# between the incident and the unloading wave).
+# reflected/incident = -1. Tolerance 10%: both fronts ring (overshoot about 25% of the
+# step on this mesh) and the extremes catch the ringing at different phases; splits at
+# D = 0.2 ... 0.35 m gave -0.93 ... -1.03. A fixed end would give +1, an absorbing one 0.
 "$wave" reflection "$hist" --probe x17 --var sxx --boundary-distance 0.3 --speed 3000 \
   --csv "$work/reflection.csv" --png "$work/reflection.png" >"$work/reflection.txt" ||
   fail "reflection"
 cat "$work/reflection.txt"
 ratio=$(sed -n 's/^  reflected \/ incident *//p' "$work/reflection.txt")
-/usr/bin/python3 -c "import sys; sys.exit(0 if abs($ratio + 1) < 0.05 else 1)" ||
-  fail "free-end reflection ratio $ratio, not -1 within 5%"
+/usr/bin/python3 -c "import sys; sys.exit(0 if abs($ratio + 1) < 0.1 else 1)" ||
+  fail "free-end reflection ratio $ratio, not -1 within 10%"
 file "$work/reflection.png" | grep -q "PNG image data" || fail "reflection.png"
 "$wave" reflection "$exo" --point 1.7 0.05 --var SXX --split 7.0e-4 >"$work/reflection_exo.txt" ||
   fail "reflection on the Exodus file"
