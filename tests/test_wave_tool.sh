@@ -1,6 +1,6 @@
 #!/bin/bash
 # tools/fdem-wave on a real run: a P-wave in an elastic strip (tests/data/cases/wave_strip.toml:
-# velocity step at the left end, rollers on the long sides, so the strain is uniaxial and
+# velocity step of 2 m/s at the left end, rollers on the long sides, so the strain is uniaxial and
 # the front travels at c = sqrt((lambda + 2 mu)/rho) = 3000 m/s), written by build/fdem with
 # [[probe]] points. Checks the apparent speed, the free-end reflection, the probe variables
 # in the history file and the error messages. About 10 s on 2 cores with PoCL.
@@ -81,8 +81,8 @@ for name, x in [("x02", 0.2), ("x05", 0.5), ("x08", 0.8), ("x11", 1.1), ("x14", 
     assert np.allclose(v[f"{name}_ps1"], ps1, rtol=1e-12, atol=1e-9 * np.max(np.abs(sxx))), name
     plateau = slice(int(np.argmin(sxx)), None)
     assert np.allclose(syy[plateau].mean(), sxx[plateau].mean() / 3, rtol=0.05), name
-    # velocity behind the front approaches the pushed end's 0.1 m/s
-    assert 0.08 < np.max(v[f"{name}_vx"]) < 0.3, (name, np.max(v[f"{name}_vx"]))
+    # velocity behind the front approaches the pushed end's 2 m/s
+    assert 1.6 < np.max(v[f"{name}_vx"]) < 6.0, (name, np.max(v[f"{name}_vx"]))
 PY
 
 # --- apparent speed -----------------------------------------------------------------------
@@ -110,17 +110,22 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 assert [r["point"] for r in rows] == ["x02", "x05", "x08", "x11", "x14", "x17"], rows
 for r in rows:
     assert abs(float(r["arrival_s"]) - float(r["radius_m"]) / 3000.0) < 0.05 * 1.5 / 3000.0, r
-    assert -1.3e6 < float(r["peak_compression_Pa"]) < -0.25e6, r
+    # PS1 = sigma_yy = -6 MPa behind the front, with the front's overshoot
+    assert -8e6 < float(r["peak_compression_Pa"]) < -5e6, r
 PY
 
-# Refinement: on a 10 mm mesh the speed is closer to c.
-run_case "$work/h10" --set mesh.size=0.01
-"$wave" arrival "$work/h10/wave_strip_history.nc" --centre 0 0.05 >"$work/arrival10.txt" ||
-  fail "arrival, h = 10 mm"
-v_fine=$(speed_of "$work/arrival10.txt")
-check_speed "history probes, h = 10 mm" "$v_fine" 0.01
-/usr/bin/python3 -c "import sys; sys.exit(0 if abs($v_fine - 3000) < abs($v_history - 3000) else 1)" ||
-  fail "refining the mesh did not bring the speed closer to c ($v_history -> $v_fine m/s)"
+# Refinement: on a 10 mm mesh the speed is closer to c. Double builds only: in a float
+# build the round-off of positions (7 digits) is a strain error that grows as the
+# elements shrink, and at 10 mm it is as large as the dispersion (V 2968 m/s both).
+if "$fdem" --version | grep -q "double precision"; then
+  run_case "$work/h10" --set mesh.size=0.01
+  "$wave" arrival "$work/h10/wave_strip_history.nc" --centre 0 0.05 >"$work/arrival10.txt" ||
+    fail "arrival, h = 10 mm"
+  v_fine=$(speed_of "$work/arrival10.txt")
+  check_speed "history probes, h = 10 mm" "$v_fine" 0.01
+  /usr/bin/python3 -c "import sys; sys.exit(0 if abs($v_fine - 3000) < abs($v_history - 3000) else 1)" ||
+    fail "refining the mesh did not bring the speed closer to c ($v_history -> $v_fine m/s)"
+fi
 
 # --- reflection at the free right end ----------------------------------------------------
 # x17 is 0.3 m from the free end: sigma_xx comes back as tension that cancels the step,
@@ -149,8 +154,9 @@ expect_error "probes there: x02, x05" "$wave" arrival "$hist" --centre 0 0.05 --
 expect_error "no probe 'x99'" "$wave" arrival "$hist" --centre 0 0.05 --probes x02 x99
 expect_error "none of the points lies in the mesh" "$wave" arrival "$exo" --centre 0 0.05 --radii 5 6 --angles 0
 expect_error "needs --centre" "$wave" arrival "$hist"
-# Before 50 us the front (at 3000 m/s) has not come near x = 0.5 m: no front to time.
-expect_error "x05 (element [0-9]*): no compressive change" "$wave" arrival "$hist" --centre 0 0.05 --until 5e-5
+# Before 50 us the front (at 3000 m/s) has not reached x = 0.2 m: no front to time at
+# the farther probes (x02 may see the front's dispersive precursor, above 0.1%).
+expect_error "(element [0-9]*): no compressive change after the first sample" "$wave" arrival "$hist" --centre 0 0.05 --until 5e-5
 expect_error "select them with --probes" "$wave" arrival "$hist" --centre 0 0 --radii 1
 expect_error "needs --split T, or --boundary-distance" "$wave" reflection "$hist" --probe x17
 # A run without [[probe]] entries: its history file has no probe variables.
