@@ -133,6 +133,11 @@ int check_command(const Arguments& a) {
           std::cout << "warning: CE4 " << name << " penalty " << value << " Pa is below 10 x E (" << 10 * stiffest
                     << " Pa): intact rock will be too soft and stress waves too slow (seed paper, Section 3.4)\n";
   }
+  for (const auto& probe : p.probes)
+    std::cout << "probe     " << probe.name << " at (" << probe.point[0] << ", " << probe.point[1] << "): node "
+              << m.node_tags[probe.node] << " at (" << m.x[probe.node] << ", " << m.y[probe.node] << "), "
+              << probe.node_distance << " m away; TRI3 " << m.triangle_tags[probe.triangle] << " (element "
+              << probe.triangle + 1 << " of the Exodus file)\n";
   std::cout << "stable dt " << p.stable.dt << " s (triangle " << m.triangle_tags[p.stable.triangle] << ")\n"
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"

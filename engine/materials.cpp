@@ -41,6 +41,21 @@ Voigt rotate_stiffness(const Voigt& v, double angle_deg) {
   return {R[0][0][0][0], R[0][0][1][1], R[0][0][0][1], R[1][1][1][1], R[1][1][0][1], R[0][1][0][1]};
 }
 
+double largest_wave_modulus(const Voigt& c) {
+  // Acoustic tensor A_ik = C_ijkl n_j n_l for n = (cos θ, sin θ); ρ v² are its eigenvalues.
+  // Its entries are quadratic in (cos θ, sin θ), so θ in [0, π) covers every direction;
+  // 3600 samples find the maximum to about 1e-6 relative.
+  double largest = 0;
+  for (int k = 0; k < 3600; ++k) {
+    const double t = M_PI * k / 3600.0, n1 = std::cos(t), n2 = std::sin(t);
+    const double a11 = c[0] * n1 * n1 + 2 * c[2] * n1 * n2 + c[5] * n2 * n2;
+    const double a22 = c[5] * n1 * n1 + 2 * c[4] * n1 * n2 + c[3] * n2 * n2;
+    const double a12 = c[2] * n1 * n1 + (c[1] + c[5]) * n1 * n2 + c[4] * n2 * n2;
+    largest = std::max(largest, 0.5 * (a11 + a22) + std::hypot(0.5 * (a11 - a22), a12));
+  }
+  return largest;
+}
+
 MaterialConstants make_material(const io::MaterialConfig& config, double mean_edge) {
   MaterialConstants m;
   m.name = config.name;
@@ -58,7 +73,10 @@ MaterialConstants make_material(const io::MaterialConfig& config, double mean_ed
   m.viscosity = config.viscosity_critical
                     ? 2.0 * mean_edge * std::sqrt(config.density * config.young)
                     : config.viscosity;
-  m.wave_modulus = m.model == 0 ? m.lambda + 2 * m.mu : std::max(m.c[0], m.c[3]);
+  // The fastest P-wave of a rotated anisotropic material need not run along x or y (at
+  // 30° the material 1 axis is stiffer than C11 and C22 of the global frame), so the
+  // stable step uses the largest modulus over all directions.
+  m.wave_modulus = m.model == 0 ? m.lambda + 2 * m.mu : largest_wave_modulus(m.c);
   return m;
 }
 

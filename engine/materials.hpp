@@ -33,6 +33,10 @@ Voigt isotropic_stiffness(double young, double poisson, io::Plane plane);
 // tensor: C'_ijkl = Q_ia Q_jb Q_kc Q_ld C_abcd.
 Voigt rotate_stiffness(const Voigt& c, double angle_deg);
 
+// The largest P-wave modulus ρ v² over all directions of propagation: the largest
+// eigenvalue of the acoustic tensor C_ijkl n_j n_l over unit vectors n [Pa].
+double largest_wave_modulus(const Voigt& c);
+
 // `mean_edge` is the material's mean triangle edge length [m], the h of
 // viscosity = "critical" (η = 2 h √(ρE)).
 MaterialConstants make_material(const io::MaterialConfig& config, double mean_edge);

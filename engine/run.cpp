@@ -244,6 +244,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   const io::Mesh mesh = io::read_gmsh(mesh_path, &p.notes);
   p.model = build_model(mesh, c, p.notes);
   p.stable = stable_time_step(p.model);
+  p.probes = locate_probes(p.model, c.probes, c.path);
 
   if (p.model.mass_scaling && p.model.contact.enabled)
     throw InputError(c.path + ": [damping] mass_scaling does not account for contact springs, so the step would be "
@@ -293,7 +294,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
                           nodal_names(model), element_names(model));
   const HistoryProbe probe(model, solver.masses());
-  io::HistoryWriter history(p.history_path, config.title, probe.variables());
+  const PointProbes points(p.probes);  // [[probe]] values go after the others in each row
+  auto history_variables = probe.variables();
+  for (auto& v : points.variables(model)) history_variables.push_back(std::move(v));
+  io::HistoryWriter history(p.history_path, config.title, history_variables);
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
@@ -343,7 +347,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       }
       if (history_due) {
         last_row = probe.values(solver);
-        history.append(solver.time(), last_row);
+        auto row = last_row;
+        for (double v : points.values(solver)) row.push_back(v);
+        history.append(solver.time(), row);
       }
       if (frame_due) {
         write_current_frame();

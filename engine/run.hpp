@@ -6,6 +6,7 @@
 
 #include "engine/cl_context.hpp"
 #include "engine/model.hpp"
+#include "engine/probes.hpp"
 #include "io/case_config.hpp"
 
 namespace fdem {
@@ -19,6 +20,7 @@ struct PreparedCase {
   double dt = 0;                   // the Δt the run uses
   long steps = 0;                  // number of steps
   std::string exodus_path, history_path;
+  std::vector<ProbeLocation> probes;  // [[probe]] points tied to their node and triangle
 };
 
 // Reads the case (with --set overrides), meshes a .geo if needed, builds the model and

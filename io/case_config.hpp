@@ -129,6 +129,13 @@ struct ContactConfig {
   std::vector<std::string> regions;
 };
 
+// One [[probe]]: a history point. Its velocity (nearest node) and stress (the element
+// containing the point) go to the history file as <name>_vx, <name>_sxx, ...
+struct ProbeConfig {
+  std::string name;                 // unique; letters, digits, '_' (netCDF variable prefix)
+  std::array<double, 2> point{0.0, 0.0};  // [m] (after mesh.scale)
+};
+
 struct CaseConfig {
   std::string path;  // the case file as given
   std::string dir;   // its directory (relative paths in the case resolve against it)
@@ -143,6 +150,7 @@ struct CaseConfig {
   std::vector<InitialConfig> initials;
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
   std::vector<InterfaceConfig> interfaces;
+  std::vector<ProbeConfig> probes;        // [[probe]] entries
 };
 
 // Reads and validates a case file. `overrides` are "key.path=value" strings from

@@ -79,6 +79,7 @@ const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"frictio
                            {"damping", Shape::Table, &kContactDampingKeys}, {"activation"},
                            {"regions"}, {"rebuild"}, {"skin"},
                            {"pair", Shape::TableArray, &kContactPairKeys}}};
+const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -89,7 +90,8 @@ const Schema kRootKeys{{{"title"},
                         {"damping", Shape::Table, &kDampingKeys},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},
                         {"initial", Shape::TableArray, &kInitialKeys},
-                        {"contact", Shape::Table, &kContactKeys}}};
+                        {"contact", Shape::Table, &kContactKeys},
+                        {"probe", Shape::TableArray, &kProbeKeys}}};
 
 // ---------------------------------------------------------------------------------------
 // Suggestions for misspelt names.
@@ -823,6 +825,30 @@ std::vector<InterfaceConfig> read_interfaces(const TableReader& top,
   });
 }
 
+// [[probe]] entries: the name prefixes history variables, so it must be a netCDF-safe
+// identifier and unique. Whether the point lies in the mesh is checked with the model.
+std::vector<ProbeConfig> read_probes(const TableReader& top) {
+  std::map<std::string, std::string> seen;  // name -> entry that gave it
+  return read_entries(top, "probe", "name", [&](const TableReader& r) {
+    r.check_keys(kProbeKeys);
+    ProbeConfig p;
+    p.name = r.required_string("name");
+    const bool identifier = std::isalpha(static_cast<unsigned char>(p.name[0])) &&
+                            std::all_of(p.name.begin(), p.name.end(), [](char c) {
+                              return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                            });
+    if (!identifier)
+      r.fail("name", r.key_path("name") + " = \"" + p.name + "\" must start with a letter and "
+                     "hold only letters, digits and '_' (it prefixes history variables)");
+    if (auto [it, fresh] = seen.emplace(p.name, r.path()); !fresh)
+      r.fail("name", r.key_path("name") + " = \"" + p.name + "\" is already the name of " +
+                         it->second + ": probe names must be unique");
+    if (!r.has("point")) r.missing("point");
+    p.point = *r.pair("point");
+    return p;
+  });
+}
+
 // ---------------------------------------------------------------------------------------
 // --set: "a.b.c=value" edits the parsed tree before validation.
 
@@ -985,6 +1011,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   c.boundaries = read_entries(top, "boundary", "region", read_boundary);
   c.initials = read_entries(top, "initial", "region", read_initial);
   if (auto contact = reader("contact")) c.contact = read_contact(*contact, c.materials);
+  c.probes = read_probes(top);
   return c;
 }
 

@@ -71,6 +71,9 @@ HistoryWriter::HistoryWriter(const std::string& path, const std::string& title,
             "defining variable '" + v.name + "'");
       put_text_att(id, v.name, "units", v.units);
       put_text_att(id, v.name, "long_name", v.long_name);
+      for (const auto& [att, values] : v.attributes)
+        check(nc_put_att_double(ncid_, id, att.c_str(), NC_DOUBLE, values.size(), values.data()),
+              "writing attribute " + att + " of " + v.name);
       var_ids_.push_back(id);
     }
     check(nc_enddef(ncid_), "finishing the header definition");

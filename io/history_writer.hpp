@@ -1,6 +1,7 @@
 // Time history in a CF-style netCDF file (classic 64-bit-offset, synced after each row).
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fdem::io {
@@ -9,6 +10,8 @@ struct HistoryVariable {
   std::string name;       // netCDF variable name, e.g. "kinetic_energy", "top_force_y"
   std::string units;      // CF units string, e.g. "J", "N", "m"
   std::string long_name;  // human-readable description
+  // Extra numeric attributes (name, values), e.g. a probe's point: ("probe_point", {x, y}).
+  std::vector<std::pair<std::string, std::vector<double>>> attributes = {};
 };
 
 class HistoryWriter {
