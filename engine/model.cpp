@@ -413,17 +413,38 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
     }
 
-    if (bc.traction || bc.pressure) {
+    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing) {
       if (dim != 1)
-        throw InputError(where + ": traction and pressure act on a physical curve; '" + bc.region +
+        throw InputError(where + ": loads and absorbing boundaries act on a physical curve; '" + bc.region +
                          "' is a " + dim_word(dim));
       build_edges();
       EdgeLoad load;
       if (bc.traction) load.tx = (*bc.traction)[0], load.ty = (*bc.traction)[1];
-      if (bc.pressure) load.pressure = *bc.pressure;
+      if (bc.pressure) load.kind = LoadKind::Pressure, load.pressure = *bc.pressure;
       load.rise = bc.rise;
-      const int load_index = static_cast<int>(model.loads.size());
-      model.loads.push_back(load);
+      if (bc.pressure_table) {
+        load.kind = LoadKind::Table;
+        load.times = bc.pressure_table->times;
+        load.values = bc.pressure_table->values;
+      }
+      if (bc.blast) {
+        load.kind = LoadKind::Blast;
+        load.pressure = bc.blast->peak;
+        load.rise = bc.blast->rise;
+        load.ratio = bc.blast->ratio;
+      }
+      if (bc.absorbing) load.kind = LoadKind::Absorbing;
+      // An absorbing edge needs the impedance of its own material: one load per
+      // material along the curve.
+      std::map<int, int> load_of_material;
+      auto load_for = [&](int triangle) {
+        const int material = load.kind == LoadKind::Absorbing ? model.triangle_material[triangle] : -1;
+        auto found = load_of_material.find(material);
+        if (found != load_of_material.end()) return found->second;
+        load.material = material;
+        model.loads.push_back(load);
+        return load_of_material[material] = static_cast<int>(model.loads.size() - 1);
+      };
       for (int g : find_region(mesh, bc.region, where)) {
         for (size_t l = 0; l < mesh.lines.size(); ++l) {
           if (mesh.line_group[l] != g) continue;
@@ -435,7 +456,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
           if (it->second.count != 1)
             throw InputError(where + ": curve '" + bc.region + "' runs inside the body (line element " +
                              std::to_string(mesh.line_tags[l]) + " lies between two triangles); loads act on the boundary");
-          model.loaded_edges.push_back({it->second.a, it->second.b, load_index});
+          model.loaded_edges.push_back({it->second.a, it->second.b, load_for(it->second.triangle)});
         }
       }
     }
@@ -491,6 +512,15 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   split_fracturable(model, config, notes);
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   return model;
+}
+
+BlastPulse blast_pulse(double peak, double rise, double ratio) {
+  // t₀ = ln r / (β − α) with β = r α gives α = ln r / (t₀ (r − 1)).
+  BlastPulse p;
+  p.alpha = std::log(ratio) / (rise * (ratio - 1.0));
+  p.beta = ratio * p.alpha;
+  p.scale = peak / (std::exp(-p.alpha * rise) - std::exp(-p.beta * rise));
+  return p;
 }
 
 StableStep stable_time_step(const Model& model) {
