@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "case_files.hpp"
@@ -96,6 +97,27 @@ TEST_CASE("wave-bar case (gmsh mesh, no CE4): the front travels at V_p within 0.
   const SpeedFit fit = wave_bar_speed(dir.str() + "/wave-bar_history.nc");
   MESSAGE("wave-bar case: V_p = " << fit.speed << " m/s (" << 100 * (fit.speed / kTheory - 1) << "% from 5000 m/s)");
   CHECK(std::fabs(fit.speed / kTheory - 1) < 0.005);
+}
+
+TEST_CASE("loaded and absorbing edges on split fracturable nodes belong to their own triangle, body on the left") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(test::source_path("cases/wave-bar/ce4.toml"), {"output.dir=\"" + dir.str() + "\""});
+  const Model& m = p.model;
+  REQUIRE(!m.ce4.empty());
+  std::map<std::pair<int, int>, int> ccw_edges;  // (a, b) in a triangle's counter-clockwise order → triangle
+  for (size_t t = 0; t < m.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) ccw_edges[{m.triangles[t][k], m.triangles[t][(k + 1) % 3]}] = static_cast<int>(t);
+  int absorbing = 0;
+  for (const auto& e : m.loaded_edges) {
+    CHECK(ccw_edges.count({e.a, e.b}) == 1);
+    if (m.loads[e.load].kind == LoadKind::Absorbing) {
+      ++absorbing;
+      CHECK(m.loads[e.load].material == 0);
+      CHECK(m.x[e.a] == doctest::Approx(3.0));
+      CHECK(m.x[e.b] == doctest::Approx(3.0));
+    }
+  }
+  CHECK(absorbing == 5);  // the right end, 5 cm at 1 cm elements
 }
 
 TEST_CASE("coarse blast: the hole pushes the rock outwards and the front reaches the stations in order") {
