@@ -49,6 +49,13 @@ validate: build
 	$(PYTHON) tools/fdem-fracture cracks out/validate/brazilian/brazilian.exo --frames 2 3 5 -o out/validate/brazilian_cracks.png
 	$(PYTHON) tools/fdem-fracture stress-strain out/validate/ucs/ucs_history.nc --test ucs --size 0.1295 --width 0.0517 \
 	  -o out/validate/ucs_stress_strain.png
+	$(PYTHON) tools/fdem-fracture cracks out/validate/blasting/blasting.exo --frames 2 6 9 13 --range -20 10 \
+	  -o out/validate/blasting_absorbing_cracks.png
+	$(PYTHON) tools/fdem-fracture cracks out/validate/blasting-free/blasting-free.exo --frames 2 6 9 13 --range -20 10 \
+	  -o out/validate/blasting_free_cracks.png
+	for f in 50 10 1; do $(PYTHON) tools/fdem-fracture cracks out/validate/wave-penalty-$${f}E/wave-penalty.exo --frames 3 \
+	  --range -20 10 -o out/validate/wave_penalty_$${f}E_900us.png || exit 1; done
+	@cat out/validate/wave-penalty.md
 	@echo "validation output and plots in out/validate/"
 
 # The demo: the seed paper's Brazilian disc test on the default device, then the crack

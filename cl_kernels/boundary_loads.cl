@@ -1,16 +1,62 @@
-// Edge tractions and pressures. One work-item per loaded boundary edge (a, b), ordered
-// so that the body lies on its left (its outward normal is (e.y, -e.x)/|e|, e = b - a).
-// Traction: a dead load per reference length, f = τ L₀ t. Pressure: a follower load
-// normal to the current edge, f = -p n L t (positive p pushes into the body).
-// Both ramp linearly from 0 over the load's rise time. Half of f goes to each node,
-// written to the edge's two slots (the node gather sums them).
-// load_table per load: (τx, τy, p, rise).
+// Loads on boundary edges. Edge (a, b) is ordered so that the body lies on its left: its
+// outward normal is (e.y, -e.x)/|e|, e = b - a. One row of load_table per load,
+// (kind, p1, p2, p3):
+//   LOAD_TRACTION  (τx, τy, rise): dead load per reference length, f = τ L₀ t, ramped.
+//   LOAD_PRESSURE  (p, rise, -): follower load normal to the current edge,
+//                  f = -p n L t (positive p pushes into the body), ramped.
+//   LOAD_BLAST     (P₀/(e^{-αt₀} - e^{-βt₀}), α, β): the pressure of Eq. 21, as above.
+//   LOAD_TABLE     (first point, point count, -): pressure interpolated linearly in
+//                  pressure_points (time, value), held at the end values outside them.
+//   LOAD_ABSORBING (material, -, -): viscous tractions of Eq. 20, t = -Z v with the
+//                  impedance Z = (ρ Γ)^½, Γ_ik = C_ijkl n_j n_l the acoustic tensor of
+//                  the adjacent material for the current normal n (isotropic:
+//                  Z = ρV_p nn + ρV_s ss). Each node gets the dashpot of half the
+//                  edge acting on its own velocity (a lumped dashpot).
+// Loads other than the absorbing one put half of f on each node. The force on each
+// node is written to the edge's two slots (the node gather sums them).
+#define LOAD_TRACTION 0
+#define LOAD_PRESSURE 1
+#define LOAD_BLAST 2
+#define LOAD_TABLE 3
+#define LOAD_ABSORBING 4
+
+// Pressure at `time` from the table's points [first, first + count).
+inline real table_pressure(__global const real2* points, uint first, uint count, real time) {
+  if (time <= points[first].x) return points[first].y;
+  for (uint k = first + 1; k < first + count; ++k) {
+    const real2 p1 = points[k];
+    if (time < p1.x) {
+      const real2 p0 = points[k - 1];
+      return p0.y + (p1.y - p0.y) * (time - p0.x) / (p1.x - p0.x);
+    }
+  }
+  return points[first + count - 1].y;
+}
+
+// The 2x2 impedance (ρΓ)^½ of material `m` for unit normal n, as (Zxx, Zxy, Zyy).
+// For a symmetric positive definite A: √A = (A + √det A I) / √(tr A + 2√det A).
+inline real3 impedance(__global const real* material, real2 n) {
+  const real c11 = material[MAT_C11], c12 = material[MAT_C12], c16 = material[MAT_C16];
+  const real c22 = material[MAT_C22], c26 = material[MAT_C26], c66 = material[MAT_C66];
+  const real rho = material[MAT_DENSITY];
+  const real xx = n.x * n.x, xy = n.x * n.y, yy = n.y * n.y;
+  const real gxx = rho * (c11 * xx + (real)2 * c16 * xy + c66 * yy);
+  const real gxy = rho * (c16 * xx + (c12 + c66) * xy + c26 * yy);
+  const real gyy = rho * (c66 * xx + (real)2 * c26 * xy + c22 * yy);
+  const real s = sqrt(gxx * gyy - gxy * gxy);
+  const real inv = (real)1 / sqrt(gxx + gyy + (real)2 * s);
+  return (real3)((gxx + s) * inv, gxy * inv, (gyy + s) * inv);
+}
+
 __kernel void boundary_loads(const uint n_edges,
                              __global const uint2* restrict edge_nodes,
                              __global const uint* restrict edge_load,
                              __global const real4* restrict load_table,
+                             __global const real2* restrict pressure_points,
+                             __global const real* restrict materials,
                              __global const real2* restrict ref_position,
                              __global const real2* restrict position,
+                             __global const real2* restrict velocity,
                              const real thickness,
                              const real time,
                              __global real2* restrict edge_force) {
@@ -18,11 +64,34 @@ __kernel void boundary_loads(const uint n_edges,
   if (e >= n_edges) return;
   const uint2 ab = edge_nodes[e];
   const real4 load = load_table[edge_load[e]];
-  const real ramp = load.w > (real)0 ? fmin(time / load.w, (real)1) : (real)1;
-  const real2 e0 = ref_position[ab.y] - ref_position[ab.x];
+  const int kind = (int)load.x;
   const real2 ec = position[ab.y] - position[ab.x];
-  // -p n L = -p (ec.y, -ec.x)
-  const real2 f = ramp * thickness * ((real2)(load.x, load.y) * length(e0) - load.z * (real2)(ec.y, -ec.x));
+  const real2 outward_length = (real2)(ec.y, -ec.x);  // n L on the current edge
+  if (kind == LOAD_ABSORBING) {
+    const real edge_length = length(ec);
+    const real2 n = outward_length / edge_length;
+    const real3 z = impedance(materials + (uint)load.y * MATERIAL_STRIDE, n);
+    const real node_share = (real)0.5 * edge_length * thickness;
+    const real2 va = velocity[ab.x], vb = velocity[ab.y];
+    edge_force[2 * e] = -node_share * (real2)(z.x * va.x + z.y * va.y, z.y * va.x + z.z * va.y);
+    edge_force[2 * e + 1] = -node_share * (real2)(z.x * vb.x + z.y * vb.y, z.y * vb.x + z.z * vb.y);
+    return;
+  }
+  real2 f;
+  if (kind == LOAD_TRACTION) {
+    const real ramp = load.w > (real)0 ? fmin(time / load.w, (real)1) : (real)1;
+    const real2 e0 = ref_position[ab.y] - ref_position[ab.x];
+    f = ramp * thickness * length(e0) * (real2)(load.y, load.z);
+  } else {
+    real p;
+    if (kind == LOAD_PRESSURE)
+      p = load.y * (load.z > (real)0 ? fmin(time / load.z, (real)1) : (real)1);
+    else if (kind == LOAD_BLAST)
+      p = load.y * (exp(-load.z * time) - exp(-load.w * time));
+    else
+      p = table_pressure(pressure_points, (uint)load.y, (uint)load.z, time);
+    f = -p * thickness * outward_length;
+  }
   edge_force[2 * e] = (real)0.5 * f;
   edge_force[2 * e + 1] = (real)0.5 * f;
 }

@@ -14,7 +14,9 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
                             (model.contact.enabled ? 2 * 8 : 0));  // fixed-point contact force
   const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
   const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
-  const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r +
+  size_t points = 1;
+  for (const auto& l : model.loads) points += l.times.size();
+  const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r + points * 2 * r +
                         model.materials.size() * kMaterialStride * r + 64;
   // Contact: couple keys and two history lists (8 + 2 × 80 bytes per couple), about 4
   // couples per triangle to start with, plus the detection's per-triangle arrays.
@@ -53,7 +55,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   corner_slot = cl.allocate(3 * t * sizeof(uint32_t), "corner_slot");
   edge_nodes = cl.allocate(2 * e * sizeof(uint32_t), "edge_nodes");
   edge_load = cl.allocate(e * sizeof(uint32_t), "edge_load");
-  load_table = cl.allocate(model.loads.size() * sizeof(real4), "load_table");
+  load_table = cl.allocate(std::max<size_t>(1, model.loads.size()) * sizeof(real4), "load_table");
   edge_force = cl.allocate(2 * e * sizeof(real2), "edge_force");
   edge_start = cl.allocate((n + 1) * sizeof(uint32_t), "edge_start");
   edge_slot = cl.allocate(2 * e * sizeof(uint32_t), "edge_slot");
@@ -111,8 +113,28 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   upload(cl, edge_nodes, en);
   upload(cl, edge_load, el);
   std::vector<real4> loads;
-  for (const auto& l : model.loads) loads.push_back({real(l.tx), real(l.ty), real(l.pressure), real(l.rise)});
+  std::vector<real2> points;
+  for (const auto& l : model.loads) {
+    const real kind = real(static_cast<int>(l.kind));
+    switch (l.kind) {
+      case LoadKind::Traction: loads.push_back({kind, real(l.tx), real(l.ty), real(l.rise)}); break;
+      case LoadKind::Pressure: loads.push_back({kind, real(l.pressure), real(l.rise), 0}); break;
+      case LoadKind::Blast: {
+        const BlastPulse b = blast_pulse(l.pressure, l.rise, l.ratio);
+        loads.push_back({kind, real(b.scale), real(b.alpha), real(b.beta)});
+        break;
+      }
+      case LoadKind::Table:
+        loads.push_back({kind, real(points.size()), real(l.times.size()), 0});
+        for (size_t k = 0; k < l.times.size(); ++k) points.push_back({real(l.times[k]), real(l.values[k])});
+        break;
+      case LoadKind::Absorbing: loads.push_back({kind, real(l.material), 0, 0}); break;
+    }
+  }
   upload(cl, load_table, loads);
+  if (points.empty()) points.push_back({0, 0});
+  pressure_points = cl.allocate(points.size() * sizeof(real2), "pressure_points");
+  upload(cl, pressure_points, points);
   const SlotMap edges = build_slot_map(n, edge_items);
   upload(cl, edge_start, edges.start);
   upload(cl, edge_slot, edges.slot);

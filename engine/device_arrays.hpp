@@ -36,7 +36,8 @@ struct DeviceArrays {
   // Loaded boundary edges
   compute::buffer edge_nodes;    // uint2 (a, b), body on the left
   compute::buffer edge_load;     // uint: index into load_table
-  compute::buffer load_table;    // real4 per load: (τx, τy, p, rise)
+  compute::buffer load_table;    // real4 per load: (kind, three parameters), see boundary_loads.cl
+  compute::buffer pressure_points;  // real2 (time, pressure) of every pressure table, one after another
   compute::buffer edge_force;    // real2 ×2 per edge [N]
   compute::buffer edge_start;    // uint, num_nodes+1: node → edge-end-slot CSR offsets
   compute::buffer edge_slot;     // uint, 2 per edge

@@ -413,17 +413,38 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
     }
 
-    if (bc.traction || bc.pressure) {
+    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing) {
       if (dim != 1)
-        throw InputError(where + ": traction and pressure act on a physical curve; '" + bc.region +
+        throw InputError(where + ": loads and absorbing boundaries act on a physical curve; '" + bc.region +
                          "' is a " + dim_word(dim));
       build_edges();
       EdgeLoad load;
       if (bc.traction) load.tx = (*bc.traction)[0], load.ty = (*bc.traction)[1];
-      if (bc.pressure) load.pressure = *bc.pressure;
+      if (bc.pressure) load.kind = LoadKind::Pressure, load.pressure = *bc.pressure;
       load.rise = bc.rise;
-      const int load_index = static_cast<int>(model.loads.size());
-      model.loads.push_back(load);
+      if (bc.pressure_table) {
+        load.kind = LoadKind::Table;
+        load.times = bc.pressure_table->times;
+        load.values = bc.pressure_table->values;
+      }
+      if (bc.blast) {
+        load.kind = LoadKind::Blast;
+        load.pressure = bc.blast->peak;
+        load.rise = bc.blast->rise;
+        load.ratio = bc.blast->ratio;
+      }
+      if (bc.absorbing) load.kind = LoadKind::Absorbing;
+      // An absorbing edge needs the impedance of its own material: one load per
+      // material along the curve.
+      std::map<int, int> load_of_material;
+      auto load_for = [&](int triangle) {
+        const int material = load.kind == LoadKind::Absorbing ? model.triangle_material[triangle] : -1;
+        auto found = load_of_material.find(material);
+        if (found != load_of_material.end()) return found->second;
+        load.material = material;
+        model.loads.push_back(load);
+        return load_of_material[material] = static_cast<int>(model.loads.size() - 1);
+      };
       for (int g : find_region(mesh, bc.region, where)) {
         for (size_t l = 0; l < mesh.lines.size(); ++l) {
           if (mesh.line_group[l] != g) continue;
@@ -435,7 +456,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
           if (it->second.count != 1)
             throw InputError(where + ": curve '" + bc.region + "' runs inside the body (line element " +
                              std::to_string(mesh.line_tags[l]) + " lies between two triangles); loads act on the boundary");
-          model.loaded_edges.push_back({it->second.a, it->second.b, load_index});
+          model.loaded_edges.push_back({it->second.a, it->second.b, load_for(it->second.triangle)});
         }
       }
     }
@@ -493,11 +514,29 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   return model;
 }
 
+BlastPulse blast_pulse(double peak, double rise, double ratio) {
+  // t₀ = ln r / (β − α) with β = r α gives α = ln r / (t₀ (r − 1)).
+  BlastPulse p;
+  p.alpha = std::log(ratio) / (rise * (ratio - 1.0));
+  p.beta = ratio * p.alpha;
+  p.scale = peak / (std::exp(-p.alpha * rise) - std::exp(-p.beta * rise));
+  return p;
+}
+
 StableStep stable_time_step(const Model& model) {
+  // Absorbing edges (keyed by their nodes, the triangle's own copies) and their length.
+  std::map<std::pair<int, int>, double> absorbing;
+  for (const auto& e : model.loaded_edges)
+    if (model.loads[e.load].kind == LoadKind::Absorbing)
+      absorbing[edge_key(e.a, e.b)] += std::hypot(model.x[e.b] - model.x[e.a], model.y[e.b] - model.y[e.a]);
   StableStep best{std::numeric_limits<double>::infinity(), 0};
   for (size_t t = 0; t < model.num_triangles(); ++t) {
     const auto& tri = model.triangles[t];
     const auto& m = model.materials[model.triangle_material[t]];
+    double dashpot_length = 0;  // absorbing edges of this triangle [m]
+    if (!absorbing.empty())
+      for (int e = 0; e < 3; ++e)
+        if (auto it = absorbing.find(edge_key(tri[e], tri[(e + 1) % 3])); it != absorbing.end()) dashpot_length += it->second;
     double longest = 0;
     for (int e = 0; e < 3; ++e) {
       const int a = tri[e], b = tri[(e + 1) % 3];
@@ -519,7 +558,11 @@ StableStep stable_time_step(const Model& model) {
         modulus = std::max({modulus, f.penalty_opening, f.penalty_sliding, f.penalty_overlap});
     const double c = std::sqrt(modulus / m.density);
     const double omega = 2.0 * c / h;
-    const double xi = m.viscosity * omega / (2.0 * modulus);
+    double xi = m.viscosity * omega / (2.0 * modulus);
+    // An absorbing edge is an explicit dashpot c_d = ρV L t/2 on each of its nodes; on a
+    // node held only by this triangle (mass ρAt/3) it adds the damping ratio
+    // c_d / (2 m ω) (at most 0.75 h/h_edge: the step shrinks by up to half).
+    if (dashpot_length > 0) xi += 0.75 * std::sqrt(m.density * m.wave_modulus) * dashpot_length / (m.density * 0.5 * area2 * omega);
     const double dt = h / c * (std::sqrt(1.0 + xi * xi) - xi);
     if (dt < best.dt) best = {dt, t};
   }

@@ -30,11 +30,31 @@ struct BoundaryGroup {
   }
 };
 
+// What a load does to its edges (the kinds of cl_kernels/boundary_loads.cl).
+enum class LoadKind { Traction = 0, Pressure = 1, Blast = 2, Table = 3, Absorbing = 4 };
+
 struct EdgeLoad {
-  double tx = 0, ty = 0;  // traction [Pa] (dead load per reference length)
-  double pressure = 0;    // [Pa], positive pushes into the body (follower load)
-  double rise = 0;        // ramp time [s]
+  LoadKind kind = LoadKind::Traction;
+  double tx = 0, ty = 0;     // Traction: [Pa] (dead load per reference length)
+  double pressure = 0;       // Pressure: [Pa], positive pushes into the body (follower load); Blast: peak P₀
+  double rise = 0;           // Traction, Pressure: ramp time [s]; Blast: rise time t₀ [s]
+  double ratio = 0;          // Blast: β/α (> 1)
+  std::vector<double> times, values;  // Table: pressure [Pa] against time [s], piecewise linear
+  int material = -1;         // Absorbing: the material on the inside of the edges
+
+  static EdgeLoad make(LoadKind kind, double tx, double ty, double pressure, double rise, double ratio = 0) {
+    EdgeLoad l;
+    l.kind = kind, l.tx = tx, l.ty = ty, l.pressure = pressure, l.rise = rise, l.ratio = ratio;
+    return l;
+  }
 };
+
+// Eq. 21 written as P(t) = scale (e^{-αt} - e^{-βt}): α and β from the rise time
+// t₀ = ln(β/α)/(β - α) and the ratio β/α, scale = P₀ / (e^{-αt₀} - e^{-βt₀}).
+struct BlastPulse {
+  double alpha = 0, beta = 0, scale = 0;
+};
+BlastPulse blast_pulse(double peak, double rise, double ratio);
 
 struct LoadedEdge {
   int a = 0, b = 0;  // node indices; the body lies on the left of a → b

@@ -84,6 +84,20 @@ struct DampingConfig {
   bool mass_scaling = false;
 };
 
+// pressure = { times = [...], values = [...] }: piecewise linear in time, held at the
+// first and last values outside the times.
+struct PressureTable {
+  std::vector<double> times;   // [s], increasing
+  std::vector<double> values;  // [Pa]
+};
+
+// blast = { peak, rise, ratio }: the blast-hole pressure of the paper's Eq. 21.
+struct BlastConfig {
+  double peak = 0;   // P₀ [Pa], reached at t = rise
+  double rise = 0;   // t₀ [s]
+  double ratio = 0;  // β/α > 1
+};
+
 struct BoundaryConfig {
   std::string region;                          // Gmsh physical curve or surface
   bool fix_x = false, fix_y = false;           // fix = ["x"], ["y"] or ["x", "y"]
@@ -91,6 +105,9 @@ struct BoundaryConfig {
   double rise = 0.0;                           // ramp time [s] for velocity, traction, pressure
   std::optional<std::array<double, 2>> traction;  // [Pa] on a physical curve
   std::optional<double> pressure;              // [Pa], positive pushes into the body
+  std::optional<PressureTable> pressure_table; // pressure given as a table instead of a number
+  std::optional<BlastConfig> blast;            // Eq. 21 pressure on a blast hole
+  bool absorbing = false;                      // viscous non-reflecting boundary (Eq. 20)
 };
 
 struct InitialConfig {

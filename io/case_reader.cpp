@@ -69,8 +69,10 @@ Schema with_fields(std::vector<Field> fields, const Schema& more) {
 const Schema kInterfaceKeys = with_fields({{"materials"}}, kFractureKeys);
 const Schema kGravityKeys{{{"g"}}};
 const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
-const Schema kBoundaryKeys{
-    {{"region"}, {"fix"}, {"velocity"}, {"rise"}, {"traction"}, {"pressure"}}};
+const Schema kBlastKeys{{{"peak"}, {"rise"}, {"ratio"}}};
+const Schema kPressureTableKeys{{{"times"}, {"values"}}};
+const Schema kBoundaryKeys{{{"region"}, {"fix"}, {"velocity"}, {"rise"}, {"traction"}, {"pressure"},
+                            {"blast", Shape::Table, &kBlastKeys}, {"absorbing"}}};
 const Schema kInitialKeys{{{"region"}, {"velocity"}}};
 const Schema kContactDampingKeys{{{"transition"}, {"exponent"}}};
 const Schema kContactPairKeys{{{"materials"}, {"normal_penalty"}, {"tangential_penalty"},
@@ -641,6 +643,50 @@ DampingConfig read_damping(const TableReader& r) {
   return d;
 }
 
+// An array of numbers of any length (at least one), e.g. times = [0.0, 1e-4].
+std::vector<double> read_numbers(const TableReader& r, std::string_view key) {
+  if (!r.has(key)) r.missing(key);
+  const toml::array* a = r.find(key)->as_array();
+  if (!a || a->empty())
+    r.fail(key, r.key_path(key) + " must be a non-empty array of numbers, found " + describe(*r.find(key)));
+  std::vector<double> out;
+  for (std::size_t i = 0; i < a->size(); ++i)
+    out.push_back(as_number(r.ctx(), *a->get(i), r.key_path(key) + "[" + std::to_string(i) + "]", kAny));
+  return out;
+}
+
+// `pressure` is a number, or a table { times, values } of a piecewise linear pressure;
+// `blast = { peak, rise, ratio }` is the pressure of Eq. 21.
+void read_boundary_pressure(const TableReader& r, BoundaryConfig& b) {
+  const toml::node* p = r.find("pressure");
+  if (p && p->is_table()) {
+    const std::string path = r.key_path("pressure");
+    const TableReader t(r.ctx(), *p->as_table(), path, path, path);
+    t.check_keys(kPressureTableKeys);
+    PressureTable table{read_numbers(t, "times"), read_numbers(t, "values")};
+    if (table.times.size() != table.values.size())
+      t.fail("values", path + ": times has " + std::to_string(table.times.size()) + " entries but values has " +
+                           std::to_string(table.values.size()) + "; give one value per time");
+    for (std::size_t i = 1; i < table.times.size(); ++i)
+      if (!(table.times[i] > table.times[i - 1]))
+        t.fail("times", path + ".times must increase: times[" + std::to_string(i) + "] = " +
+                            format_number(table.times[i]) + " follows " + format_number(table.times[i - 1]));
+    b.pressure_table = table;
+  } else if (p && !p->is_number()) {
+    r.fail("pressure", r.key_path("pressure") + " must be a number or a table { times = [...], values = [...] }, found " +
+                           describe(*p));
+  } else {
+    b.pressure = r.number("pressure");
+  }
+  if (const toml::table* t = subtable(r, "blast")) {
+    const std::string path = r.key_path("blast");
+    const TableReader blast(r.ctx(), *t, path, path, path);
+    blast.check_keys(kBlastKeys);
+    b.blast = BlastConfig{blast.required_number("peak", kPositive), blast.required_number("rise", kPositive),
+                          blast.required_number("ratio", Range{1.0, std::numeric_limits<double>::infinity(), true, false})};
+  }
+}
+
 BoundaryConfig read_boundary(const TableReader& r) {
   r.check_keys(kBoundaryKeys);
   BoundaryConfig b;
@@ -659,24 +705,32 @@ BoundaryConfig read_boundary(const TableReader& r) {
   }
   b.velocity = r.pair("velocity");
   b.traction = r.pair("traction");
-  b.pressure = r.number("pressure");
-  const bool loads = b.traction || b.pressure, motion = b.fix_x || b.fix_y || b.velocity;
+  read_boundary_pressure(r, b);
+  b.absorbing = r.boolean("absorbing").value_or(false);
+  const bool loads = b.traction || b.pressure || b.pressure_table || b.blast || b.absorbing;
+  const bool motion = b.fix_x || b.fix_y || b.velocity;
   if (!loads && !motion)
     r.ctx().fail(r.table(), r.title() + " needs at least one of 'fix', 'velocity', 'traction', "
-                                    "'pressure'");
-  r.exclusive("traction", "pressure");
-  if (loads && motion)
-    r.fail(b.traction ? "traction" : "pressure",
-           r.key_path(b.traction ? "traction" : "pressure") +
-               " cannot be combined with fix or velocity in one [[boundary]]: use two entries");
+                                    "'pressure', 'blast', 'absorbing = true'");
+  const char* kinds[] = {"traction", "pressure", "blast", "absorbing"};
+  const int count = b.absorbing ? 4 : 3;  // absorbing = false is no load
+  for (int i = 0; i < count; ++i)
+    for (int j = i + 1; j < count; ++j) r.exclusive(kinds[i], kinds[j]);
+  if (loads && motion) {
+    const char* load = b.traction ? "traction" : b.blast ? "blast" : b.absorbing ? "absorbing" : "pressure";
+    r.fail(load, r.key_path(load) + " cannot be combined with fix or velocity in one [[boundary]]: use two entries");
+  }
   for (int axis = 0; axis < 2; ++axis)
     if (b.velocity && (axis == 0 ? b.fix_x : b.fix_y) && (*b.velocity)[axis] != 0.0)
       r.fail("velocity", r.key_path("velocity") + "[" + std::to_string(axis) + "] = " +
                              format_number((*b.velocity)[axis]) + " but " + r.key_path("fix") +
                              " holds \"" + (axis == 0 ? "x" : "y") +
                              "\" still: it must be 0");
-  if (r.has("rise") && !b.velocity && !loads)
-    r.fail("rise", r.key_path("rise") + " needs a velocity, traction or pressure to ramp");
+  if (r.has("rise") && !b.velocity && !b.traction && !b.pressure)
+    r.fail("rise", r.key_path("rise") + " needs a velocity, traction or pressure to ramp" +
+                       (b.blast ? " (a blast has its own rise inside: blast = { rise = ... })"
+                        : b.pressure_table ? " (a pressure table gives the time dependence itself)"
+                                           : ""));
   b.rise = r.number("rise", kNonNegative).value_or(0.0);
   return b;
 }

@@ -176,7 +176,7 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
   std::vector<std::array<int, 3>> tris;
   for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
   Model m = test::make_model(x, y, tris, test::all_material_variants());
-  m.loads.push_back({1e3, 0, 0, 0});
+  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1e3, 0, 0, 0));
   for (int k = 0; k < spokes; ++k) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % spokes, 0});
   auto& cl = test::context();
   DeviceArrays arrays(cl, m);
@@ -280,8 +280,8 @@ TEST_CASE("boundary loads: pressure on a closed boundary has no net force; tract
   std::vector<std::array<int, 3>> tris;
   for (int k = 0; k < sides; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % sides});
   Model m = test::make_model(x, y, tris, {test::all_material_variants()[0]});
-  m.loads.push_back({0, 0, 2.0e6, 0});        // pressure
-  m.loads.push_back({1.0e5, -3.0e5, 0, 0.5});  // traction with a rise time
+  m.loads.push_back(EdgeLoad::make(LoadKind::Pressure, 0, 0, 2.0e6, 0));        // pressure
+  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1.0e5, -3.0e5, 0, 0.5));  // traction with a rise time
   for (int k = 0; k < sides; ++k) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % sides, 0});
   m.loaded_edges.push_back({1, 2, 1});
   auto& cl = test::context();

@@ -1,4 +1,5 @@
-// Stage: tractions and pressures on loaded boundary edges (cl_kernels/boundary_loads.cl).
+// Stage: tractions, pressures (constant, tabulated, blast) and absorbing tractions on
+// boundary edges (cl_kernels/boundary_loads.cl).
 #pragma once
 #include "engine/device_arrays.hpp"
 
@@ -7,7 +8,8 @@ namespace fdem {
 class BoundaryLoads {
  public:
   BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness);
-  // Edge forces at time `time`. Never waits; does nothing when no edge is loaded.
+  // Edge forces at time `time` (absorbing edges use the current velocities). Never
+  // waits; does nothing when no edge is loaded.
   void enqueue(double time);
 
  private:
