@@ -74,6 +74,16 @@ inline void integrate_potential(const real l0[3], const real l1[3], real* I0, re
   *inside = length;
 }
 
+// A force term on vertex a of triangle k of the couple. With CONTACT_SUM_PER_COUPLE
+// (the host sets it for CPU devices, where each 64-bit atomic is a locked instruction)
+// the terms are summed per vertex in a fixed order and added once per node at the end;
+// on GPUs each term goes out at once (holding the sums costs registers and was slower).
+#ifdef CONTACT_SUM_PER_COUPLE
+#define COUPLE_FORCE(k, a, f) fnode[k][a] += (f)
+#else
+#define COUPLE_FORCE(k, a, f) add_force(contact_acc, nodes[k][a], (f), force_scale)
+#endif
+
 inline void add_force(__global long* acc, uint node, real2 f, real scale) {
   atom_add(&acc[2 * node], convert_long_rte(f.x * scale));
   atom_add(&acc[2 * node + 1], convert_long_rte(f.y * scale));
@@ -166,6 +176,25 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
 }
 
+// Couple c: true when it may overlap (for the list); otherwise it is done here.
+inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
+                            __global const ulong* previous_keys, __global const real* previous_history,
+                            __global real* history, __global const uint* tri_nodes, __global const real2* position,
+                            const real energy_scale, __global long* dissipated, const uint same_list,
+                            __global uchar* live) {
+  const ulong key = keys[c];
+  uint tri[2], nodes[2][3];
+  real2 x[2][3];
+  couple_nodes(key, tri_nodes, position, tri, nodes, x);
+  if (!separated(x)) return true;
+  if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
+    const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
+    forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
+    live[c] = 0;
+  }
+  return false;
+}
+
 // One work-item per candidate couple c: the cheap separation test. Separated couples are
 // done here (forget_couple); the others are appended to `overlap_list` for
 // contact_forces, so that its work-items all do the full evaluation together instead of
@@ -175,6 +204,9 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
 // live[c]: 1 when couple c touched in the last step (written by both kernels; read in
 // place, to skip the history of couples that are apart and already forgotten; the host
 // counts them for the number of touching couples).
+// On GPUs the list grows by one global atomic per work-group (a local count first: one
+// global counter hit by every overlapping couple would serialise them); CPU devices
+// (CONTACT_SUM_PER_COUPLE) have few threads and take the plain counter, without barriers.
 __kernel void contact_classify(const uint n_couples,
                                __global const ulong* restrict keys,
                                const uint n_previous,
@@ -189,32 +221,23 @@ __kernel void contact_classify(const uint n_couples,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live) {
-  // The list grows by one global atomic per work-group: a local count first (a single
-  // global counter hit by every overlapping couple would serialise them).
-  __local uint group_count, group_base;
   const uint c = get_global_id(0);
+#ifdef CONTACT_SUM_PER_COUPLE
+  if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
+                                       position, energy_scale, dissipated, same_list, live))
+    overlap_list[atomic_inc(&counters[1])] = c;
+#else
+  __local uint group_count, group_base;
   if (get_local_id(0) == 0) group_count = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  bool listed = false;
-  uint position_in_group = 0;
-  if (c < n_couples) {
-    const ulong key = keys[c];
-    uint tri[2], nodes[2][3];
-    real2 x[2][3];
-    couple_nodes(key, tri_nodes, position, tri, nodes, x);
-    if (!separated(x)) {
-      listed = true;
-      position_in_group = atomic_inc(&group_count);
-    } else if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
-      const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-      forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
-      live[c] = 0;
-    }
-  }
+  const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
+                                                       tri_nodes, position, energy_scale, dissipated, same_list, live);
+  const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
   barrier(CLK_LOCAL_MEM_FENCE);
   if (listed) overlap_list[group_base + position_in_group] = c;
+#endif
 }
 
 // One work-item per entry k of overlap_list (launched over all couples; those past the
@@ -289,6 +312,11 @@ __kernel void contact_forces(const uint n_couples,
   real2 v[2][3];
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) v[k][a] = velocity[nodes[k][a]];
+#ifdef CONTACT_SUM_PER_COUPLE
+  real2 fnode[2][3];
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 3; ++a) fnode[k][a] = (real2)(0, 0);
+#endif
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
   real ratio = (real)1;
@@ -318,17 +346,16 @@ __kernel void contact_forces(const uint n_couples,
         hist[p] = (real)0;
         continue;
       }
-      const uint na = nodes[A][e], nb = nodes[A][(e + 1) % 3];
       const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
       const real2 edge = pb - pa;
       const real L = length(edge);
       const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
       const real k = ratio * Pn * thickness;
       // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
-      add_force(contact_acc, na, -k * I0[p] * nL, force_scale);
-      add_force(contact_acc, nb, -k * I1[p] * nL, force_scale);
+      COUPLE_FORCE(A, e, -k * I0[p] * nL);
+      COUPLE_FORCE(A, (e + 1) % 3, -k * I1[p] * nL);
       for (int m = 0; m < 3; ++m)
-        add_force(contact_acc, nodes[B][m], k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL, force_scale);
+        COUPLE_FORCE(B, m, k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL);
 
       // Relative velocity at the acting point s* of this pass's normal force.
       const real s = I1[p] / I;
@@ -363,15 +390,19 @@ __kernel void contact_forces(const uint n_couples,
       hist[p] = slip;
       if (ft != (real)0) {
         const real2 f = ft * tangent;
-        add_force(contact_acc, na, (1 - s) * f, force_scale);
-        add_force(contact_acc, nb, s * f, force_scale);
-        for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], -wB[m] * f, force_scale);
+        COUPLE_FORCE(A, e, (1 - s) * f);
+        COUPLE_FORCE(A, (e + 1) % 3, s * f);
+        for (int m = 0; m < 3; ++m) COUPLE_FORCE(B, m, -wB[m] * f);
       }
     }
   }
   hist[8] += absorbed;
   for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
   live[c] = 1;
+#ifdef CONTACT_SUM_PER_COUPLE
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[k][a], fnode[k][a], force_scale);
+#endif
   if (friction_lost > (real)0) atom_add(dissipated, convert_long_rte(friction_lost * energy_scale));
 }
 

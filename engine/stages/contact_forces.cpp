@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 
 namespace fdem {
 
@@ -23,7 +25,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   force_scale_ = std::exp2(std::floor(std::log2(std::ldexp(1.0, 62) / worst_force)));
   energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
 
-  const auto program = cl.build("contact_forces");
+  std::map<std::string, std::string> defines;
+  if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
+  const auto program = cl.build("contact_forces", defines);
   forces_ = compute::kernel(program, "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
