@@ -206,7 +206,7 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
   }
   std::vector<rc::Ce4State> state(count);
   std::vector<real2> x(rig.ref.size());
-  double worst_force = 0, worst_damage = 0, worst_kin = 0;
+  double worst_force = 0, worst_damage = 0, worst_kin = 0, worst_energy = 0, largest_dissipated = 0;
   int mismatched_status = 0;
   int seen_compression = 0, seen_unload_n = 0, seen_unload_s = 0, seen_soft = 0;
   int seen_mode[4] = {0, 0, 0, 0};
@@ -237,6 +237,7 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
     const auto damage = rig.stage->damage(), opening = rig.stage->opening(), slip = rig.stage->slip();
     const auto broken = rig.stage->broken(), mode = rig.stage->mode();
     const auto when = rig.stage->broken_time();
+    const auto work = rig.stage->work(), dissipated = rig.stage->dissipated();
     for (size_t e = 0; e < count; ++e) {
       const rc::Law& law = rig.laws[e];
       const bool was_broken = state[e].broken;
@@ -246,6 +247,12 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
       for (const auto& v : r.force) scale = std::max(scale, v.norm());
       for (int q = 0; q < 4; ++q) worst_force = std::max(worst_force, (vec(f[4 * e + q]) - r.force[q]).norm() / scale);
       worst_damage = std::max(worst_damage, std::fabs(damage[e] - r.damage));
+      // Energies against the CE4's own energy scale (peak traction × critical gap × L t).
+      const double energy_scale =
+          (law.tensile * (law.o_p + law.o_t) + law.cohesion * (law.s_p + law.s_t)) * L * thickness;
+      worst_energy = std::max({worst_energy, std::fabs(work[e] - state[e].work) / energy_scale,
+                               std::fabs(dissipated[e] - state[e].dissipated) / energy_scale});
+      largest_dissipated = std::max(largest_dissipated, state[e].dissipated / energy_scale);
       worst_kin = std::max({worst_kin, std::fabs(opening[e] - r.opening) / (law.o_p + law.o_t),
                             std::fabs(slip[e] - r.slip) / (law.s_p + law.s_t)});
       if ((broken[e] != 0) != state[e].broken || mode[e] != state[e].mode ||
@@ -261,13 +268,15 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
       if (!was_broken && state[e].broken) seen_mode[state[e].mode]++;
     }
   }
-  MESSAGE("worst force ", worst_force, ", damage ", worst_damage, ", kinematics ", worst_kin,
+  MESSAGE("worst force ", worst_force, ", damage ", worst_damage, ", kinematics ", worst_kin, ", energy ", worst_energy,
           "; broken by mode I/II/mixed: ", seen_mode[1], "/", seen_mode[2], "/", seen_mode[3],
           "; points seen compressed+sheared ", seen_compression, ", unloading n/s ", seen_unload_n, "/",
           seen_unload_s, ", softened ", seen_soft);
   CHECK(worst_force < kRel);
   CHECK(worst_damage < kRel);
   CHECK(worst_kin < kRel);
+  CHECK(worst_energy < kRel);
+  CHECK(largest_dissipated > 0.1);  // the comparison covered CE4s that dissipated energy
   CHECK(mismatched_status == 0);
   // The histories must have exercised every branch.
   CHECK(seen_compression > 0);
@@ -282,16 +291,40 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
 
 // Shared driver of the two fracture-energy tests: one rotated CE4, faces moved apart
 // symmetrically along `direction` (normal or tangential) from 0 to 1.1 (elastic limit +
-// critical value), quasi-statically (no dynamics: positions are prescribed).
+// critical value), quasi-statically (no dynamics: positions are prescribed). Besides the
+// nodal work it follows the kernel's own dissipated energy at every step.
 struct EnergyRun {
   double work = 0, break_gap = 0, break_time = -1;
   int mode = 0;
   bool broken = false, zero_after = true;
+  double dissipated_at_break = 0;  // the kernel's account [J]
+  double worst_elastic = 0;        // largest |dissipated| before the elastic limit [J]
+  double worst_softening = 0;      // largest |dissipated - analytic| while softening [J]
+  bool frozen_after = true;        // dissipated unchanged after breaking
 };
 
-EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const FractureProperties& p,
+// ∫₀^D f, composite Simpson on 400 panels (independent of softening_integral's adaptive rule).
+double softening_area(double D, const FractureProperties& p) {
+  const int panels = 400;
+  const double h = D / panels;
+  double sum = softening(0.0, p.a, p.b, p.c) + softening(D, p.a, p.b, p.c);
+  for (int k = 1; k < panels; ++k) sum += (k % 2 ? 4.0 : 2.0) * softening(k * h, p.a, p.b, p.c);
+  return sum * h / 3.0;
+}
+
+// Energy one point has dissipated per unit area on the monotonic envelope at gap x beyond
+// the elastic limit x_p (peak traction T, critical gap x_t): the work
+// ∫₀^x_p parabola + ∫ f T dx minus the secant energy ½ f T x it would give back.
+double envelope_dissipated(double x, double xp, double xt, double T, const FractureProperties& p) {
+  if (x <= xp) return 0.0;
+  const double D = std::min(1.0, (x - xp) / xt);
+  return 2.0 / 3.0 * T * xp + T * xt * softening_area(D, p) - 0.5 * softening(D, p.a, p.b, p.c) * T * x;
+}
+
+EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double peak, const FractureProperties& p,
                      double thickness, const Vec& a, const Vec& b) {
   Rig rig({{a, b}}, {p}, thickness);
+  const double area = (b - a).norm() * thickness;
   std::vector<real2> x(4), x_prev(4);
   place(x, 0, a, b, Vec::Zero(), Vec::Zero());
   std::vector<real2> f_prev = rig.step(x, 0.0);
@@ -308,12 +341,20 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const 
     place(x, 0, a, b, g, g);
     const auto f = rig.step(x, 1e-3 * k);
     if (!run.broken) run.work += work_increment(f_prev, f, x_prev, x);
+    const double dissipated = rig.stage->dissipated()[0];
     const bool broken_now = rig.stage->broken()[0] != 0;
+    if (run.broken) run.frozen_after = run.frozen_after && dissipated == run.dissipated_at_break;
+    else if (k <= elastic_steps) run.worst_elastic = std::max(run.worst_elastic, std::fabs(dissipated));
+    else if (!broken_now)
+      run.worst_softening =
+          std::max(run.worst_softening,
+                   std::fabs(dissipated - area * envelope_dissipated(gap, elastic_limit, critical, peak, p)));
     if (broken_now && !run.broken) {
       run.broken = true;
       run.break_gap = gap;
       run.break_time = rig.stage->broken_time()[0];
       run.mode = rig.stage->mode()[0];
+      run.dissipated_at_break = dissipated;
     }
     if (run.broken)
       for (const auto& v : f) run.zero_after = run.zero_after && v.x == 0 && v.y == 0;
@@ -323,12 +364,25 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const 
   return run;
 }
 
+// The dissipated-energy checks common to the two pure-mode tests.
+void check_dissipated(const EnergyRun& run, double G_part, const std::string& name) {
+  MESSAGE(name, ": kernel dissipated at break ", run.dissipated_at_break, " J = ", fixed(run.dissipated_at_break / G_part),
+          " G L t (nodal work ", fixed(run.work / G_part), " G L t); elastic phase |dissipated| <= ",
+          run.worst_elastic / G_part, " G L t; softening |dissipated - analytic| <= ", run.worst_softening / G_part,
+          " G L t");
+  CHECK(std::fabs(run.dissipated_at_break / G_part - 1.0) < 0.02);
+  CHECK(std::fabs(run.dissipated_at_break - run.work) < (kDoublePrecision ? 1e-9 : 1e-3) * G_part);
+  CHECK(run.worst_elastic < (kDoublePrecision ? 1e-6 : 1e-2) * G_part);
+  CHECK(run.worst_softening < (kDoublePrecision ? 1e-5 : 2e-2) * G_part);
+  CHECK(run.frozen_after);
+}
+
 TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small elastic pre-peak part)") {
   const FractureProperties p = rock();
   const Vec a(0.31, -0.12), b = a + 0.2 * Vec(std::cos(0.7), std::sin(0.7));
   const double L = 0.2, thickness = 0.5;
   const rc::Law law = rc::make_law(p, L);
-  const EnergyRun run = pull_apart(true, law.o_p, law.o_t, p, thickness, a, b);
+  const EnergyRun run = pull_apart(true, law.o_p, law.o_t, p.tensile_strength, p, thickness, a, b);
   const double G_part = p.gf1 * L * thickness;
   const double elastic = 2.0 / 3.0 * p.tensile_strength * law.o_p * L * thickness;  // ∫₀^o_p σ do
   MESSAGE("mode I: work ", run.work, " J, G_fI L t = ", G_part, " J, elastic pre-peak ", elastic,
@@ -342,6 +396,7 @@ TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small el
   CHECK(run.break_gap >= (law.o_p + law.o_t) * (1 - kGapTol));
   CHECK(run.break_gap < (law.o_p + law.o_t) * (1 + 1e-3));
   CHECK(run.break_time > 0);
+  check_dissipated(run, G_part, "mode I");
 }
 
 TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fII L t") {
@@ -352,7 +407,7 @@ TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fI
   const Vec a(-0.5, 0.25), b = a + 0.2 * Vec(std::cos(2.2), std::sin(2.2));
   const double L = 0.2, thickness = 1.0;
   const rc::Law law = rc::make_law(p, L);
-  const EnergyRun run = pull_apart(false, law.s_p, law.s_t, p, thickness, a, b);
+  const EnergyRun run = pull_apart(false, law.s_p, law.s_t, p.cohesion, p, thickness, a, b);
   const double G_part = p.gf2 * L * thickness;
   const double elastic = 2.0 / 3.0 * p.cohesion * law.s_p * L * thickness;
   MESSAGE("mode II: work ", run.work, " J, G_fII L t = ", G_part, " J, elastic pre-peak ", elastic,
@@ -365,6 +420,7 @@ TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fI
   CHECK(std::fabs(run.work / (G_part + elastic) - 1.0) < (kDoublePrecision ? 1e-3 : 2e-2));
   CHECK(run.break_gap >= (law.s_p + law.s_t) * (1 - kGapTol));
   CHECK(run.break_gap < (law.s_p + law.s_t) * (1 + 1e-3));
+  check_dissipated(run, G_part, "mode II");
 }
 
 TEST_CASE("irreversibility: unloading and reloading follow Eqs. 13-14 and f never recovers") {
@@ -589,6 +645,192 @@ TEST_CASE("breaking needs D = 1 at two Gauss points; a broken CE4 carries no for
     CHECK(when[2] == 2.0);
     for (const auto& v : f) CHECK((v.x == 0 && v.y == 0));
   }
+}
+
+TEST_CASE("dissipated energy through unloading and reloading: never decreases, constant on the secant, analytic at D = 0.5") {
+  FractureProperties p = rock();
+  p.penalty_opening = p.penalty_sliding = p.penalty_overlap = 2e12;  // o_p, s_p a few % of o_t, s_t
+  const Vec a(-0.15, 0.05), b(0.02, 0.11);
+  const double L = (b - a).norm(), thickness = 0.6;
+  const rc::Law law = rc::make_law(p, L);
+  const double area = L * thickness;
+  const double tol = kDoublePrecision ? 1e-9 : 2e-3;
+
+  // Gaps along one direction, linear within each segment (so every kink of the law's
+  // branches falls on a step and the trapezoid rule is exact on the secants). The one
+  // discretisation error left is the trapezoid's on the elastic parabola, Δ³ T/(6 x_p²) per
+  // unit area and step (it makes the account drift slightly negative while loading
+  // elastically, and comes back on unloading): with the elastic range in 400 steps that is
+  // 3e-10 G L t per step, under the tolerance of 1e-9 G L t.
+  struct Segment {
+    double to;
+    int steps;
+  };
+  auto drive = [&](bool opening, const std::vector<Segment>& path, double G) {
+    Rig rig({{a, b}}, {p}, thickness);
+    std::vector<real2> x(4);
+    double gap = 0, previous = 0, worst_drop = 0;
+    std::vector<double> dissipated, damage, gaps;
+    for (const auto& seg : path) {
+      const double from = gap;
+      for (int k = 1; k <= seg.steps; ++k) {
+        gap = from + (seg.to - from) * k / seg.steps;
+        const Vec g = opening ? Vec(gap, 0) : Vec(0, gap);
+        place(x, 0, a, b, g, g);
+        rig.step(x, 1e-3 * (gaps.size() + 1));
+        const double d = rig.stage->dissipated()[0];
+        worst_drop = std::max(worst_drop, previous - d);
+        previous = d;
+        dissipated.push_back(d);
+        damage.push_back(rig.stage->damage()[0]);
+        gaps.push_back(gap);
+      }
+    }
+    const bool broken = rig.stage->broken()[0] != 0;
+    const int mode = rig.stage->mode()[0];
+    return std::make_tuple(dissipated, damage, worst_drop / G, broken, mode);
+  };
+
+  SUBCASE("normal: open to D = 0.5, close into overlap, reopen, break") {
+    const double o1 = law.o_p + 0.5 * law.o_t, G = p.gf1 * area;
+    const std::vector<Segment> path{{law.o_p, 400}, {o1, 600}, {0.0, 600}, {-0.5 * law.o_overlap, 100},
+                                    {0.0, 100},     {o1, 600}, {1.05 * (law.o_p + law.o_t), 1000}};
+    const auto [dissipated, damage, drop, broken, mode] = drive(true, path, G);
+    const double at_half = area * envelope_dissipated(o1, law.o_p, law.o_t, p.tensile_strength, p);
+    double secant_spread = 0;
+    const int at = 999;  // the step that reaches o1
+    for (int k = at; k < at + 1400; ++k) {
+      secant_spread = std::max(secant_spread, std::fabs(dissipated[k] - dissipated[at]) / G);
+      CHECK(damage[k] == doctest::Approx(0.5).epsilon(tol));  // D never recovers
+    }
+    MESSAGE("normal unload/reload: dissipated at D = 0.5 ", dissipated[at] / G, " G L t (analytic ", at_half / G,
+            "), spread over the unload/reload ", secant_spread, " G L t, largest drop ", drop,
+            " G L t, at the end ", dissipated.back() / G, " G L t");
+    CHECK(std::fabs(dissipated[at] - at_half) < (kDoublePrecision ? 1e-6 : 2e-2) * G);
+    CHECK(secant_spread < tol);
+    CHECK(drop < tol);
+    REQUIRE(broken);
+    CHECK(mode == 1);
+    const double elastic = 2.0 / 3.0 * p.tensile_strength * law.o_p * area;
+    CHECK(dissipated.back() == doctest::Approx(G + elastic).epsilon(kDoublePrecision ? 1e-3 : 2e-2));
+  }
+
+  SUBCASE("shear: slip to D = 0.5, reverse to the same slip the other way, back, break") {
+    const double s1 = law.s_p + 0.5 * law.s_t, G = p.gf2 * area;
+    const std::vector<Segment> path{{law.s_p, 400}, {s1, 600}, {-s1, 1200}, {s1, 1200}, {1.05 * (law.s_p + law.s_t), 1000}};
+    const auto [dissipated, damage, drop, broken, mode] = drive(false, path, G);
+    const double at_half = area * envelope_dissipated(s1, law.s_p, law.s_t, p.cohesion, p);
+    double secant_spread = 0;
+    const int at = 999;  // the step that reaches s1
+    for (int k = at; k < at + 2400; ++k) {
+      secant_spread = std::max(secant_spread, std::fabs(dissipated[k] - dissipated[at]) / G);
+      CHECK(damage[k] == doctest::Approx(0.5).epsilon(tol));
+    }
+    MESSAGE("shear unload/reload: dissipated at D = 0.5 ", dissipated[at] / G, " G L t (analytic ", at_half / G,
+            "), spread over the reversal ", secant_spread, " G L t, largest drop ", drop, " G L t, at the end ",
+            dissipated.back() / G, " G L t");
+    CHECK(std::fabs(dissipated[at] - at_half) < (kDoublePrecision ? 1e-6 : 2e-2) * G);
+    CHECK(secant_spread < tol);
+    CHECK(drop < tol);
+    REQUIRE(broken);
+    CHECK(mode == 2);
+    const double elastic = 2.0 / 3.0 * p.cohesion * law.s_p * area;
+    CHECK(dissipated.back() == doctest::Approx(G + elastic).epsilon(kDoublePrecision ? 1e-3 : 2e-2));
+  }
+}
+
+TEST_CASE("mixed mode end to end: along fixed opening/slip directions D follows Eq. 9, breaks at 1, mode by the dominant term") {
+  // One CE4 per direction, all driven together with a uniform gap (o, s) = λ (1, r)
+  // (metres; r = slip / opening) from zero, through both elastic limits, to breaking.
+  // Eq. 9 is evaluated here from its formula; the kernel and the reference must both
+  // follow it at every step.
+  const FractureProperties p = rock();
+  const Vec a(0.2, -0.3), b = a + 0.2 * Vec(std::cos(-0.4), std::sin(-0.4));
+  const double thickness = 0.5;
+  struct Direction {
+    double open, slip;  // unit-free direction of (o, s)
+    int mode;           // expected: the term of Eq. 9 with ≥ 90 % of D² at breaking
+  };
+  // With these properties s_t / o_t ≈ 2.07: slip/opening = 1 gives an opening share
+  // a²/(a²+b²) ≈ 0.81, 3 gives ≈ 0.32 (both mixed), 0.1 gives ≈ 0.998 (mode I),
+  // 1/0.05 gives ≈ 0.0106 (mode II); the negative slips check |s|.
+  const std::vector<Direction> dirs{{1, 0, 1}, {0, 1, 2}, {1, 1, 3}, {1, -1, 3}, {1, 3, 3},
+                                    {1, 0.1, 1}, {0.05, 1, 2}, {0, -1, 2}};
+  const size_t count = dirs.size();
+  std::vector<std::pair<Vec, Vec>> edges(count, {a, b});
+  Rig rig(edges, {p}, thickness);
+  const rc::Law& law = rig.laws[0];
+  std::vector<rc::Ce4State> state(count);
+  std::vector<real2> x(4 * count), x_prev(4 * count), f_prev(4 * count);
+  std::vector<double> work(count, 0);
+
+  // Eq. 9 with Macaulay brackets (the paper: D = D_I when |s| <= s_p, D_II when o <= o_p),
+  // before the min(1, .), and the opening share of its square.
+  auto eq9 = [&](double o, double s) {
+    const double x1 = o > law.o_p ? (o - law.o_p) / law.o_t : 0.0;
+    const double x2 = std::fabs(s) > law.s_p ? (std::fabs(s) - law.s_p) / law.s_t : 0.0;
+    const double sum = x1 * x1 + x2 * x2;
+    return std::pair<double, double>{std::sqrt(sum), sum > 0 ? x1 * x1 / sum : 0.0};
+  };
+  // Step λ so that every direction breaks after about 600 steps.
+  std::vector<double> lambda_step(count);
+  for (size_t e = 0; e < count; ++e) {
+    const double reach = 1.0 / std::hypot(dirs[e].open / law.o_t, dirs[e].slip / law.s_t);
+    const double offset = std::max(law.o_p, law.s_p) / std::max(std::fabs(dirs[e].open), std::fabs(dirs[e].slip));
+    lambda_step[e] = (reach + offset) / 600.5;  // the .5 keeps the steps off D = 1 exactly
+  }
+  std::vector<int> break_step(count, -1), expected_break(count, -1), kernel_mode(count, 0);
+  std::vector<double> share_at_break(count, 0), dissipated_at_break(count, 0), work_at_break(count, 0);
+  double worst_kernel = 0, worst_reference = 0, closest_to_one = 1;
+  for (int k = 1; k <= 800; ++k) {
+    for (size_t e = 0; e < count; ++e) {
+      const double lam = lambda_step[e] * k;
+      place(x, e, a, b, Vec(lam * dirs[e].open, lam * dirs[e].slip), Vec(lam * dirs[e].open, lam * dirs[e].slip));
+    }
+    const auto f = rig.step(x, 1e-4 * k);
+    const auto damage = rig.stage->damage(), dissipated = rig.stage->dissipated();
+    const auto broken = rig.stage->broken(), mode = rig.stage->mode();
+    for (size_t e = 0; e < count; ++e) {
+      const double lam = lambda_step[e] * k;
+      const auto [raw, share] = eq9(lam * dirs[e].open, lam * dirs[e].slip);
+      const double D = std::min(1.0, raw);
+      if (expected_break[e] < 0) closest_to_one = std::min(closest_to_one, std::fabs(raw - 1.0));
+      if (raw >= 1.0 && expected_break[e] < 0) expected_break[e] = k, share_at_break[e] = share;
+      const auto r = rc::step(law, state[e], nodes_of(x, e), thickness, 1e-4 * k);
+      if (break_step[e] < 0) {
+        std::vector<real2> fe(f.begin() + 4 * e, f.begin() + 4 * e + 4), fp(f_prev.begin() + 4 * e, f_prev.begin() + 4 * e + 4);
+        std::vector<real2> xe(x.begin() + 4 * e, x.begin() + 4 * e + 4), xp(x_prev.begin() + 4 * e, x_prev.begin() + 4 * e + 4);
+        work[e] += work_increment(fp, fe, xp, xe);
+        worst_kernel = std::max(worst_kernel, std::fabs(damage[e] - D));
+        worst_reference = std::max(worst_reference, std::fabs(r.damage - D));
+      }
+      if (broken[e] && break_step[e] < 0) {
+        break_step[e] = k;
+        kernel_mode[e] = mode[e];
+        dissipated_at_break[e] = dissipated[e];
+        work_at_break[e] = work[e];
+        CHECK(state[e].broken);
+        CHECK(state[e].mode == mode[e]);
+      }
+    }
+    f_prev = f;
+    x_prev = x;
+  }
+  MESSAGE("mixed mode: |D_kernel - Eq. 9| <= ", worst_kernel, ", |D_reference - Eq. 9| <= ", worst_reference,
+          " (closest approach of Eq. 9 to 1 at a step ", closest_to_one, ")");
+  for (size_t e = 0; e < count; ++e) {
+    const double scale = (p.gf1 + p.gf2) * 0.2 * thickness;
+    MESSAGE("slip/opening ", dirs[e].slip, "/", dirs[e].open, ": broke at step ", break_step[e], " (Eq. 9 reaches 1 at ",
+            expected_break[e], "), opening share ", fixed(share_at_break[e], 4), ", mode ", kernel_mode[e],
+            ", dissipated ", dissipated_at_break[e], " J (nodal work ", work_at_break[e], " J)");
+    CHECK(expected_break[e] > 0);
+    CHECK(break_step[e] == expected_break[e]);
+    CHECK(kernel_mode[e] == dirs[e].mode);
+    CHECK(std::fabs(dissipated_at_break[e] - work_at_break[e]) < (kDoublePrecision ? 1e-9 : 1e-3) * scale);
+  }
+  CHECK(worst_kernel < (kDoublePrecision ? 1e-9 : 1e-2));
+  CHECK(worst_reference < 1e-9);
+  CHECK(closest_to_one > 1e-6);  // no step sits so close to D = 1 that round-off could decide it
 }
 
 }  // TEST_SUITE
