@@ -33,8 +33,9 @@
 // its points at D = 1 when it breaks: mode I if χ ≥ 0.9, mode II if χ ≤ 0.1, else mixed.
 // The paper names the three damage branches by whether o > o_p and |s| > s_p at all; with
 // realistic penalties s_p and o_p are 1e-5 of s_t and o_t, so a nanometre of incidental
-// slip would make a 20 µm tensile crack "mixed" (the coarse Brazilian disc came out almost
-// all mixed that way). χ measures which term of Eq. 9 did the damaging instead.
+// slip would make a 20 µm tensile crack "mixed" (all 40 broken CE4s of the coarse Brazilian
+// disc, mesh.size = 3e-3, came out mixed that way; by χ 37 are mode I and 3 mixed). χ
+// measures which term of Eq. 9 did the damaging instead.
 // Forces: p = (σ n + τ t) w L thickness at each point; face 1 gets +p, face 2 gets -p
 // (the traction pulls the faces together when open, pushes them apart when overlapping,
 // and opposes the slip), distributed with the linear shape functions (1-ξ, ξ).
