@@ -655,6 +655,8 @@ TEST_CASE("dissipated energy through unloading and reloading: never decreases, c
   const rc::Law law = rc::make_law(p, L);
   const double area = L * thickness;
   const double tol = kDoublePrecision ? 1e-9 : 2e-3;
+  // Float positions resolve the gaps to ~1e-3 of their size; the energy checks follow.
+  const double energy_tol = kDoublePrecision ? 1e-9 : 1e-2;
 
   // Gaps along one direction, linear within each segment (so every kink of the law's
   // branches falls on a step and the trapezoid rule is exact on the secants). The one
@@ -707,8 +709,8 @@ TEST_CASE("dissipated energy through unloading and reloading: never decreases, c
             "), spread over the unload/reload ", secant_spread, " G L t, largest drop ", drop,
             " G L t, at the end ", dissipated.back() / G, " G L t");
     CHECK(std::fabs(dissipated[at] - at_half) < (kDoublePrecision ? 1e-6 : 2e-2) * G);
-    CHECK(secant_spread < tol);
-    CHECK(drop < tol);
+    CHECK(secant_spread < energy_tol);
+    CHECK(drop < energy_tol);
     REQUIRE(broken);
     CHECK(mode == 1);
     const double elastic = 2.0 / 3.0 * p.tensile_strength * law.o_p * area;
@@ -730,8 +732,8 @@ TEST_CASE("dissipated energy through unloading and reloading: never decreases, c
             "), spread over the reversal ", secant_spread, " G L t, largest drop ", drop, " G L t, at the end ",
             dissipated.back() / G, " G L t");
     CHECK(std::fabs(dissipated[at] - at_half) < (kDoublePrecision ? 1e-6 : 2e-2) * G);
-    CHECK(secant_spread < tol);
-    CHECK(drop < tol);
+    CHECK(secant_spread < energy_tol);
+    CHECK(drop < energy_tol);
     REQUIRE(broken);
     CHECK(mode == 2);
     const double elastic = 2.0 / 3.0 * p.cohesion * law.s_p * area;
@@ -824,12 +826,13 @@ TEST_CASE("mixed mode end to end: along fixed opening/slip directions D follows 
             expected_break[e], "), opening share ", fixed(share_at_break[e], 4), ", mode ", kernel_mode[e],
             ", dissipated ", dissipated_at_break[e], " J (nodal work ", work_at_break[e], " J)");
     CHECK(expected_break[e] > 0);
-    CHECK(break_step[e] == expected_break[e]);
+    // Float positions resolve the gaps to ~1e-3 of their size: one step either way there.
+    CHECK(std::abs(break_step[e] - expected_break[e]) <= (kDoublePrecision ? 0 : 1));
     CHECK(kernel_mode[e] == dirs[e].mode);
     CHECK(std::fabs(dissipated_at_break[e] - work_at_break[e]) < (kDoublePrecision ? 1e-9 : 1e-3) * scale);
   }
   CHECK(worst_kernel < (kDoublePrecision ? 1e-9 : 1e-2));
-  CHECK(worst_reference < 1e-9);
+  CHECK(worst_reference < (kDoublePrecision ? 1e-9 : 1e-2));
   CHECK(closest_to_one > 1e-6);  // no step sits so close to D = 1 that round-off could decide it
 }
 
