@@ -1,8 +1,8 @@
 // Cohesive elements (CE4, Eqs. 4-14). One work-item per CE4: the opening o and slip s at
 // three Gauss points of the edge, the cohesive tractions there (elastic, softening,
 // unloading/reloading and compression branches), the irreversible damage state per point,
-// the breaking test, and the four nodal forces written to the CE4's four slots
-// (order i, j, j', i'; the node gather sums slots per node, no atomics).
+// the breaking test, the four nodal forces written to the CE4's four slots (order i, j,
+// j', i'; the node gather sums slots per node, no atomics) and the CE4's energy account.
 //
 // Integration: 3-point Gauss-Legendre on the edge, ξ = ½ ∓ √15/10 and ½ with weights
 // 5/18, 8/18, 5/18 of the current length. This is the paper's Gauss rule, not Y-Geo's
@@ -15,8 +15,8 @@
 // length is that of the mid-surface, |(x_j - x_i) + (x_j' - x_i')| / 2.
 //
 // Law per Gauss point (all from the per-CE4 parameter row, see COH_* below):
-//   damage, Eq. 9: D = min(1, √(⟨o-o_p⟩²/o_t² + ⟨|s|-s_p⟩²/s_t²)) (⟨x⟩ = max(x, 0)); the
-//     branch is mode I (only o > o_p), mode II (only |s| > s_p) or mixed (both);
+//   damage, Eq. 9: D = min(1, √(a² + b²)) with a = ⟨o-o_p⟩/o_t, b = ⟨|s|-s_p⟩/s_t
+//     (⟨x⟩ = max(x, 0));
 //   irreversibility: per point D_max, o_max, max |s| are kept; f = f(D_max) (Eq. 10,
 //     decreasing, so f never recovers);
 //   normal, Eqs. 4 and 13: o < 0: 2 o T_s / o_overlap (no f(D));
@@ -27,12 +27,30 @@
 //     s_max > s_p and |s| < s_max: S |s| / s_max;  |s| <= s_p: (2|s|/s_p - (|s|/s_p)²) S;
 //     else S;  τ takes the sign of s.
 // Breaking: when D_max = 1 at two or more of the three points the CE4 breaks for good and
-// carries no force from that step on. Mode: each point records the branch (1 I, 2 II,
-// 3 mixed) of the step at which its D reached 1; the CE4's mode is that branch if all
-// points at D = 1 agree, else 3 (mixed). The time passed to the step is recorded.
+// carries no force from that step on. The time passed to the step is recorded.
+// Failure mode: at the step a point's D first reaches 1 it records the opening share of
+// Eq. 9, χ = a² / (a² + b²) (1: all opening, 0: all slip). The CE4's χ is the mean over
+// its points at D = 1 when it breaks: mode I if χ ≥ 0.9, mode II if χ ≤ 0.1, else mixed.
+// The paper names the three damage branches by whether o > o_p and |s| > s_p at all; with
+// realistic penalties s_p and o_p are 1e-5 of s_t and o_t, so a nanometre of incidental
+// slip would make a 20 µm tensile crack "mixed" (all 40 broken CE4s of the coarse Brazilian
+// disc, mesh.size = 3e-3, came out mixed that way; by χ 37 are mode I and 3 mixed). χ
+// measures which term of Eq. 9 did the damaging instead.
 // Forces: p = (σ n + τ t) w L thickness at each point; face 1 gets +p, face 2 gets -p
 // (the traction pulls the faces together when open, pushes them apart when overlapping,
 // and opposes the slip), distributed with the linear shape functions (1-ξ, ξ).
+// Energy: W += Σ_g ½ (p_g,before + p_g,now)·(δ_g,now - δ_g,before), the work done on the
+// CE4 (trapezoid rule in time; the step that breaks it has p_now = 0). Because δ and the
+// forces are linear in the end gaps, that is ½ (f_i,before + f_i,now)·Δgap_i + the same at j,
+// so only the end gaps of the last step are kept and the forces before are the CE4's own
+// slots. The energy it dissipated = W minus the elastic energy it holds now, i.e. what it
+// would give back if unloaded to o = s = 0 with its state frozen: per unit area,
+//   normal  o < 0: T_s o² / o_overlap;  o_max > o_p: ½ σ o (secant, Eq. 13);
+//           else: f T_s o_p (q² - q³/3), q = o/o_p (the parabola of Eq. 4);
+//   shear   s_max > s_p: ½ |τ| |s| (secant, Eq. 14);  else: S s_p (q² - q³/3), q = |s|/s_p;
+// zero once broken. It includes the friction work on the Mohr-Coulomb residual (W_res of
+// Eq. 12). While intact and elastic with friction, σ changing under a fixed slip changes
+// the held shear energy without work, so the value can move by a small amount either way.
 
 #define COH_STRIDE 12
 #define COH_OP 0       /* o_p = 2 h T_s / P_f [m] (Eq. 6) */
@@ -55,11 +73,21 @@ inline real coh_softening(real D, real A, real B, real C) {
   return decay * (A * ((real)1 - D) + B * pow((real)1 - D, C));
 }
 
+// Recoverable energy per unit area under the parabola (2q - q²) peak of Eqs. 4-5 from 0 to
+// q = x / x_p: ∫₀^x (2x'/x_p - (x'/x_p)²) peak dx' = peak x_p (q² - q³/3).
+inline real coh_parabola_energy(real x, real xp, real peak) {
+  const real q = x / xp;
+  return peak * xp * q * q * ((real)1 - q / (real)3);
+}
+
 // One work-item per CE4: kinematics, law and nodal forces of CE4 `e`; updates its three
-// Gauss-point states, its status (broken, mode) and its output row.
-// gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], branch that brought D to 1).
-// status: int2 per CE4 (broken 0/1, mode 0/1/2/3). output: real4 per CE4 (max D over the
-// points, mean opening [m], mean slip [m], time it broke [s]).
+// Gauss-point states, its status (broken, mode), its output row and its energy account.
+// gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], opening share χ of Eq. 9
+// at the step its D reached 1). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). output:
+// real4 per CE4 (max D over the points, mean opening [m], mean slip [m], time it broke [s]).
+// last_gap: real4 per CE4, the end gaps (x_i' - x_i, x_j' - x_j) [m] at the last step.
+// energy: real2 per CE4, (work done on it so far, energy it dissipated so far) [J].
+// slots: read first (the forces of the last step, for the work), then overwritten.
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
                               __global const real* restrict params,
@@ -69,7 +97,9 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict gp_state,
                               __global int2* restrict status,
                               __global real4* restrict output,
-                              __global real2* restrict slots) {
+                              __global real2* restrict slots,
+                              __global real4* restrict last_gap,
+                              __global real2* restrict energy) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   const uint4 nd = ce4_nodes[e];  // (i, j, j', i')
@@ -107,55 +137,63 @@ __kernel void cohesive_forces(const uint n_ce4,
     const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = p[COH_OT], stl = p[COH_ST];
     const real Ts = p[COH_TS], coh = p[COH_C], tanphi = p[COH_TANPHI];
     const real A = p[COH_A], B = p[COH_B], C = p[COH_CEXP];
-    int at_one = 0, first_branch = 0, same_branch = 1;
+    int at_one = 0;
+    real share_sum = 0;
+    real held = 0;  // elastic energy per unit length-thickness, Σ w_g e_g
 
     for (int g = 0; g < 3; ++g) {
       real4 gs = gp_state[3 * e + g];
       const real og = o[g], sa = fabs(s[g]);
       const real over_o = fmax(og - op, (real)0), over_s = fmax(sa - sp, (real)0);
-      real D = 0;
-      int branch = 0;
+      real D = 0, share = 0;
       if (over_o > (real)0 || over_s > (real)0) {
         const real a = over_o / ot, b = over_s / stl;
-        D = fmin((real)1, sqrt(a * a + b * b));
-        branch = over_o > (real)0 ? (over_s > (real)0 ? 3 : 1) : 2;
+        const real d2 = a * a + b * b;
+        D = fmin((real)1, sqrt(d2));
+        share = a * a / d2;
       }
-      if (D >= (real)1 && gs.x < (real)1) gs.w = (real)branch;
+      if (D >= (real)1 && gs.x < (real)1) gs.w = share;
       gs.x = fmax(gs.x, D);
       gs.y = fmax(gs.y, og);
       gs.z = fmax(gs.z, sa);
       gp_state[3 * e + g] = gs;
       damage = fmax(damage, gs.x);
       if (gs.x >= (real)1) {
-        const int b = (int)gs.w;
-        if (at_one == 0) first_branch = b;
-        else if (b != first_branch) same_branch = 0;
+        share_sum += gs.w;
         ++at_one;
       }
 
       const real f = coh_softening(gs.x, A, B, C);
-      real sigma;
+      real sigma, held_n;
       if (og < (real)0) {
         sigma = (real)2 * og * Ts / oov;
+        held_n = Ts * og * og / oov;
       } else if (gs.y > op && og < gs.y) {
         sigma = f * Ts * og / gs.y;
+        held_n = (real)0.5 * sigma * og;
       } else if (og <= op) {
         const real q = og / op;
         sigma = ((real)2 * q - q * q) * f * Ts;
+        held_n = coh_parabola_energy(og, op, f * Ts);
       } else {
         sigma = f * Ts;
+        held_n = (real)0.5 * sigma * og;
       }
 
       const real strength = fmax((real)0, -sigma * tanphi + f * coh);
-      real tau;
+      real tau, held_s;
       if (gs.z > sp && sa < gs.z) {
         tau = strength * sa / gs.z;
+        held_s = (real)0.5 * tau * sa;
       } else if (sa <= sp) {
         const real q = sa / sp;
         tau = ((real)2 * q - q * q) * strength;
+        held_s = coh_parabola_energy(sa, sp, strength);
       } else {
         tau = strength;
+        held_s = (real)0.5 * tau * sa;
       }
+      held += gauss_w[g] * (held_n + held_s);
       if (s[g] < (real)0) tau = -tau;
 
       const real2 pg = (sigma * n + tau * t) * (gauss_w[g] * scale);
@@ -164,18 +202,43 @@ __kernel void cohesive_forces(const uint n_ce4,
     }
 
     if (at_one >= 2) {
-      st = (int2)(1, same_branch ? first_branch : 3);
+      const real share = share_sum / (real)at_one;
+      st = (int2)(1, share >= (real)0.9 ? 1 : (share <= (real)0.1 ? 2 : 3));
       status[e] = st;
       broken_time = time;
+      f_i = f_j = (real2)(0, 0);
+      held = 0;
     }
+
+    // Work of this step on the CE4 (trapezoid), then the dissipated part.
+    const real4 before = last_gap[e];
+    const real2 fi_before = slots[4 * e], fj_before = slots[4 * e + 1];
+    real2 account = energy[e];
+    account.x += (real)0.5 * (dot(fi_before + f_i, gap_i - before.xy) + dot(fj_before + f_j, gap_j - before.zw));
+    account.y = account.x - held * scale;
+    energy[e] = account;
+    last_gap[e] = (real4)(gap_i, gap_j);
   } else {
     for (int g = 0; g < 3; ++g) damage = fmax(damage, gp_state[3 * e + g].x);
   }
 
-  if (st.x) f_i = f_j = (real2)(0, 0);
   slots[4 * e] = f_i;
   slots[4 * e + 1] = f_j;
   slots[4 * e + 2] = -f_j;
   slots[4 * e + 3] = -f_i;
   output[e] = (real4)(damage, mean_o, mean_s, broken_time);
+}
+
+// One work-item per partial sum k: the energy dissipated by CE4s k, k + P, k + 2P, ...
+// (P = the number of partials), added in that fixed order, so the total the host forms
+// from the partials (again in order) is the same on every run.
+__kernel void cohesive_dissipated_partials(const uint n_ce4,
+                                           const uint n_partials,
+                                           __global const real2* restrict energy,
+                                           __global real* restrict partial) {
+  const uint k = get_global_id(0);
+  if (k >= n_partials) return;
+  real sum = 0;
+  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].y;
+  partial[k] = sum;
 }

@@ -87,6 +87,8 @@ struct HistoryProbe {
       vars.push_back({"broken_mode2", "1", "CE4s broken in mode II"});
       vars.push_back({"broken_mixed", "1", "CE4s broken in mixed mode I-II"});
       vars.push_back({"crack_length", "m", "total initial length of the broken CE4s"});
+      vars.push_back({"cohesive_energy_dissipated", "J",
+                      "energy dissipated by the CE4s (softening, breaking, residual friction), cumulative"});
     }
     for (const auto* r : regions) {
       const std::string n = netcdf_name(r->name);
@@ -125,7 +127,7 @@ struct HistoryProbe {
           if (mode[e] >= 1 && mode[e] <= 3) count[mode[e]] += 1;
           length += ce4_length[e];
         }
-      row.insert(row.end(), {count[0], count[1], count[2], count[3], length});
+      row.insert(row.end(), {count[0], count[1], count[2], count[3], length, solver.cohesive()->dissipated_total()});
     }
     for (const auto* r : regions) {
       double fx = 0, fy = 0, ux = 0, uy = 0;

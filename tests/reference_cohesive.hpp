@@ -50,7 +50,9 @@ enum Branch { kNone = 0, kModeI = 1, kModeII = 2, kMixed = 3 };
 
 struct PointState {
   double D_max = 0, o_max = 0, s_max = 0;
-  int branch_at_break = kNone;
+  int branch_at_break = kNone;   // Eq. 9's branch (by o > o_p, |s| > s_p) when D reached 1
+  double opening_share = 0;      // a² / (a² + b²) of Eq. 9 when D reached 1
+  Vec delta_before = Vec::Zero(), push_before = Vec::Zero();  // δ and the face-1 force of the last step
 };
 
 struct Ce4State {
@@ -58,7 +60,13 @@ struct Ce4State {
   bool broken = false;
   int mode = kNone;
   double time = -1.0;
+  double work = 0;        // work done on the CE4 so far [J]
+  double dissipated = 0;  // work minus the elastic energy it holds [J]
 };
+
+// Failure mode of a CE4 from the mean opening share of its points at D = 1: the term of
+// Eq. 9 that supplies at least 90 % of D² names the mode, otherwise mixed.
+inline int mode_of_share(double share) { return share >= 0.9 ? kModeI : share <= 0.1 ? kModeII : kMixed; }
 
 // What the branches did at one point (tests use it for coverage and bounds).
 struct PointResult {
@@ -73,14 +81,43 @@ struct Result {
   std::array<PointResult, 3> point;
 };
 
-// Trial damage of Eq. 9 and the branch that produced it.
-inline std::pair<double, int> trial_damage(const Law& law, double o, double s) {
+// Trial damage of Eq. 9, the branch that produced it and the opening share x² / (x² + y²).
+struct Trial {
+  double D;
+  int branch;
+  double share;
+};
+inline Trial trial_damage(const Law& law, double o, double s) {
   const bool tensile = o > law.o_p, sheared = std::fabs(s) > law.s_p;
-  if (!tensile && !sheared) return {0.0, kNone};
+  if (!tensile && !sheared) return {0.0, kNone, 0.0};
   const double x = tensile ? (o - law.o_p) / law.o_t : 0.0;
   const double y = sheared ? (std::fabs(s) - law.s_p) / law.s_t : 0.0;
   const int branch = tensile && sheared ? kMixed : tensile ? kModeI : kModeII;
-  return {std::min(1.0, std::hypot(x, y)), branch};
+  return {std::min(1.0, std::hypot(x, y)), branch, x * x / (x * x + y * y)};
+}
+
+// Elastic energy per unit area a point holds (what unloading to o = s = 0 along its
+// current branches, state frozen, gives back). Eq. 4's parabola integrates to
+// peak (x²/x_p - x³/(3 x_p²)); the secants of Eqs. 13-14 hold half traction × opening.
+inline double held_energy(const Law& law, const PointState& st, double o, double s, double sigma, double tau) {
+  const double f = f_of(st.D_max, law);
+  double normal;
+  if (o < 0) {
+    normal = 0.5 * (2.0 * law.tensile / law.o_overlap) * o * o;
+  } else if (st.o_max > law.o_p) {
+    normal = 0.5 * sigma * o;
+  } else {
+    normal = law.tensile * f * (o * o / law.o_p - o * o * o / (3.0 * law.o_p * law.o_p));
+  }
+  const double a = std::fabs(s);
+  double shear;
+  if (st.s_max > law.s_p) {
+    shear = 0.5 * std::fabs(tau) * a;
+  } else {
+    const double strength = std::max(0.0, law.cohesion * f - law.tan_phi * sigma);
+    shear = strength * (a * a / law.s_p - a * a * a / (3.0 * law.s_p * law.s_p));
+  }
+  return normal + shear;
 }
 
 // Tractions at one point given its (already updated) state.
@@ -130,7 +167,7 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
   Result res;
   for (auto& f : res.force) f.setZero();
   int at_one = 0;
-  std::array<int, 3> branch_of{};
+  std::array<double, 3> share_of{};
   for (int g = 0; g < 3; ++g) {
     PointResult& p = res.point[g];
     p.delta = (1.0 - xi[g]) * gap_i + xi[g] * gap_j;
@@ -141,35 +178,46 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
     res.slip += weight[g] * p.s;
     PointState& st = state.point[g];
     if (!state.broken) {
-      const auto [D, branch] = trial_damage(law, p.o, p.s);
-      if (D >= 1.0 && st.D_max < 1.0) st.branch_at_break = branch;
+      const Trial trial = trial_damage(law, p.o, p.s);
+      const double D = trial.D;
+      if (D >= 1.0 && st.D_max < 1.0) st.branch_at_break = trial.branch, st.opening_share = trial.share;
       st.D_max = std::max(st.D_max, D);
       st.o_max = std::max(st.o_max, p.o);
       st.s_max = std::max(st.s_max, std::fabs(p.s));
       tractions(law, st, p.o, p.s, p);
-      if (st.D_max >= 1.0) branch_of[at_one++] = st.branch_at_break;
+      if (st.D_max >= 1.0) share_of[at_one++] = st.opening_share;
     }
     res.damage = std::max(res.damage, st.D_max);
   }
   if (state.broken) return res;
-  if (at_one >= 2) {
+  const bool breaks = at_one >= 2;
+  if (breaks) {
     state.broken = true;
     state.time = time;
-    state.mode = branch_of[0];
-    for (int k = 1; k < at_one; ++k)
-      if (branch_of[k] != branch_of[0]) state.mode = kMixed;
-    return res;  // no force from the breaking step on
+    double mean = 0;
+    for (int k = 0; k < at_one; ++k) mean += share_of[k] / at_one;
+    state.mode = mode_of_share(mean);
   }
+  // Forces (none from the breaking step on) and the energy account: trapezoid of the
+  // face-1 force against the change of δ at each point; held energy at the Gauss weights.
+  double held = 0;
   for (int g = 0; g < 3; ++g) {
-    const PointResult& p = res.point[g];
+    PointResult& p = res.point[g];
+    PointState& st = state.point[g];
     const Vec traction = p.sigma * n + p.tau * t;   // on face 1, towards face 2 when open
-    const Vec push = traction * (p.weight * length * thickness);
+    Vec push = Vec::Zero();
+    if (!breaks) push = traction * (p.weight * length * thickness);
+    state.work += 0.5 * (st.push_before + push).dot(p.delta - st.delta_before);
+    st.push_before = push;
+    st.delta_before = p.delta;
+    if (!breaks) held += p.weight * held_energy(law, st, p.o, p.s, p.sigma, p.tau) * length * thickness;
     const double N_i = 1.0 - xi[g], N_j = xi[g];
     res.force[0] += N_i * push;
     res.force[1] += N_j * push;
     res.force[2] -= N_j * push;
     res.force[3] -= N_i * push;
   }
+  state.dissipated = state.work - held;
   return res;
 }
 

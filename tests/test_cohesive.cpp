@@ -1,6 +1,8 @@
 // Cohesive elements (CE4): the kernel against the plain C++ reference of the whole law
 // (tests/reference_cohesive.hpp), the softening function, the fracture energies of pure
-// mode I and II, irreversibility, compression, force balance and the breaking rule.
+// mode I and II (nodal work and the kernel's dissipated-energy account), irreversibility,
+// compression, force balance and the breaking rule. Rig: tests/cohesive_rig.hpp; the
+// unload/reload energy and mixed-mode paths: tests/test_cohesive_paths.cpp.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -10,6 +12,7 @@
 #include <string>
 #include <tuple>
 
+#include "cohesive_rig.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "fixture.hpp"
@@ -18,116 +21,7 @@
 using namespace fdem;
 namespace rc = fdem::reference_cohesive;
 using rc::Vec;
-
-namespace {
-
-constexpr double kRel = kDoublePrecision ? 1e-12 : 2e-4;
-// Float positions of a CE4 0.1-1 m from the origin are resolved to ~1e-8 m, which is not
-// small next to gaps of 1e-5 m: gap-level checks are loosened accordingly there.
-constexpr double kGapTol = kDoublePrecision ? 1e-12 : 1e-3;
-
-FractureProperties rock() {
-  FractureProperties p;
-  p.tensile_strength = 5e6;
-  p.cohesion = 12e6;
-  p.friction_angle = 30.0;
-  p.gf1 = 40.0;
-  p.gf2 = 200.0;
-  p.penalty_opening = 2e13;
-  p.penalty_sliding = 2e13;
-  p.penalty_overlap = 2e13;
-  return p;
-}
-
-// CE4s each with their own four nodes (i, j, j', i' = 4e .. 4e+3), positions driven directly.
-struct Rig {
-  ClContext& cl = test::context();
-  CohesiveModel model;
-  std::vector<real2> ref;
-  compute::buffer position, ref_position;
-  std::unique_ptr<CohesiveForces> stage;
-  std::vector<rc::Law> laws;
-
-  // One CE4 per (reference i, reference j, properties).
-  Rig(const std::vector<std::pair<Vec, Vec>>& edges, const std::vector<FractureProperties>& props, double thickness) {
-    model.thickness = thickness;
-    model.fracture = props;
-    for (size_t e = 0; e < edges.size(); ++e) {
-      const int b = static_cast<int>(4 * e);
-      model.ce4.push_back({b, b + 1, b + 2, b + 3});
-      model.properties.push_back(static_cast<int>(e % props.size()));
-      const Vec& a = edges[e].first;
-      const Vec& c = edges[e].second;
-      for (const Vec& p : {a, c, c, a}) ref.push_back({real(p.x()), real(p.y())});
-      // h from the same stored (possibly float) coordinates the stage reads
-      const double h = std::hypot(double(ref[b + 1].x) - double(ref[b].x), double(ref[b + 1].y) - double(ref[b].y));
-      laws.push_back(rc::make_law(props[e % props.size()], h));
-    }
-    position = cl.allocate(ref.size() * sizeof(real2), "test_position");
-    ref_position = cl.allocate(ref.size() * sizeof(real2), "test_ref_position");
-    upload(cl, position, ref);
-    upload(cl, ref_position, ref);
-    stage = std::make_unique<CohesiveForces>(cl, model, position, ref_position);
-  }
-
-  // Sets the positions (stored as real), runs one step and returns the slot forces.
-  std::vector<real2> step(std::vector<real2>& x, double time) {
-    upload(cl, position, x);
-    stage->enqueue(time);
-    return download<real2>(cl, stage->slots(), 4 * stage->size());
-  }
-};
-
-std::array<Vec, 4> nodes_of(const std::vector<real2>& x, size_t e) {
-  std::array<Vec, 4> out;
-  for (int k = 0; k < 4; ++k) out[k] = Vec(x[4 * e + k].x, x[4 * e + k].y);
-  return out;
-}
-
-Vec vec(real2 v) { return Vec(v.x, v.y); }
-
-std::string fixed(double v, int digits = 6) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, v);
-  return text;
-}
-
-// Unit tangent and the right normal (away from triangle 1) of a reference edge a→b.
-std::pair<Vec, Vec> frame(const Vec& a, const Vec& b) {
-  const Vec t = (b - a).normalized();
-  return {t, Vec(t.y(), -t.x())};
-}
-
-// One CE4 i, j, j', i' with the gaps gap_i (at i) and gap_j (at j) given as (normal, tangential)
-// components in the frame of the reference edge; face 1 moves by -½ gap, face 2 by +½ gap.
-void place(std::vector<real2>& x, size_t e, const Vec& a, const Vec& b, const Vec& gap_i, const Vec& gap_j) {
-  const auto [t, n] = frame(a, b);
-  const Vec gi = gap_i.x() * n + gap_i.y() * t, gj = gap_j.x() * n + gap_j.y() * t;
-  const Vec p[4] = {a - 0.5 * gi, b - 0.5 * gj, b + 0.5 * gj, a + 0.5 * gi};
-  for (int k = 0; k < 4; ++k) x[4 * e + k] = {real(p[k].x()), real(p[k].y())};
-}
-
-// Normal and tangential traction on face 1 (σ, τ) from the summed face-2 force of CE4 e.
-std::pair<double, double> face_traction(const std::vector<real2>& f, const std::vector<real2>& x, size_t e,
-                                        double thickness) {
-  const auto p = nodes_of(x, e);
-  const Vec sum = (p[1] - p[0]) + (p[2] - p[3]);
-  const Vec t = sum.normalized(), n(t.y(), -t.x());
-  const double area = 0.5 * sum.norm() * thickness;
-  const Vec face2 = vec(f[4 * e + 2]) + vec(f[4 * e + 3]);
-  return {-face2.dot(n) / area, -face2.dot(t) / area};
-}
-
-// Work done on the CE4 by the agent that moves its nodes: -∫ F_coh · dx, trapezoid rule.
-double work_increment(const std::vector<real2>& f0, const std::vector<real2>& f1, const std::vector<real2>& x0,
-                      const std::vector<real2>& x1) {
-  double w = 0;
-  for (size_t a = 0; a < f0.size(); ++a)
-    w -= 0.5 * (vec(f0[a]) + vec(f1[a])).dot(vec(x1[a]) - vec(x0[a]));
-  return w;
-}
-
-}  // namespace
+using namespace fdem::cohesive_rig;
 
 TEST_SUITE("cohesive") {
 
@@ -206,7 +100,7 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
   }
   std::vector<rc::Ce4State> state(count);
   std::vector<real2> x(rig.ref.size());
-  double worst_force = 0, worst_damage = 0, worst_kin = 0;
+  double worst_force = 0, worst_damage = 0, worst_kin = 0, worst_energy = 0, largest_dissipated = 0;
   int mismatched_status = 0;
   int seen_compression = 0, seen_unload_n = 0, seen_unload_s = 0, seen_soft = 0;
   int seen_mode[4] = {0, 0, 0, 0};
@@ -237,6 +131,7 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
     const auto damage = rig.stage->damage(), opening = rig.stage->opening(), slip = rig.stage->slip();
     const auto broken = rig.stage->broken(), mode = rig.stage->mode();
     const auto when = rig.stage->broken_time();
+    const auto work = rig.stage->work(), dissipated = rig.stage->dissipated();
     for (size_t e = 0; e < count; ++e) {
       const rc::Law& law = rig.laws[e];
       const bool was_broken = state[e].broken;
@@ -246,6 +141,12 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
       for (const auto& v : r.force) scale = std::max(scale, v.norm());
       for (int q = 0; q < 4; ++q) worst_force = std::max(worst_force, (vec(f[4 * e + q]) - r.force[q]).norm() / scale);
       worst_damage = std::max(worst_damage, std::fabs(damage[e] - r.damage));
+      // Energies against the CE4's own energy scale (peak traction × critical gap × L t).
+      const double energy_scale =
+          (law.tensile * (law.o_p + law.o_t) + law.cohesion * (law.s_p + law.s_t)) * L * thickness;
+      worst_energy = std::max({worst_energy, std::fabs(work[e] - state[e].work) / energy_scale,
+                               std::fabs(dissipated[e] - state[e].dissipated) / energy_scale});
+      largest_dissipated = std::max(largest_dissipated, state[e].dissipated / energy_scale);
       worst_kin = std::max({worst_kin, std::fabs(opening[e] - r.opening) / (law.o_p + law.o_t),
                             std::fabs(slip[e] - r.slip) / (law.s_p + law.s_t)});
       if ((broken[e] != 0) != state[e].broken || mode[e] != state[e].mode ||
@@ -261,13 +162,15 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
       if (!was_broken && state[e].broken) seen_mode[state[e].mode]++;
     }
   }
-  MESSAGE("worst force ", worst_force, ", damage ", worst_damage, ", kinematics ", worst_kin,
+  MESSAGE("worst force ", worst_force, ", damage ", worst_damage, ", kinematics ", worst_kin, ", energy ", worst_energy,
           "; broken by mode I/II/mixed: ", seen_mode[1], "/", seen_mode[2], "/", seen_mode[3],
           "; points seen compressed+sheared ", seen_compression, ", unloading n/s ", seen_unload_n, "/",
           seen_unload_s, ", softened ", seen_soft);
   CHECK(worst_force < kRel);
   CHECK(worst_damage < kRel);
   CHECK(worst_kin < kRel);
+  CHECK(worst_energy < kRel);
+  CHECK(largest_dissipated > 0.1);  // the comparison covered CE4s that dissipated energy
   CHECK(mismatched_status == 0);
   // The histories must have exercised every branch.
   CHECK(seen_compression > 0);
@@ -282,16 +185,22 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
 
 // Shared driver of the two fracture-energy tests: one rotated CE4, faces moved apart
 // symmetrically along `direction` (normal or tangential) from 0 to 1.1 (elastic limit +
-// critical value), quasi-statically (no dynamics: positions are prescribed).
+// critical value), quasi-statically (no dynamics: positions are prescribed). Besides the
+// nodal work it follows the kernel's own dissipated energy at every step.
 struct EnergyRun {
   double work = 0, break_gap = 0, break_time = -1;
   int mode = 0;
   bool broken = false, zero_after = true;
+  double dissipated_at_break = 0;  // the kernel's account [J]
+  double worst_elastic = 0;        // largest |dissipated| before the elastic limit [J]
+  double worst_softening = 0;      // largest |dissipated - analytic| while softening [J]
+  bool frozen_after = true;        // dissipated unchanged after breaking
 };
 
-EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const FractureProperties& p,
+EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double peak, const FractureProperties& p,
                      double thickness, const Vec& a, const Vec& b) {
   Rig rig({{a, b}}, {p}, thickness);
+  const double area = (b - a).norm() * thickness;
   std::vector<real2> x(4), x_prev(4);
   place(x, 0, a, b, Vec::Zero(), Vec::Zero());
   std::vector<real2> f_prev = rig.step(x, 0.0);
@@ -308,12 +217,20 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const 
     place(x, 0, a, b, g, g);
     const auto f = rig.step(x, 1e-3 * k);
     if (!run.broken) run.work += work_increment(f_prev, f, x_prev, x);
+    const double dissipated = rig.stage->dissipated()[0];
     const bool broken_now = rig.stage->broken()[0] != 0;
+    if (run.broken) run.frozen_after = run.frozen_after && dissipated == run.dissipated_at_break;
+    else if (k <= elastic_steps) run.worst_elastic = std::max(run.worst_elastic, std::fabs(dissipated));
+    else if (!broken_now)
+      run.worst_softening =
+          std::max(run.worst_softening,
+                   std::fabs(dissipated - area * envelope_dissipated(gap, elastic_limit, critical, peak, p)));
     if (broken_now && !run.broken) {
       run.broken = true;
       run.break_gap = gap;
       run.break_time = rig.stage->broken_time()[0];
       run.mode = rig.stage->mode()[0];
+      run.dissipated_at_break = dissipated;
     }
     if (run.broken)
       for (const auto& v : f) run.zero_after = run.zero_after && v.x == 0 && v.y == 0;
@@ -323,12 +240,25 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, const 
   return run;
 }
 
+// The dissipated-energy checks common to the two pure-mode tests.
+void check_dissipated(const EnergyRun& run, double G_part, const std::string& name) {
+  MESSAGE(name, ": kernel dissipated at break ", run.dissipated_at_break, " J = ", fixed(run.dissipated_at_break / G_part),
+          " G L t (nodal work ", fixed(run.work / G_part), " G L t); elastic phase |dissipated| <= ",
+          run.worst_elastic / G_part, " G L t; softening |dissipated - analytic| <= ", run.worst_softening / G_part,
+          " G L t");
+  CHECK(std::fabs(run.dissipated_at_break / G_part - 1.0) < 0.02);
+  CHECK(std::fabs(run.dissipated_at_break - run.work) < (kDoublePrecision ? 1e-9 : 1e-3) * G_part);
+  CHECK(run.worst_elastic < (kDoublePrecision ? 1e-6 : 1e-2) * G_part);
+  CHECK(run.worst_softening < (kDoublePrecision ? 1e-5 : 2e-2) * G_part);
+  CHECK(run.frozen_after);
+}
+
 TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small elastic pre-peak part)") {
   const FractureProperties p = rock();
   const Vec a(0.31, -0.12), b = a + 0.2 * Vec(std::cos(0.7), std::sin(0.7));
   const double L = 0.2, thickness = 0.5;
   const rc::Law law = rc::make_law(p, L);
-  const EnergyRun run = pull_apart(true, law.o_p, law.o_t, p, thickness, a, b);
+  const EnergyRun run = pull_apart(true, law.o_p, law.o_t, p.tensile_strength, p, thickness, a, b);
   const double G_part = p.gf1 * L * thickness;
   const double elastic = 2.0 / 3.0 * p.tensile_strength * law.o_p * L * thickness;  // ∫₀^o_p σ do
   MESSAGE("mode I: work ", run.work, " J, G_fI L t = ", G_part, " J, elastic pre-peak ", elastic,
@@ -342,6 +272,7 @@ TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small el
   CHECK(run.break_gap >= (law.o_p + law.o_t) * (1 - kGapTol));
   CHECK(run.break_gap < (law.o_p + law.o_t) * (1 + 1e-3));
   CHECK(run.break_time > 0);
+  check_dissipated(run, G_part, "mode I");
 }
 
 TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fII L t") {
@@ -352,7 +283,7 @@ TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fI
   const Vec a(-0.5, 0.25), b = a + 0.2 * Vec(std::cos(2.2), std::sin(2.2));
   const double L = 0.2, thickness = 1.0;
   const rc::Law law = rc::make_law(p, L);
-  const EnergyRun run = pull_apart(false, law.s_p, law.s_t, p, thickness, a, b);
+  const EnergyRun run = pull_apart(false, law.s_p, law.s_t, p.cohesion, p, thickness, a, b);
   const double G_part = p.gf2 * L * thickness;
   const double elastic = 2.0 / 3.0 * p.cohesion * law.s_p * L * thickness;
   MESSAGE("mode II: work ", run.work, " J, G_fII L t = ", G_part, " J, elastic pre-peak ", elastic,
@@ -365,6 +296,7 @@ TEST_CASE("pure mode II at zero normal stress: the work to break one CE4 is G_fI
   CHECK(std::fabs(run.work / (G_part + elastic) - 1.0) < (kDoublePrecision ? 1e-3 : 2e-2));
   CHECK(run.break_gap >= (law.s_p + law.s_t) * (1 - kGapTol));
   CHECK(run.break_gap < (law.s_p + law.s_t) * (1 + 1e-3));
+  check_dissipated(run, G_part, "mode II");
 }
 
 TEST_CASE("irreversibility: unloading and reloading follow Eqs. 13-14 and f never recovers") {

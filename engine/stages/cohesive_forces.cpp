@@ -1,5 +1,6 @@
 #include "engine/stages/cohesive_forces.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -32,7 +33,7 @@ void check_properties(const FractureProperties& p, size_t index) {
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
                                compute::buffer& ref_position)
-    : cl_(cl), count_(model.ce4.size()) {
+    : cl_(cl), count_(model.ce4.size()), partials_(std::max<size_t>(1, std::min<size_t>(count_, 4096))) {
   if (model.properties.size() != count_)
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
                      std::to_string(model.properties.size()) + " property indices");
@@ -48,6 +49,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   const size_t num_nodes = ref_position.size() / sizeof(real2);
   const auto ref = download<real2>(cl, ref_position, num_nodes);
   std::vector<cl_uint> nodes(4 * count_);
+  std::vector<real4> gaps(count_);  // end gaps at the start (zero for CE4s from a split mesh)
   params_.assign(kStride * count_, real(0));
   const double deg = std::acos(-1.0) / 180.0;
   for (size_t e = 0; e < count_; ++e) {
@@ -64,6 +66,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     const real2 a = ref[model.ce4[e][0]], b = ref[model.ce4[e][1]];
     const double h = std::hypot(double(b.x) - double(a.x), double(b.y) - double(a.y));
     if (!(h > 0.0)) throw InputError("CE4 " + std::to_string(e) + " has a zero-length edge");
+    const real2 ip = ref[model.ce4[e][3]], jp = ref[model.ce4[e][2]];
+    gaps[e] = real4{ip.x - a.x, ip.y - a.y, jp.x - b.x, jp.y - b.y};
     real* row = &params_[kStride * e];
     row[kOp] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
     row[kSp] = real(2.0 * h * f.cohesion / f.penalty_sliding);
@@ -85,14 +89,20 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   status_ = cl.allocate(2 * count_ * sizeof(cl_int), "ce4_status");
   output_ = cl.allocate(count_ * sizeof(real4), "ce4_output");
   slots_ = cl.allocate(4 * count_ * sizeof(real2), "ce4_force");
+  last_gap_ = cl.allocate(count_ * sizeof(real4), "ce4_last_gap");
+  energy_ = cl.allocate(count_ * sizeof(real2), "ce4_energy");
+  partial_ = cl.allocate(partials_ * sizeof(real), "ce4_dissipated_partials");
   upload(cl, nodes_, nodes);
   upload(cl, params_buffer_, params_);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
   upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
   upload(cl, output_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));
   upload(cl, slots_, std::vector<real2>(4 * count_));
+  upload(cl, last_gap_, gaps);
+  upload(cl, energy_, std::vector<real2>(count_));
 
-  kernel_ = compute::kernel(cl.build("cohesive"), "cohesive_forces");
+  const auto program = cl.build("cohesive");
+  kernel_ = compute::kernel(program, "cohesive_forces");
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, nodes_);
   kernel_.set_arg(2, params_buffer_);
@@ -103,6 +113,13 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   kernel_.set_arg(7, status_);
   kernel_.set_arg(8, output_);
   kernel_.set_arg(9, slots_);
+  kernel_.set_arg(10, last_gap_);
+  kernel_.set_arg(11, energy_);
+  partials_kernel_ = compute::kernel(program, "cohesive_dissipated_partials");
+  partials_kernel_.set_arg(0, static_cast<cl_uint>(count_));
+  partials_kernel_.set_arg(1, static_cast<cl_uint>(partials_));
+  partials_kernel_.set_arg(2, energy_);
+  partials_kernel_.set_arg(3, partial_);
 }
 
 void CohesiveForces::enqueue(double time) {
@@ -134,6 +151,24 @@ std::vector<int> CohesiveForces::mode() {
   std::vector<int> out(count_);
   for (size_t e = 0; e < count_; ++e) out[e] = s[2 * e + 1];
   return out;
+}
+
+std::vector<real> CohesiveForces::energy_column(int k) {
+  const auto rows = download<real2>(cl_, energy_, count_);
+  std::vector<real> column(count_);
+  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : rows[e].y;
+  return column;
+}
+
+std::vector<real> CohesiveForces::work() { return energy_column(0); }
+std::vector<real> CohesiveForces::dissipated() { return energy_column(1); }
+
+double CohesiveForces::dissipated_total() {
+  if (count_ == 0) return 0.0;
+  cl_.enqueue(partials_kernel_, partials_);
+  double total = 0;
+  for (real v : download<real>(cl_, partial_, partials_)) total += double(v);
+  return total;
 }
 
 size_t CohesiveForces::count_broken() {

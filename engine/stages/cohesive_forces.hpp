@@ -38,14 +38,23 @@ class CohesiveForces {
   std::vector<int> mode();          // 0 intact, 1 mode I, 2 mode II, 3 mixed
   std::vector<real> broken_time();  // [s]; -1 while intact
   size_t count_broken();
+  std::vector<real> work();         // work done on each CE4 so far [J]
+  std::vector<real> dissipated();   // energy each CE4 dissipated so far [J] (cl_kernels/cohesive.cl)
+  // Σ dissipated over all CE4s [J]: a device pass into a fixed number of partial sums,
+  // each over a fixed stride of CE4s, then the partials summed in order on the host, so
+  // the total is reproducible; reads back the partials only.
+  double dissipated_total();
 
  private:
   std::vector<real> output_column(int k);
+  std::vector<real> energy_column(int k);
   ClContext& cl_;
   size_t count_;
+  size_t partials_;
   std::vector<real> params_;
-  compute::kernel kernel_;
+  compute::kernel kernel_, partials_kernel_;
   compute::buffer nodes_, params_buffer_, gp_state_, status_, output_, slots_;
+  compute::buffer last_gap_, energy_, partial_;  // real4, real2 per CE4; real per partial
 };
 
 }  // namespace fdem
