@@ -69,6 +69,9 @@
 // f(D) of Eq. 10.
 inline real coh_softening(real D, real A, real B, real C) {
   const real ab = A + B;
+  // Intact points (most of them, every step): exp(0) = pow(1, C) = 1 exactly, so this is
+  // the general formula's own value without its two slow calls.
+  if (D == (real)0) return ((real)1 - (ab - (real)1) / ab) * (A + B);
   const real decay = (real)1 - (ab - (real)1) / ab * exp(D * (A + C * B) / (ab * ((real)1 - ab)));
   return decay * (A * ((real)1 - D) + B * pow((real)1 - D, C));
 }
