@@ -163,22 +163,29 @@ TEST_CASE("blasting, cases 1 (absorbing) and 2 (free): the same until the wave r
   const std::string ha = absorbing + "/blasting_history.nc", hf = free_rim + "/blasting-free_history.nc";
   const auto t = test::read_variable(ha, "time");
   // Before the front reaches the rim (4.95 m at 5000 m/s: 990 µs) the runs agree; the
-  // reflection from a free rim comes back to the 4 m stations by about 1180 µs.
+  // reflection from a free rim comes back to the 4 m stations by about 1180 µs. The
+  // stations' velocities (centred differences of their mean displacement) show it: the
+  // displacement itself hardly differs, as the reflected tension only slows the rock.
   const auto ua = test::read_variable(ha, "x3_disp_x"), uf = test::read_variable(hf, "x3_disp_x");
   const auto wa = test::read_variable(ha, "x4_disp_x"), wf = test::read_variable(hf, "x4_disp_x");
-  double scale = 0, early = 0, late = 0;
+  auto velocity = [&](const std::vector<double>& u, size_t k) {
+    const size_t lo = k == 0 ? 0 : k - 1, hi = std::min(k + 1, u.size() - 1);
+    return (u[hi] - u[lo]) / (t[hi] - t[lo]);
+  };
+  double scale = 0, early = 0, peak_v = 0, late = 0;
   for (size_t k = 0; k < t.size(); ++k) {
     scale = std::max(scale, std::fabs(ua[k]));
+    peak_v = std::max(peak_v, std::fabs(velocity(wa, k)));
     if (t[k] < 900e-6) early = std::max(early, std::fabs(ua[k] - uf[k]));
-    if (t[k] > 1200e-6) late = std::max(late, std::fabs(wa[k] - wf[k]));
+    if (t[k] > 1200e-6) late = std::max(late, std::fabs(velocity(wa, k) - velocity(wf, k)));
   }
   const auto ka = test::read_variable(ha, "kinetic_energy"), kf = test::read_variable(hf, "kinetic_energy");
   const auto ba = test::read_variable(ha, "broken_ce4"), bf = test::read_variable(hf, "broken_ce4");
-  MESSAGE("blasting: x3 differs by " << early / scale << " of its peak before 900 µs; x4 by " << late / scale
-                                      << " after 1200 µs; kinetic energy at 1300 µs " << ka.back() << " J (absorbing) vs "
+  MESSAGE("blasting: x3 displacement differs by " << early / scale << " of its peak before 900 µs; x4 velocity by "
+                                      << late / peak_v << " of its peak after 1200 µs; kinetic energy at 1300 µs " << ka.back() << " J (absorbing) vs "
                                       << kf.back() << " J (free); broken CE4s " << ba.back() << " / " << bf.back());
   CHECK(early < 1e-3 * scale);
-  CHECK(late > 0.05 * scale);
+  CHECK(late > 0.1 * peak_v);
   CHECK(ka.back() < kf.back());
   CHECK(ba.back() > 100);
   const SpeedFit fit = blast_speed(ha, true);
