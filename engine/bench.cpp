@@ -32,7 +32,10 @@ double bytes_per_step(const Model& m, size_t couples, size_t touching) {
   const double r = sizeof(real);
   const double nodes = m.num_nodes() * (2 * r * 2 * 2 + 2 * r * 2 + 4);
   const double tris = m.num_triangles() * (12 + 4 * r + 4 + 3 * 2 * r * 2 + 3 * 2 * r);
-  const double ce4 = m.ce4.size() * (16 + 12 * r + 2 * 12 * r + 8 + 4 * 2 * r * 2);
+  // CE4: nodes, parameters, Gauss-point state read and written, status, positions, the
+  // four slots written, and the energy account (last step's slots and gaps read, work
+  // read and written).
+  const double ce4 = m.ce4.size() * (16 + 12 * r + 2 * 12 * r + 8 + 4 * 2 * r * 2 + 16 * r);
   const double contact = couples * (8 + 10 * r + 6 * 2 * r) + touching * (10 * r + 6 * 2 * r + 6 * 16);
   return nodes + tris + ce4 + contact;
 }
