@@ -167,6 +167,19 @@ assert len(pairs) == 0
 assert len(plot.outline_edges(exo)) == 36, len(plot.outline_edges(exo))
 PY
 
+# bench: a CSV in the form `fdem bench --csv` writes (engine/bench.cpp), points on a line.
+cat >"$work/bench.csv" <<'CSV'
+h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,device_mib,bytes_per_tri3,roofline_ms,roofline_fraction
+0.6,60000,90000,180000,420000,63000,0,0.2,12.6,63,176,3037,0.04,0.2
+0.15,1080000,1600000,3230000,7500000,1100000,0,2.24,84.6,37.8,3147,3048,0.68,0.3
+0.3,240000,360000,720000,1680000,250000,0,0.56,21.4,38.2,700,3040,0.15,0.27
+CSV
+"$plot" bench "$work/bench.csv:H200" -o "$work/bench.png" >"$work/bench.txt" || fail "fdem-plot bench"
+check_png "$work/bench.png"
+grep -q "largest miss of the linear fit 0.0%" "$work/bench.txt" || fail "bench linear fit: $(cat "$work/bench.txt")"
+echo "x,y" >"$work/notbench.csv"
+expect_error "not an fdem bench CSV" "$plot" bench "$work/notbench.csv" -o "$work/x.png"
+
 if [ "$failures" -ne 0 ]; then
   echo "test_tools.sh: $failures failure(s)" >&2
   exit 1
