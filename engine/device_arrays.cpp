@@ -10,21 +10,33 @@ namespace fdem {
 size_t DeviceArrays::bytes_needed(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
   const size_t r = sizeof(real), u = sizeof(uint32_t);
-  const size_t nodes = n * (5 * 2 * r + u + 2 * u +        // 5 real2 arrays, group, two CSR offsets
-                            (model.contact.enabled ? 2 * 8 : 0));  // fixed-point contact force
+  const bool contact = model.contact.enabled;
+  // Nodes: position, velocity, reference position, force, mass (real2 each), group, three
+  // CSR offsets; with contact the fixed-point force, the skin's positions at the last
+  // detection and the run's checkpoint copy of position and velocity.
+  const size_t nodes = n * (5 * 2 * r + u + 3 * u + (contact ? 2 * 8 + 2 * r : 0) + 4 * r);
+  // Triangles: nodes, X⁻¹, material, three corner slots, stress, three CSR entries.
   const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
   const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
-  size_t points = 1;
-  for (const auto& l : model.loads) points += l.times.size();
-  const size_t tables = (model.groups.size() + model.loads.size()) * 4 * r + points * 2 * r +
+  const size_t tables = (model.groups.size() + model.loads.size()) * 8 * r +
                         model.materials.size() * kMaterialStride * r + 64;
-  // Contact: couple keys and two history lists (8 + 2 × 80 bytes per couple), about 4
-  // couples per triangle to start with, plus the detection's per-triangle arrays.
-  const size_t contact = model.contact.enabled ? t * (4 * (8 + 2 * 10 * r) + 8 * 8 + 4 * r + 64) : 0;
-  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), status, outputs,
-  // 4 force slots, 4 CSR entries.
-  const size_t ce4 = model.ce4.size() * (4 * u + 12 * r + 3 * 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * u);
-  return nodes + tris + edges + tables + contact + ce4;
+  // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
+  // per candidate couple its detection key and, with room for half as many again, the
+  // force stage's key, two history lists (10 reals each), overlap-list entry and live
+  // flag. About 8 couples per candidate triangle (7 measured on the UCS mesh, all
+  // triangles candidates).
+  size_t candidates = t;
+  if (!model.contact_active.empty())
+    candidates = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
+                                                   [](uint32_t a) { return a != 0; }));
+  const size_t couples = 8 * std::max<size_t>(candidates, 1);
+  const size_t contact_bytes =
+      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 3 / 2 * (8 + 2 * 10 * r + u + 1) : 0;
+  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), status, output row,
+  // 4 force slots, last gaps (real4) and energy account (real2), 4 CSR entries.
+  const size_t ce4 =
+      model.ce4.size() * (4 * u + 12 * r + 3 * 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * r + 2 * r + 4 * u);
+  return nodes + tris + edges + tables + contact_bytes + ce4;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
