@@ -9,6 +9,10 @@ namespace fdem {
 
 namespace {
 constexpr int kHistory = 10;  // CONTACT_HISTORY in contact_forces.cl
+
+// Room for a grown couple list: an eighth more (the lists are the largest arrays, about
+// 170 bytes a couple; couples grow slowly once the first detection has run).
+size_t grown(size_t count) { return count + count / 8 + 1024; }
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
@@ -80,8 +84,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   const int next = new_list ? 1 - current_ : current_;
   if (new_list && count > capacity_) {
     // Grow the write side now; the previous list and history stay readable for this call.
-    const size_t grown = count + count / 2;
-    history_[next] = cl_.allocate(grown * kHistory * sizeof(real), "contact_history");
+    history_[next] = cl_.allocate(grown(count) * kHistory * sizeof(real), "contact_history");
   }
   if (new_list && count_ > 0) {
     release_.set_arg(0, static_cast<cl_uint>(count_));
@@ -94,7 +97,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     cl_.enqueue(release_, count_);
   }
   if (count > list_capacity_) {
-    list_capacity_ = count + count / 2;
+    list_capacity_ = grown(count);
     overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
     live_ = cl_.allocate(list_capacity_, "contact live flags");  // a new list writes every flag
   }
@@ -124,7 +127,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   cl_.enqueue(forces_, count);
   if (new_list) {
     if (count > capacity_) {
-      capacity_ = count + count / 2;
+      capacity_ = grown(count);
       keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");  // the kernel holds the old one
       history_[current_] = cl_.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
     }
