@@ -45,6 +45,23 @@ velocity = [0.5, 0.0]
 rise = 1e-4
 )";
 
+// The bar held on its left and bottom edges, pulled by 0.5 MPa on its right edge and
+// brought to rest by local damping with mass scaling.
+const std::string kBarTension = R"(
+[damping]
+local = 0.8
+mass_scaling = true
+[[boundary]]
+region = "left"
+fix = ["x"]
+[[boundary]]
+region = "bottom"
+fix = ["y"]
+[[boundary]]
+region = "right"
+traction = [0.5e6, 0.0]
+)";
+
 }  // namespace
 
 TEST_SUITE("cohesive") {
@@ -82,20 +99,7 @@ TEST_CASE("splitting: every fracturable triangle owns three nodes, one CE4 per i
 }
 
 TEST_CASE("an intact fracturable bar under a small load matches the unsplit bar to the CE4 compliance") {
-  const std::string load = R"(
-[damping]
-local = 0.8
-mass_scaling = true
-[[boundary]]
-region = "left"
-fix = ["x"]
-[[boundary]]
-region = "bottom"
-fix = ["y"]
-[[boundary]]
-region = "right"
-traction = [0.5e6, 0.0]
-)";
+  const std::string load = kBarTension;
   test::TempDir a, b;
   std::ostringstream log;
   for (auto* d : {&a, &b}) {
@@ -203,20 +207,7 @@ TEST_CASE("apparent Young's modulus of an intact fracturable bar: within 1% of E
     std::ostringstream to;
     to << "penalty = { opening = " << penalty << ", sliding = " << penalty << ", overlap = " << penalty << " }";
     text.replace(text.find(from), from.size(), to.str());
-    const std::string load = R"(
-[damping]
-local = 0.8
-mass_scaling = true
-[[boundary]]
-region = "left"
-fix = ["x"]
-[[boundary]]
-region = "bottom"
-fix = ["y"]
-[[boundary]]
-region = "right"
-traction = [0.5e6, 0.0]
-)";
+    const std::string load = kBarTension;
     auto p = prepare_case(bar(dir, text, load), {"mesh.size=0.1", "time.dt=1.0", "time.end=200000.0",
                                                  "material.0.viscosity=0.0", "output.history_every=10000.0"});
     std::ostringstream log;
