@@ -14,6 +14,14 @@
 //                  edge acting on its own velocity (a lumped dashpot).
 // Loads other than the absorbing one put half of f on each node. The force on each
 // node is written to the edge's two slots (the node gather sums them).
+// Energy account: before overwriting its slots the edge adds the work its forces did over
+// the last step, by the trapezoid rule in time, ½ (f_before + f_now)·(x_now - x_before)
+// per node, with x_now - x_before = v Δt (v is the velocity that made that move). That is
+// exact for a force linear in time over the step and consistent with the integrator (see
+// integrate.cl). Absorbing edges book minus it as absorbed energy, the others as load
+// work; the work-group sums both (fixed order) into its own slot of group_energy. The
+// first step has no "before" and adds nothing.
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 #define LOAD_TRACTION 0
 #define LOAD_PRESSURE 1
 #define LOAD_BLAST 2
@@ -48,20 +56,28 @@ inline real3 impedance(__global const real* material, real2 n) {
   return (real3)((gxx + s) * inv, gxy * inv, (gyy + s) * inv);
 }
 
-__kernel void boundary_loads(const uint n_edges,
-                             __global const uint2* restrict edge_nodes,
-                             __global const uint* restrict edge_load,
-                             __global const real4* restrict load_table,
-                             __global const real2* restrict pressure_points,
-                             __global const real* restrict materials,
-                             __global const real2* restrict ref_position,
-                             __global const real2* restrict position,
-                             __global const real2* restrict velocity,
-                             const real thickness,
-                             const real time,
-                             __global real2* restrict edge_force) {
-  const uint e = get_global_id(0);
-  if (e >= n_edges) return;
+// Work of edge e's forces over the last step (trapezoid rule; its slots still hold the
+// forces of the step before).
+inline real edge_work(__global const real2* edge_force, uint e, real2 fa, real2 fb, real2 va, real2 vb, real dt) {
+  return (real)0.5 * dt * (dot(edge_force[2 * e] + fa, va) + dot(edge_force[2 * e + 1] + fb, vb));
+}
+
+// Edge e's two nodal forces, written to its slots; returns (load work, absorbed energy)
+// of the last step, as above.
+inline real4 edge_load_forces(const uint e,
+                                   __global const uint2* restrict edge_nodes,
+                                   __global const uint* restrict edge_load,
+                                   __global const real4* restrict load_table,
+                                   __global const real2* restrict pressure_points,
+                                   __global const real* restrict materials,
+                                   __global const real2* restrict ref_position,
+                                   __global const real2* restrict position,
+                                   __global const real2* restrict velocity,
+                                   const real thickness,
+                                   const real time,
+                                   __global real2* restrict edge_force,
+                                   const real dt,
+                                   const int step) {
   const uint2 ab = edge_nodes[e];
   const real4 load = load_table[edge_load[e]];
   const int kind = (int)load.x;
@@ -73,9 +89,12 @@ __kernel void boundary_loads(const uint n_edges,
     const real3 z = impedance(materials + (uint)load.y * MATERIAL_STRIDE, n);
     const real node_share = (real)0.5 * edge_length * thickness;
     const real2 va = velocity[ab.x], vb = velocity[ab.y];
-    edge_force[2 * e] = -node_share * (real2)(z.x * va.x + z.y * va.y, z.y * va.x + z.z * va.y);
-    edge_force[2 * e + 1] = -node_share * (real2)(z.x * vb.x + z.y * vb.y, z.y * vb.x + z.z * vb.y);
-    return;
+    const real2 fa = -node_share * (real2)(z.x * va.x + z.y * va.y, z.y * va.x + z.z * va.y);
+    const real2 fb = -node_share * (real2)(z.x * vb.x + z.y * vb.y, z.y * vb.x + z.z * vb.y);
+    const real work = step > 0 ? edge_work(edge_force, e, fa, fb, va, vb, dt) : (real)0;
+    edge_force[2 * e] = fa;
+    edge_force[2 * e + 1] = fb;
+    return (real4)(0, -work, 0, 0);
   }
   real2 f;
   if (kind == LOAD_TRACTION) {
@@ -92,6 +111,35 @@ __kernel void boundary_loads(const uint n_edges,
       p = table_pressure(pressure_points, (uint)load.y, (uint)load.z, time);
     f = -p * thickness * outward_length;
   }
-  edge_force[2 * e] = (real)0.5 * f;
-  edge_force[2 * e + 1] = (real)0.5 * f;
+  const real2 each = (real)0.5 * f;
+  const real work = step > 0 ? edge_work(edge_force, e, each, each, velocity[ab.x], velocity[ab.y], dt) : (real)0;
+  edge_force[2 * e] = each;
+  edge_force[2 * e + 1] = each;
+  return (real4)(work, 0, 0, 0);
+}
+
+// One work-item per loaded edge e: its nodal forces and its share of the energy account.
+__kernel void boundary_loads(const uint n_edges,
+                             __global const uint2* restrict edge_nodes,
+                             __global const uint* restrict edge_load,
+                             __global const real4* restrict load_table,
+                             __global const real2* restrict pressure_points,
+                             __global const real* restrict materials,
+                             __global const real2* restrict ref_position,
+                             __global const real2* restrict position,
+                             __global const real2* restrict velocity,
+                             const real thickness,
+                             const real time,
+                             __global real2* restrict edge_force,
+                             const real dt,
+                             const int step,
+                             __global real2* restrict group_energy) {
+  __local real4 energy_scratch[GROUP_SIZE];
+  const uint e = get_global_id(0);
+  real4 energy = (real4)(0, 0, 0, 0);
+  if (e < n_edges)
+    energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, ref_position, position,
+                              velocity, thickness, time, edge_force, dt, step);
+  const real4 sum = group_sum4(energy_scratch, energy);
+  if (get_local_id(0) == 0) group_energy[get_group_id(0)] += sum.xy;
 }

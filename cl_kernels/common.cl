@@ -47,3 +47,19 @@ inline real4 inverse2(real4 m) {
 #define COND_INVERTED_TRI 2   /* triangle whose Jacobian became <= 0 */
 #define COND_INVERTED_STEP 3
 #define CONDITION_WORDS 4
+
+// Work-group sum of one real4 per work-item by a fixed pairwise tree, so the sum and its
+// rounding are the same on every run; the result is valid in work-item 0. Every
+// work-item of the group must call it (it holds barriers); the local size must be a power
+// of two (ClContext makes it one). Energy accounts use it: each group's sum goes to its
+// own slot, and the host adds the slots in order.
+inline real4 group_sum4(__local real4* scratch, real4 value) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
+    if (lid < s) scratch[lid] += scratch[lid + s];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  return scratch[0];
+}

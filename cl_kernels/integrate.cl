@@ -13,6 +13,21 @@
 // last detection and its speed, the work-group's largest of each folded into slot
 // `slot` with integer atomic_max on float bits, and global work-item 0 clears slot
 // `next_slot`. Doing it here saves a launch and a pass over the nodes.
+// Energy account (docs/case-format.md defines every term). The step's velocities before
+// (v⁻ = v at t - Δt/2) and after (v⁺ = v at t + Δt/2) are both here, so the account is
+// exact for the leapfrog: with the total nodal force F = m (v⁺ - v⁻)/Δt, Σ_steps F·v̄ Δt
+// (v̄ = (v⁻ + v⁺)/2) equals the change of ½ m v⁻·v⁺, the kinetic energy at the step's
+// own time t (positions x). Per node and component:
+//   free:        the local damping force (f_d - f) works (f_d - f)·v̄ Δt (dissipated: minus it);
+//   prescribed:  the reaction R = m (v⁺ - v⁻)/Δt - f that keeps the path works R·v̄ Δt
+//                (boundary work, supplied).
+// Every step the work-group sums both (group_sum4, a fixed order) and work-item 0 adds
+// them to the group's own slot of group_work (cumulative). The very first step counts
+// only its forward half (F·v⁺/2 Δt), so the sums are the trapezoid rule in time from t = 0.
+// On an energy row (energy_row = 1) the group also writes to group_row: Σ ½ m v⁻·v⁺
+// (kinetic, inertia masses), Σ -m g·(x - X) (gravity potential, true masses, relative to
+// the reference positions X), and the forward halves F·v⁺/2 Δt of this step's damping and
+// reaction work, which the host subtracts so that the row's works run to t exactly.
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 __kernel void integrate(const uint n_nodes,
                         __global real2* restrict position,
@@ -31,13 +46,22 @@ __kernel void integrate(const uint n_nodes,
                         __global const real2* restrict position_at_build,
                         __global uint* restrict monitor,
                         const uint slot,
-                        const uint next_slot) {
+                        const uint next_slot,
+                        __global const real2* restrict ref_position,
+                        const int account_work,
+                        const int energy_row,
+                        __global real2* restrict group_work,
+                        __global real4* restrict group_row) {
   __local uint moved[GROUP_SIZE], speed[GROUP_SIZE];
+  __local real4 energy_scratch[GROUP_SIZE];
   const uint i = get_global_id(0), lid = get_local_id(0);
   uint my_moved = 0u, my_speed = 0u;
+  real4 work = (real4)(0, 0, 0, 0);  // (damping work, reaction work) this step; forward halves
+  real4 row = (real4)(0, 0, 0, 0);   // (kinetic, gravity potential) on energy rows
   if (i < n_nodes) {
     const real2 mass = node_mass[i];  // (true mass, inertia)
-    real2 v = velocity[i];
+    const real2 v_before = velocity[i];
+    real2 v = v_before;
     const real2 f = node_force[i] + mass.x * (real2)(gx, gy);
     node_force[i] = f;
 
@@ -49,14 +73,32 @@ __kernel void integrate(const uint n_nodes,
     v += fd / mass.y * dt;
 
     const uint group = bc_group[i];
+    uint mask = 0u;
     if (group != 0) {
       const real4 bc = bc_table[group];
-      const uint mask = (uint)bc.x;
+      mask = (uint)bc.x;
       const real ramp = bc.w > (real)0 ? fmin(time_after / bc.w, (real)1) : (real)1;
       if (mask & 1u) v.x = ramp * bc.y;
       if (mask & 2u) v.y = ramp * bc.z;
     }
-    const real2 x = position[i] + v * dt;
+    const real2 x_now = position[i];
+    const real2 x = x_now + v * dt;
+    if (account_work) {
+      // Forces × the forward half step (v⁺ Δt/2) and the backward one (v⁻ Δt/2).
+      const real2 damping = fd - f;
+      const real2 reaction = mass.y * (v - v_before) / dt - f;
+      const real2 fwd = (real)0.5 * dt * v, back = (real)0.5 * dt * v_before;
+      const real2 on_damping = (real2)((mask & 1u) ? (real)0 : (real)1, (mask & 2u) ? (real)0 : (real)1);
+      const real2 pd = on_damping * damping, pr = ((real2)(1, 1) - on_damping) * reaction;
+      work.z = dot(pd, fwd);
+      work.w = dot(pr, fwd);
+      work.x = work.z + (step > 0 ? dot(pd, back) : (real)0);
+      work.y = work.w + (step > 0 ? dot(pr, back) : (real)0);
+    }
+    if (energy_row) {
+      row.x = (real)0.5 * mass.y * dot(v_before, v);
+      row.y = -mass.x * dot((real2)(gx, gy), x_now - ref_position[i]);
+    }
     if (!(isfinite(x.x) && isfinite(x.y) && isfinite(v.x) && isfinite(v.y))) {
       atomic_min(&conditions[COND_BAD_NODE], (int)i);
       atomic_min(&conditions[COND_BAD_NODE_STEP], step);
@@ -67,6 +109,17 @@ __kernel void integrate(const uint n_nodes,
       // NaN bits compare above +inf as uint: a NaN node forces a rebuild (and the run's NaN check stops it).
       my_moved = as_uint((float)length(x - position_at_build[i]));
       my_speed = as_uint((float)length(v));
+    }
+  }
+  // Energy sums: the flags are the same for every work-item, so no barrier is skipped by some only.
+  if (account_work || energy_row) {
+    const uint g = get_group_id(0);
+    const real4 w = group_sum4(energy_scratch, work);
+    if (lid == 0 && account_work) group_work[g] += w.xy;
+    if (energy_row) {
+      barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the last sum
+      const real4 r = group_sum4(energy_scratch, row);
+      if (lid == 0) group_row[g] = (real4)(r.x, r.y, w.z, w.w);
     }
   }
   if (!skin_monitor) return;  // the same for every work-item: no barrier is skipped by some only

@@ -5,6 +5,17 @@
 // Inputs: node positions [m] and velocities [m/s]; per triangle the inverse of its
 // reference edge matrix X = [x1-x0, x2-x0]. Outputs: corner forces [N]; on request the
 // stress (σxx, σyy, σxy [Pa], J).
+// Energy account (energy_mode bits; 0 for the output-only stress pass):
+//   bit 0, every step: the viscous dissipation η D:D A t Δt (D from the velocities the
+//     step's forces use, so it is exactly the power the viscous corner forces absorb at
+//     those velocities), summed over the work-group and added to the group's slot .y;
+//   bit 1, energy rows: the strain energy of the current shape, W A₀ t, with W the
+//     potential whose stress the triangle uses:
+//       Eq. 1 (Neo-Hookean): W = μ/2 (F:F - 2 - 2 ln J) + λ/4 (J² - 1 - 2 ln J)
+//         (its Cauchy stress is exactly μ/J (B - I) + λ/2 (J - 1/J) I);
+//       Eqs. 2-3 (Saint Venant-Kirchhoff): W = ½ E:C:E (Voigt, engineering shear);
+//     the group's sum is written to its slot .x. A₀ = ½ det X (X⁻¹ is stored).
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 
 inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
   // σ = λ/2 (J - 1/J) I + μ/J (F Fᵀ - I)
@@ -12,6 +23,25 @@ inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
   const real p = (real)0.5 * lambda * (J - (real)1 / J);
   const real s = mu / J;
   return (real4)(p + s * (B.x - (real)1), s * B.y, s * B.z, p + s * (B.w - (real)1));
+}
+
+// Strain energy per unit reference area of Eq. 1's potential.
+inline real neo_hookean_energy(real4 F, real J, real lambda, real mu) {
+  const real ff = F.x * F.x + F.y * F.y + F.z * F.z + F.w * F.w;
+  const real log_j = log(J);
+  return (real)0.5 * mu * (ff - (real)2 - (real)2 * log_j) + (real)0.25 * lambda * (J * J - (real)1 - (real)2 * log_j);
+}
+
+// Strain energy per unit reference area of Eqs. 2-3: ½ E:C:E.
+inline real hyperelastic_energy(real4 F, __global const real* m) {
+  const real4 Ct = mul2(transpose2(F), F);
+  const real exx = (real)0.5 * (Ct.x - (real)1);
+  const real eyy = (real)0.5 * (Ct.w - (real)1);
+  const real gxy = Ct.y;
+  const real sxx = m[MAT_C11] * exx + m[MAT_C12] * eyy + m[MAT_C16] * gxy;
+  const real syy = m[MAT_C12] * exx + m[MAT_C22] * eyy + m[MAT_C26] * gxy;
+  const real sxy = m[MAT_C16] * exx + m[MAT_C26] * eyy + m[MAT_C66] * gxy;
+  return (real)0.5 * (exx * sxx + eyy * syy + gxy * sxy);
 }
 
 inline real4 hyperelastic_stress(real4 F, real J, __global const real* m) {
@@ -28,21 +58,23 @@ inline real4 hyperelastic_stress(real4 F, real J, __global const real* m) {
   return sigma / J;
 }
 
-__kernel void triangle_forces(const uint n_triangles,
-                              __global const uint* restrict tri_nodes,
-                              __global const real4* restrict ref_inverse,
-                              __global const uint* restrict tri_material,
-                              __global const real* restrict materials,
-                              __global const real2* restrict position,
-                              __global const real2* restrict velocity,
-                              const real thickness,
-                              const int write_stress,
-                              const int step,
-                              __global real2* restrict corner_force,
-                              __global real4* restrict stress,
-                              __global int* restrict conditions) {
-  const uint t = get_global_id(0);
-  if (t >= n_triangles) return;
+// Triangle t's corner forces; returns (strain energy on energy rows, viscous dissipation
+// of this step, 0, 0).
+inline real4 triangle(const uint t,
+                        __global const uint* restrict tri_nodes,
+                        __global const real4* restrict ref_inverse,
+                        __global const uint* restrict tri_material,
+                        __global const real* restrict materials,
+                        __global const real2* restrict position,
+                        __global const real2* restrict velocity,
+                        const real thickness,
+                        const int write_stress,
+                        const int step,
+                        __global real2* restrict corner_force,
+                        __global real4* restrict stress,
+                        __global int* restrict conditions,
+                        const int energy_mode,
+                        const real dt) {
   const uint n0 = tri_nodes[3 * t], n1 = tri_nodes[3 * t + 1], n2 = tri_nodes[3 * t + 2];
   const real2 x0 = position[n0], x1 = position[n1], x2 = position[n2];
   const real2 e1 = x1 - x0, e2 = x2 - x0;
@@ -55,11 +87,11 @@ __kernel void triangle_forces(const uint n_triangles,
     atomic_min(&conditions[COND_INVERTED_TRI], (int)t);
     atomic_min(&conditions[COND_INVERTED_STEP], step);
     corner_force[3 * t] = corner_force[3 * t + 1] = corner_force[3 * t + 2] = (real2)(0, 0);
-    return;
+    return (real4)(0, 0, 0, 0);
   }
 
   real4 sigma = (m[MAT_MODEL] == (real)0) ? neo_hookean_stress(F, J, m[MAT_LAMBDA], m[MAT_MU])
-                                          : hyperelastic_stress(F, J, m);
+                                    : hyperelastic_stress(F, J, m);
 
   // Current shape-function gradients: rows of Dx⁻¹ are ∇N1, ∇N2; ∇N0 = -(∇N1 + ∇N2).
   const real4 Dinv = inverse2(Dx);
@@ -67,6 +99,11 @@ __kernel void triangle_forces(const uint n_triangles,
   const real2 g0 = -(g1 + g2);
 
   const real eta = m[MAT_VISCOSITY];
+  const real area_t = (real)0.5 * det2(Dx) * thickness;  // current area × thickness
+  real4 energy = (real4)(0, 0, 0, 0);
+  if ((energy_mode & 2) != 0)
+    energy.x = (real)0.5 / det2(ref_inverse[t]) * thickness *
+               ((m[MAT_MODEL] == (real)0) ? neo_hookean_energy(F, J, m[MAT_LAMBDA], m[MAT_MU]) : hyperelastic_energy(F, m));
   if (eta != (real)0) {
     // L = Σ v_a ⊗ ∇N_a; D = sym(L)
     const real2 v0 = velocity[n0], v1 = velocity[n1], v2 = velocity[n2];
@@ -76,12 +113,48 @@ __kernel void triangle_forces(const uint n_triangles,
     const real lyy = v0.y * g0.y + v1.y * g1.y + v2.y * g2.y;
     const real dxy = (real)0.5 * (lxy + lyx);
     sigma += eta * (real4)(lxx, dxy, dxy, lyy);
+    if ((energy_mode & 1) != 0) energy.y = eta * (lxx * lxx + lyy * lyy + (real)2 * dxy * dxy) * area_t * dt;
   }
 
-  const real area_t = (real)0.5 * det2(Dx) * thickness;  // current area × thickness
   // f_a = -A t σ ∇N_a
   corner_force[3 * t] = -area_t * (real2)(sigma.x * g0.x + sigma.y * g0.y, sigma.z * g0.x + sigma.w * g0.y);
   corner_force[3 * t + 1] = -area_t * (real2)(sigma.x * g1.x + sigma.y * g1.y, sigma.z * g1.x + sigma.w * g1.y);
   corner_force[3 * t + 2] = -area_t * (real2)(sigma.x * g2.x + sigma.y * g2.y, sigma.z * g2.x + sigma.w * g2.y);
   if (write_stress) stress[t] = (real4)(sigma.x, sigma.w, (real)0.5 * (sigma.y + sigma.z), J);
+  return energy;
+}
+
+// One work-item per triangle t: its three corner forces and its share of the energy
+// account (see the top of this file).
+__kernel void triangle_forces(const uint n_triangles,
+                              __global const uint* restrict tri_nodes,
+                              __global const real4* restrict ref_inverse,
+                              __global const uint* restrict tri_material,
+                              __global const real* restrict materials,
+                              __global const real2* restrict position,
+                              __global const real2* restrict velocity,
+                              const real thickness,
+                              const int write_stress,
+                              const int step,
+                              __global real2* restrict corner_force,
+                              __global real4* restrict stress,
+                              __global int* restrict conditions,
+                              const int energy_mode,
+                              const real dt,
+                              __global real2* restrict group_energy) {
+  __local real4 energy_scratch[GROUP_SIZE];
+  const uint t = get_global_id(0);
+  real4 energy = (real4)(0, 0, 0, 0);
+  if (t < n_triangles)
+    energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
+                      step, corner_force, stress, conditions, energy_mode, dt);
+  if (energy_mode) {  // the same for every work-item: no barrier is skipped by some only
+    const real4 sum = group_sum4(energy_scratch, energy);
+    if (get_local_id(0) == 0) {
+      real2 slot = group_energy[get_group_id(0)];
+      if (energy_mode & 2) slot.x = sum.x;
+      if (energy_mode & 1) slot.y += sum.y;
+      group_energy[get_group_id(0)] = slot;
+    }
+  }
 }

@@ -178,7 +178,8 @@ int run_command(const Arguments& a) {
             << s.steps / std::max(s.wall_seconds, 1e-9) << " steps/s, " << std::setprecision(2)
             << s.ns_per_element_step << " ns per element-step\n"
             << std::defaultfloat << "final kinetic energy " << s.final_kinetic_energy << " J, unbalanced ratio "
-            << s.final_unbalanced_ratio << "\n"
+            << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error
+            << " (worst " << s.worst_energy_error << ")\n"
             << "wrote " << p.exodus_path << " (" << s.frames << " frames) and " << p.history_path << "\n";
   if (a.profile) {
     cl.collect_profile();

@@ -71,14 +71,30 @@ struct HistoryProbe {
   }
 
   std::vector<io::HistoryVariable> variables() const {
+    // The energy account (docs/case-format.md defines each term). Its values are those of
+    // the row's last step's start, t - Δt: the positions that step's forces used.
     std::vector<io::HistoryVariable> vars = {
-        {"kinetic_energy", "J", "total kinetic energy (true lumped masses)"},
+        {"kinetic_energy", "J", "kinetic energy, 1/2 m v(t-dt/2).v(t+dt/2) with the integrator's (scaled) masses"},
+        {"strain_energy", "J", "hyperelastic potential of the triangles (Eq. 1 or Eqs. 2-3)"},
+        {"cohesive_stored_energy", "J", "recoverable elastic energy held by the intact CE4s"},
+        {"contact_stored_energy", "J", "normal penalty potential and tangential springs of the contact couples"},
+        {"gravity_potential", "J", "-sum m g.(x - X), relative to the reference positions"},
+        {"viscous_dissipation", "J", "work of the viscous stress eta D, cumulative"},
+        {"local_damping_dissipation", "J", "work of the local (Cundall) damping forces, cumulative"},
+        {"friction_dissipation", "J", "contact friction work, cumulative"},
+        {"contact_damping_dissipation", "J", "work of the contact damping (Eq. 15), cumulative"},
+        {"fracture_dissipation", "J", "energy dissipated by CE4 softening and breaking, cumulative"},
+        {"absorbed_energy", "J", "energy taken out by absorbing boundaries, cumulative"},
+        {"boundary_work", "J", "work of the reactions of prescribed velocities and fixed components, cumulative"},
+        {"load_work", "J", "work of tractions, pressures and blast loads, cumulative"},
+        {"energy_error", "1",
+         "(stored + dissipated - supplied - initial stored) / max(|supplied|, initial stored, peak kinetic)"},
+        {"energy_ratio", "1", "(stored + dissipated) / (initial stored + supplied)"},
         {"max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom"},
         {"unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node"}};
     if (contact) {
       vars.push_back({"contact_couples", "1", "triangle couples in contact (overlapping) in the last step"});
       vars.push_back({"contact_candidates", "1", "candidate couples from the last contact detection"});
-      vars.push_back({"contact_energy_dissipated", "J", "energy dissipated by contact friction and damping, cumulative"});
       vars.push_back({"contact_rebuilds", "1", "contact detections run since the start"});
     }
     if (fracture) {
@@ -87,8 +103,6 @@ struct HistoryProbe {
       vars.push_back({"broken_mode2", "1", "CE4s broken in mode II"});
       vars.push_back({"broken_mixed", "1", "CE4s broken in mixed mode I-II"});
       vars.push_back({"crack_length", "m", "total initial length of the broken CE4s"});
-      vars.push_back({"cohesive_energy_dissipated", "J",
-                      "energy dissipated by the CE4s (softening, breaking, residual friction), cumulative"});
     }
     for (const auto* r : regions) {
       const std::string n = netcdf_name(r->name);
@@ -102,21 +116,36 @@ struct HistoryProbe {
     return vars;
   }
 
-  std::vector<double> values(Solver& solver) const {
-    const auto x = solver.positions(), v = solver.velocities(), f = solver.forces();
-    double kinetic = 0, max_unbalanced = 0, internal_sum = 0;
+  std::vector<double> values(Solver& solver, const EnergyTotals& e, double error, double ratio) const {
+    const auto x = solver.positions(), f = solver.forces();
+    double max_unbalanced = 0, internal_sum = 0;
     for (size_t i = 0; i < x.size(); ++i) {
-      kinetic += 0.5 * mass[i] * (double(v[i].x) * v[i].x + double(v[i].y) * v[i].y);
       const uint32_t mask = model.groups[model.node_group[i]].mask;
       if (!(mask & 1u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].x)));
       if (!(mask & 2u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].y)));
       internal_sum += std::hypot(f[i].x - mass[i] * model.gravity[0], f[i].y - mass[i] * model.gravity[1]);
     }
     const double mean_internal = x.empty() ? 0 : internal_sum / x.size();
-    std::vector<double> row = {kinetic, max_unbalanced, mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
+    std::vector<double> row = {e.kinetic,
+                               e.strain,
+                               e.cohesive_stored,
+                               e.contact_stored,
+                               e.gravity_potential,
+                               e.viscous,
+                               e.local_damping,
+                               e.friction,
+                               e.contact_damping,
+                               e.fracture,
+                               e.absorbed,
+                               e.boundary_work,
+                               e.load_work,
+                               error,
+                               ratio,
+                               max_unbalanced,
+                               mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
     if (contact)
       row.insert(row.end(), {double(solver.contact_touching()), double(solver.contact_candidates()),
-                             solver.contact_dissipated(), double(solver.contact_rebuilds())});
+                             double(solver.contact_rebuilds())});
     if (fracture) {
       const auto broken = solver.cohesive()->broken();
       const auto mode = solver.cohesive()->mode();
@@ -127,7 +156,7 @@ struct HistoryProbe {
           if (mode[e] >= 1 && mode[e] <= 3) count[mode[e]] += 1;
           length += ce4_length[e];
         }
-      row.insert(row.end(), {count[0], count[1], count[2], count[3], length, solver.cohesive()->dissipated_total()});
+      row.insert(row.end(), {count[0], count[1], count[2], count[3], length});
     }
     for (const auto* r : regions) {
       double fx = 0, fy = 0, ux = 0, uy = 0;
@@ -325,10 +354,13 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start;
   int last_decile = 0;
+  const double energy_limit = config.output.energy_limit;
+  bool energy_warned = false;
+  EnergyTotals last_energy;
   for (long s = 1; s <= p.steps; ++s) {
-    solver.step();
-    const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
     const bool history_due = s % history_stride == 0 || s == p.steps;
+    solver.step(history_due);
+    const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
     if (frame_due || history_due || s % check_stride == 0) {
       const Conditions cond = solver.conditions();
       if (!cond.ok()) {
@@ -348,10 +380,37 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         throw NumericalError(what + saved);
       }
       if (history_due) {
-        last_row = probe.values(solver);
+        const EnergyTotals energy = solver.energy();
+        const double error = solver.balance().error(energy);
+        last_row = probe.values(solver, energy, error, solver.balance().ratio(energy));
         auto row = last_row;
         for (double v : points.values(solver)) row.push_back(v);
         history.append(solver.time(), row);
+        summary.worst_energy_error = std::max(summary.worst_energy_error, std::fabs(error));
+        summary.final_energy_error = error;
+        const std::string grew = EnergyBalance::largest_change(last_energy, energy);
+        last_energy = energy;
+        if (std::fabs(error) > energy_limit) {
+          if (status_line) log << "\n";
+          std::string saved;
+          try {
+            if (solver.steps_done() != last_frame_step) write_current_frame();
+            saved = "; the state at this step is the last frame of " + p.exodus_path;
+          } catch (const std::exception&) {
+          }
+          throw NumericalError("step " + std::to_string(solver.steps_done()) + ", t = " +
+                               format_number(solver.energy_time()) + " s: energy_error " + format_number(error, 3) +
+                               " exceeds output.energy_limit = " + format_number(energy_limit, 3) +
+                               " (the energy balance does not close; " + grew +
+                               " changed most since the last history row)" + saved);
+        }
+        if (std::fabs(error) > 0.01 && !energy_warned) {
+          energy_warned = true;
+          if (status_line) log << "\n";
+          log << "warning: step " << solver.steps_done() << ", t = " << format_number(solver.energy_time())
+              << " s: energy_error " << format_number(error, 3) << " is above 1% (" << grew
+              << " changed most since the last history row)\n";
+        }
       }
       if (frame_due) {
         write_current_frame();
@@ -389,9 +448,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   summary.wall_seconds = wall;
   summary.ns_per_element_step = 1e9 * wall / (double(p.steps) * std::max<size_t>(1, model.num_triangles()));
   summary.frames = exodus.frames_written();
-  if (last_row.size() >= 3) {
+  if (last_row.size() >= 17) {
     summary.final_kinetic_energy = last_row[0];
-    summary.final_unbalanced_ratio = last_row[2];
+    summary.final_unbalanced_ratio = last_row[16];
   }
   exodus.close();
   history.close();

@@ -34,6 +34,8 @@ struct RunSummary {
   double wall_seconds = 0;
   double ns_per_element_step = 0;
   double final_kinetic_energy = 0;
+  double final_energy_error = 0;  // energy_error of the last history row
+  double worst_energy_error = 0;  // largest |energy_error| of any row
   double final_unbalanced_ratio = 0;
   int frames = 0;
 };

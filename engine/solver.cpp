@@ -13,10 +13,12 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
     : cl_(cl),
       dt_(dt),
       arrays_(cl, model),
-      triangle_forces_(cl, arrays_, model.thickness),
+      triangle_forces_(cl, arrays_, model.thickness, dt,
+                       std::any_of(model.materials.begin(), model.materials.end(),
+                                   [](const MaterialConstants& m) { return m.viscosity != 0; })),
       gather_(cl, arrays_),
-      boundary_loads_(cl, arrays_, model.thickness),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt) {
+      boundary_loads_(cl, arrays_, model.thickness, dt),
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1) {
   if (!model.ce4.empty()) {
     CohesiveModel ce4{model.ce4, model.ce4_properties, model.fracture, model.thickness};
     cohesive_ = std::make_unique<CohesiveForces>(cl, ce4, arrays_.position, arrays_.ref_position);
@@ -60,8 +62,11 @@ Solver::Solver(ClContext& cl, const Model& model, double dt)
   cl.finish();
 }
 
-void Solver::step() {
+void Solver::step(bool energy_row) {
   const double t = time();
+  // The first step always evaluates the account: its stored energy is the balance's start.
+  energy_row = energy_row || steps_ == 0;
+  if (energy_row) energy_row_step_ = steps_;
   // The step, stage by stage. Each stage writes its own slots; the gather sums them.
   if (contact_) {
     contact_->enqueue_clear();
@@ -83,13 +88,28 @@ void Solver::step() {
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_);
     }
   }
-  boundary_loads_.enqueue(t);
-  triangle_forces_.enqueue(static_cast<int>(steps_), false);
+  boundary_loads_.enqueue(t, static_cast<int>(steps_));
+  triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t);
   gather_.enqueue_forces();
-  integrate_.enqueue(t + dt_, static_cast<int>(steps_));
+  integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);
   ++steps_;
+  if (!balance_.started()) balance_.start(energy());
+}
+
+EnergyTotals Solver::energy() {
+  EnergyTotals e;
+  integrate_.add_energy(e);
+  triangle_forces_.add_energy(e);
+  boundary_loads_.add_energy(e);
+  if (cohesive_) {
+    e.fracture += cohesive_->dissipated_total();
+    const auto work = cohesive_->work(), lost = cohesive_->dissipated();
+    for (size_t k = 0; k < work.size(); ++k) e.cohesive_stored += double(work[k]) - double(lost[k]);
+  }
+  if (contact_) e.friction += contact_->dissipated_energy();
+  return e;
 }
 
 std::vector<real2> Solver::contact_forces() {
@@ -101,7 +121,7 @@ std::vector<real2> Solver::contact_forces() {
   return out;
 }
 
-void Solver::enqueue_stress() { triangle_forces_.enqueue(static_cast<int>(steps_), true); }
+void Solver::enqueue_stress() { triangle_forces_.enqueue_stress(static_cast<int>(steps_)); }
 
 std::vector<real2> Solver::positions() { return download<real2>(cl_, arrays_.position, arrays_.num_nodes); }
 std::vector<real2> Solver::velocities() { return download<real2>(cl_, arrays_.velocity, arrays_.num_nodes); }

@@ -5,6 +5,7 @@
 
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/energy.hpp"
 #include "engine/model.hpp"
 #include "engine/stages/boundary_loads.hpp"
 #include "engine/stages/cohesive_forces.hpp"
@@ -31,8 +32,16 @@ class Solver {
   // Uploads the model, compiles every stage and computes the lumped masses.
   Solver(ClContext& cl, const Model& model, double dt);
 
-  // Enqueues one step (t → t + Δt). Never waits.
-  void step();
+  // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose
+  // energy account (read once) starts the balance. With `energy_row` the step also
+  // evaluates the stored energies at t (the positions its forces use) for energy().
+  void step(bool energy_row = false);
+  // The energy account at the time of the last energy row (waits): stored terms at that
+  // time, dissipated and supplied terms from t = 0 up to it.
+  EnergyTotals energy();
+  // Time of the last energy row [s] (one step before time() when the row was the last step).
+  double energy_time() const { return energy_row_step_ * dt_; }
+  EnergyBalance& balance() { return balance_; }
   // Enqueues a stress evaluation of the current state (for output). Never waits.
   void enqueue_stress();
 
@@ -86,6 +95,8 @@ class Solver {
   std::unique_ptr<ContactSkin> skin_;
   compute::buffer unread_monitor_;
   long rebuilds_ = 0;
+  long energy_row_step_ = 0;
+  EnergyBalance balance_;
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;
 };

@@ -49,7 +49,7 @@ struct Schema {
 
 const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}}};
 const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
-const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}, {"regions"}}};
+const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}, {"regions"}, {"energy_limit"}}};
 const Schema kStiffnessKeys{
     {{"c11"}, {"c22"}, {"c12"}, {"c66"}, {"c16"}, {"c26"}, {"angle"}}};
 const Schema kPenaltyKeys{{{"opening"}, {"sliding"}, {"overlap"}}};
@@ -513,6 +513,7 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   o.every = r.number("every", kPositive).value_or(-1.0);
   o.frames = r.integer<int>("frames", 1).value_or(o.every > 0 ? -1 : 20);
   o.history_every = r.number("history_every", kPositive).value_or(-1.0);
+  o.energy_limit = r.number("energy_limit", kPositive).value_or(0.05);
   if (r.has("regions")) o.regions = *r.strings("regions");
   return o;
 }

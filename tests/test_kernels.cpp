@@ -57,8 +57,8 @@ void check_triangle_forces(const Model& m, const std::vector<real2>& pos, const 
   DeviceArrays arrays(cl, m);
   upload(cl, arrays.position, pos);
   upload(cl, arrays.velocity, vel);
-  TriangleForces stage(cl, arrays, m.thickness);
-  stage.enqueue(0, true);
+  TriangleForces stage(cl, arrays, m.thickness, 1e-6, false);
+  stage.enqueue_stress(0);
   const auto force = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
   const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
   const auto cond = download<int>(cl, arrays.conditions, 4);
@@ -105,8 +105,8 @@ TEST_CASE("a rigid rotation of 90 degrees gives zero stress") {
   std::vector<real2> pos(m.num_nodes());
   for (size_t i = 0; i < m.num_nodes(); ++i) pos[i] = {real(-m.y[i] + 3.0), real(m.x[i] - 1.0)};
   upload(cl, arrays.position, pos);
-  TriangleForces stage(cl, arrays, m.thickness);
-  stage.enqueue(0, true);
+  TriangleForces stage(cl, arrays, m.thickness, 1e-6, false);
+  stage.enqueue_stress(0);
   const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
   double worst = 0;
   for (const auto& s : stress) worst = std::max({worst, double(std::fabs(s.x)), double(std::fabs(s.y)), double(std::fabs(s.z))});
@@ -146,9 +146,9 @@ TEST_CASE("patch test: a linear displacement field gives the exact uniform stres
     DeviceArrays arrays(cl, m);
     upload(cl, arrays.position, pos);
     upload(cl, arrays.velocity, vel);
-    TriangleForces forces(cl, arrays, m.thickness);
+    TriangleForces forces(cl, arrays, m.thickness, 1e-6, false);
     NodeGather gather(cl, arrays);
-    forces.enqueue(0, true);
+    forces.enqueue_stress(0);
     gather.enqueue_forces();
     const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
     const auto node_force = download<real2>(cl, arrays.node_force, m.num_nodes());
@@ -289,9 +289,9 @@ TEST_CASE("boundary loads: pressure on a closed boundary has no net force; tract
   std::vector<real2> pos(m.num_nodes());
   for (size_t i = 0; i < m.num_nodes(); ++i) pos[i] = {real(1.3 * m.x[i] - 0.2 * m.y[i] + 4), real(0.1 * m.x[i] + 0.8 * m.y[i])};
   upload(cl, arrays.position, pos);
-  BoundaryLoads loads(cl, arrays, m.thickness);
+  BoundaryLoads loads(cl, arrays, m.thickness, 1e-6);
   const double time = 0.25;  // half way up the traction's ramp
-  loads.enqueue(time);
+  loads.enqueue(time, 0);
   const auto f = download<real2>(cl, arrays.edge_force, 2 * m.loaded_edges.size());
   Vector2d pressure_total = Vector2d::Zero();
   double moment = 0;
@@ -336,7 +336,7 @@ TEST_CASE("integration: gravity, local damping and ramped prescribed velocities 
   upload(cl, arrays.position, pos);
   upload(cl, arrays.velocity, vel);
   upload(cl, arrays.node_force, force);
-  Integrate integrate(cl, arrays, g, alpha, dt);
+  Integrate integrate(cl, arrays, g, alpha, dt, false);
   integrate.enqueue(time_after, 12);
   const auto masses = download<real2>(cl, arrays.node_mass, m.num_nodes());
   const auto x = download<real2>(cl, arrays.position, m.num_nodes());
@@ -372,8 +372,8 @@ TEST_CASE("condition flags name the first inverted triangle and the first non-fi
   for (size_t t : {size_t(12), size_t(7)})
     for (int n : m.triangles[t]) pos[n].x = -pos[n].x;
   upload(cl, arrays.position, pos);
-  TriangleForces forces(cl, arrays, m.thickness);
-  forces.enqueue(33, false);
+  TriangleForces forces(cl, arrays, m.thickness, 1e-6, false);
+  forces.enqueue(33);
   auto cond = download<int>(cl, arrays.conditions, 4);
   CHECK(cond[2] == 7);
   CHECK(cond[3] == 33);
@@ -384,7 +384,7 @@ TEST_CASE("condition flags name the first inverted triangle and the first non-fi
   NodeGather gather(cl, arrays);
   LumpedMass(cl, arrays, m.thickness).enqueue(gather, false, 1e-6);
   upload(cl, arrays.node_force, force);
-  Integrate(cl, arrays, {0, 0}, 0, 1e-6).enqueue(1e-6, 40);
+  Integrate(cl, arrays, {0, 0}, 0, 1e-6, false).enqueue(1e-6, 40);
   cond = download<int>(cl, arrays.conditions, 4);
   CHECK(cond[0] == 5);
   CHECK(cond[1] == 40);

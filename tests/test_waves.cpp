@@ -91,8 +91,8 @@ std::vector<real2> edge_forces(Model& m, const std::vector<real2>& pos, const st
   DeviceArrays arrays(cl, m);
   upload(cl, arrays.position, pos);
   upload(cl, arrays.velocity, vel);
-  BoundaryLoads stage(cl, arrays, m.thickness);
-  stage.enqueue(t);
+  BoundaryLoads stage(cl, arrays, m.thickness, 1e-6);
+  stage.enqueue(t, 0);
   return download<real2>(cl, arrays.edge_force, 2 * m.loaded_edges.size());
 }
 

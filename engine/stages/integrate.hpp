@@ -1,26 +1,37 @@
 // Stage: central-difference integration with gravity, local damping and prescribed
-// velocities (cl_kernels/integrate.cl).
+// velocities (cl_kernels/integrate.cl), and the nodal part of the energy account.
 #pragma once
 #include <array>
 
 #include "engine/device_arrays.hpp"
+#include "engine/energy.hpp"
 
 namespace fdem {
 
 class Integrate {
  public:
+  // `prescribed`: some node has a prescribed velocity component (then the reactions'
+  // work is accounted every step, as is the local damping's when local_damping > 0).
   Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity,
-            double local_damping, double dt);
-  // Advances every node from t to time_after = t + Δt. Never waits.
-  void enqueue(double time_after, int step);
+            double local_damping, double dt, bool prescribed);
+  // Advances every node from t to time_after = t + Δt. With energy_row, the step also
+  // evaluates the kinetic energy and gravity potential at t (positions before the
+  // update) for energy(). Never waits.
+  void enqueue(double time_after, int step, bool energy_row = false);
   // From now on each step also writes the contact skin test of the next step into ring
   // slot slot_of(step + 1) of `monitor` (ContactSkin), against `position_at_build`.
   void add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor, unsigned (*slot_of)(long));
 
+  // Kinetic energy and gravity potential at the last energy row, and the local damping
+  // dissipation and boundary (reaction) work from t = 0 up to it (waits).
+  void add_energy(EnergyTotals& totals);
+
  private:
   ClContext& cl_;
-  size_t count_;
+  size_t count_, groups_;
+  bool account_work_;
   compute::kernel kernel_;
+  compute::buffer group_work_, group_row_;  // real2, real4 per work-group
   unsigned (*slot_of_)(long) = nullptr;
 };
 

@@ -1,10 +1,16 @@
 #include "engine/stages/triangle_forces.hpp"
 
+#include <string>
+#include <vector>
+
 namespace fdem {
 
-TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness)
-    : cl_(cl), count_(a.num_triangles) {
-  kernel_ = compute::kernel(cl.build("triangle_forces"), "triangle_forces");
+TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
+    : cl_(cl), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
+  kernel_ = compute::kernel(cl.build("triangle_forces", {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
+                            "triangle_forces");
+  group_energy_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "triangle group_energy");
+  upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, a.tri_nodes);
   kernel_.set_arg(2, a.ref_inverse);
@@ -18,12 +24,29 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness)
   kernel_.set_arg(10, a.corner_force);
   kernel_.set_arg(11, a.stress);
   kernel_.set_arg(12, a.conditions);
+  kernel_.set_arg(13, cl_int(0));
+  kernel_.set_arg(14, static_cast<real>(dt));
+  kernel_.set_arg(15, group_energy_);
 }
 
-void TriangleForces::enqueue(int step, bool write_stress) {
-  kernel_.set_arg(8, cl_int(write_stress ? 1 : 0));
+void TriangleForces::enqueue(int step, bool energy_row) {
+  kernel_.set_arg(8, cl_int(0));
   kernel_.set_arg(9, cl_int(step));
+  kernel_.set_arg(13, cl_int((viscous_ ? 1 : 0) | (energy_row ? 2 : 0)));
   cl_.enqueue(kernel_, count_);
+}
+
+void TriangleForces::enqueue_stress(int step) {
+  kernel_.set_arg(8, cl_int(1));
+  kernel_.set_arg(9, cl_int(step));
+  kernel_.set_arg(13, cl_int(0));
+  cl_.enqueue(kernel_, count_);
+}
+
+void TriangleForces::add_energy(EnergyTotals& e) {
+  const auto sum = sum_group_slots(cl_, group_energy_, groups_, 2);
+  e.strain += sum[0];
+  e.viscous += sum[1];
 }
 
 }  // namespace fdem

@@ -1,20 +1,30 @@
-// Stage: TRI3 internal forces (cl_kernels/triangle_forces.cl).
+// Stage: TRI3 internal forces (cl_kernels/triangle_forces.cl), with the strain energy and
+// viscous dissipation of the energy account.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/energy.hpp"
 
 namespace fdem {
 
 class TriangleForces {
  public:
-  // Compiles the stage and binds its arrays once.
-  TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness);
-  // Writes every triangle's corner forces (and, when write_stress, its stress). Never waits.
-  void enqueue(int step, bool write_stress);
+  // Compiles the stage and binds its arrays once. `viscous`: some material has η > 0
+  // (then every step accounts the viscous dissipation).
+  TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous);
+  // One step's corner forces; with energy_row also the strain energy of the current shape
+  // for energy(). Never waits.
+  void enqueue(int step, bool energy_row = false);
+  // The stress of the current state into `stress` (for output; no energy accounted). Never waits.
+  void enqueue_stress(int step);
+  // Strain energy at the last energy row and viscous dissipation up to it (waits).
+  void add_energy(EnergyTotals& totals);
 
  private:
   ClContext& cl_;
-  size_t count_;
+  size_t count_, groups_;
+  bool viscous_;
   compute::kernel kernel_;
+  compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation)
 };
 
 }  // namespace fdem

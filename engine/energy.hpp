@@ -1,0 +1,52 @@
+// The energy account of a run: every term of the balance at one time, and the error of
+// the balance. docs/case-format.md defines each term by its formula; the kernels that
+// compute them say how (cl_kernels/integrate.cl, triangle_forces.cl, boundary_loads.cl,
+// cohesive.cl, contact_forces.cl).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <string>
+
+#include "engine/cl_context.hpp"
+
+namespace fdem {
+
+struct EnergyTotals {
+  // Stored [J], at the time of the row's energy evaluation.
+  double kinetic = 0, strain = 0, cohesive_stored = 0, contact_stored = 0, gravity_potential = 0;
+  // Dissipated [J], cumulative from t = 0.
+  double viscous = 0, local_damping = 0, friction = 0, contact_damping = 0, fracture = 0, absorbed = 0;
+  // Supplied [J], cumulative from t = 0.
+  double boundary_work = 0, load_work = 0;
+
+  double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential; }
+  double dissipated() const { return viscous + local_damping + friction + contact_damping + fracture + absorbed; }
+  double supplied() const { return boundary_work + load_work; }
+};
+
+// Tracks a run's balance from its first evaluation (t = 0).
+class EnergyBalance {
+ public:
+  void start(const EnergyTotals& initial);
+  bool started() const { return started_; }
+  // (stored + dissipated - supplied - initial stored) / the largest of |supplied|, initial
+  // stored energy and the peak kinetic energy so far (the peak is updated by this call).
+  double error(const EnergyTotals& now);
+  // LS-DYNA's energy ratio: (stored + dissipated) / (initial stored + supplied); 1 balanced.
+  double ratio(const EnergyTotals& now) const;
+  // The term (by history name) whose value changed most between two evaluations.
+  static std::string largest_change(const EnergyTotals& before, const EnergyTotals& now);
+
+ private:
+  bool started_ = false;
+  double initial_stored_ = 0, peak_kinetic_ = 0;
+};
+
+// Sums the per-work-group energy slots of a stage (`width` reals per group: real2 or
+// real4) in group order, on the host, in double: the same order on every run.
+std::array<double, 4> sum_group_slots(ClContext& cl, const compute::buffer& slots, std::size_t groups, int width);
+
+// Number of work-groups ClContext::enqueue launches for n work-items.
+inline std::size_t work_groups(const ClContext& cl, std::size_t n) { return (n + cl.group_size() - 1) / cl.group_size(); }
+
+}  // namespace fdem
