@@ -25,19 +25,37 @@ inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
   return (real4)(p + s * (B.x - (real)1), s * B.y, s * B.z, p + s * (B.w - (real)1));
 }
 
-// Strain energy per unit reference area of Eq. 1's potential.
-inline real neo_hookean_energy(real4 F, real J, real lambda, real mu) {
-  const real ff = F.x * F.x + F.y * F.y + F.z * F.z + F.w * F.w;
-  const real log_j = log(J);
-  return (real)0.5 * mu * (ff - (real)2 - (real)2 * log_j) + (real)0.25 * lambda * (J * J - (real)1 - (real)2 * log_j);
+// a - ln(1 + a), accurate for small a too: the series below |a| = 1e-3 (its first
+// omitted term is 1e-18 relative), the direct form above it.
+inline real log1p_gap(real a) {
+  if (fabs(a) < (real)1e-3)
+    return a * a * ((real)0.5 - a * ((real)1 / (real)3 - a * ((real)0.25 - a * ((real)0.2 - a / (real)6))));
+  return a - log1p(a);
 }
 
-// Strain energy per unit reference area of Eqs. 2-3: ½ E:C:E.
+// Strain energy per unit reference area of Eq. 1's potential,
+//   W = μ/2 (F:F - 2 - 2 ln J) + λ/4 (J² - 1 - 2 ln J),
+// written in the displacement gradient H = F - I so that small strains do not cancel
+// (F:F - 2 and 2 ln J are both ≈ 2 tr H; their difference is second order): with
+// a = J - 1 = tr H + det H,
+//   F:F - 2 - 2 ln J = H:H - 2 det H + 2 (a - ln(1 + a)),
+//   J² - 1 - 2 ln J  = a² + 2 (a - ln(1 + a)).
+inline real neo_hookean_energy(real4 F, real lambda, real mu) {
+  const real4 H = F - (real4)(1, 0, 0, 1);
+  const real a = (H.x + H.w) + det2(H);
+  const real gap = (real)2 * log1p_gap(a);
+  const real hh = H.x * H.x + H.y * H.y + H.z * H.z + H.w * H.w;
+  return (real)0.5 * mu * (hh - (real)2 * det2(H) + gap) + (real)0.25 * lambda * (a * a + gap);
+}
+
+// Strain energy per unit reference area of Eqs. 2-3: ½ E:C:E, with E = ½(H + Hᵀ + HᵀH)
+// from H = F - I (no cancellation at small strain).
 inline real hyperelastic_energy(real4 F, __global const real* m) {
-  const real4 Ct = mul2(transpose2(F), F);
-  const real exx = (real)0.5 * (Ct.x - (real)1);
-  const real eyy = (real)0.5 * (Ct.w - (real)1);
-  const real gxy = Ct.y;
+  const real4 H = F - (real4)(1, 0, 0, 1);
+  const real4 HtH = mul2(transpose2(H), H);
+  const real exx = H.x + (real)0.5 * HtH.x;
+  const real eyy = H.w + (real)0.5 * HtH.w;
+  const real gxy = H.y + H.z + HtH.y;  // engineering shear 2 E_xy
   const real sxx = m[MAT_C11] * exx + m[MAT_C12] * eyy + m[MAT_C16] * gxy;
   const real syy = m[MAT_C12] * exx + m[MAT_C22] * eyy + m[MAT_C26] * gxy;
   const real sxy = m[MAT_C16] * exx + m[MAT_C26] * eyy + m[MAT_C66] * gxy;
@@ -103,7 +121,7 @@ inline real4 triangle(const uint t,
   real4 energy = (real4)(0, 0, 0, 0);
   if ((energy_mode & 2) != 0)
     energy.x = (real)0.5 / det2(ref_inverse[t]) * thickness *
-               ((m[MAT_MODEL] == (real)0) ? neo_hookean_energy(F, J, m[MAT_LAMBDA], m[MAT_MU]) : hyperelastic_energy(F, m));
+               ((m[MAT_MODEL] == (real)0) ? neo_hookean_energy(F, m[MAT_LAMBDA], m[MAT_MU]) : hyperelastic_energy(F, m));
   if (eta != (real)0) {
     // L = Σ v_a ⊗ ∇N_a; D = sym(L)
     const real2 v0 = velocity[n0], v1 = velocity[n1], v2 = velocity[n2];

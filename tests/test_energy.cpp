@@ -1,0 +1,211 @@
+// The energy account (issue: every run closes its energy balance): each term against an
+// analytic value on a small end-to-end run, and the balance of small versions of the cases.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "case_files.hpp"
+#include "engine/run.hpp"
+#include "engine/stages/triangle_forces.hpp"
+#include "fixture.hpp"
+
+using namespace fdem;
+
+namespace {
+
+RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides = {}) {
+  const PreparedCase p = prepare_case(case_path, overrides);
+  std::ostringstream log;
+  return run_case(p, test::context(), log, false);
+}
+
+std::string strip(const std::string& geo, const std::string& body) {
+  return "[mesh]\ngeo = \"" + test::source_path(geo) + "\"\n" + body;
+}
+
+double largest_abs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+// Every soup triangle stretched by its own random F near I (det > 0.5), rotated and moved.
+std::vector<real2> deformed(const Model& m, std::mt19937& rng, double strain) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<real2> pos(m.num_nodes());
+  for (const auto& tri : m.triangles) {
+    double f[4];
+    do {
+      for (double& c : f) c = strain * u(rng);
+      f[0] += 1, f[3] += 1;
+    } while (f[0] * f[3] - f[1] * f[2] < 0.5);
+    const double a = M_PI * u(rng), c = std::cos(a), sn = std::sin(a), sx = 0.2 * u(rng), sy = 0.2 * u(rng);
+    for (int n : tri) {
+      const double px = f[0] * m.x[n] + f[1] * m.y[n], py = f[2] * m.x[n] + f[3] * m.y[n];
+      pos[n] = {real(c * px - sn * py + sx), real(sn * px + c * py + sy)};
+    }
+  }
+  return pos;
+}
+
+}  // namespace
+
+TEST_SUITE("energy") {
+
+TEST_CASE("strain energy is the potential of the triangles' forces: -dU/dx = corner force, every material variant") {
+  std::mt19937 rng(11);
+  const Model m = test::triangle_soup(40, test::all_material_variants(), rng);
+  auto& cl = test::context();
+  DeviceArrays arrays(cl, m);
+  TriangleForces stage(cl, arrays, m.thickness, 1e-6, false);
+  const auto pos = deformed(m, rng, 0.05);
+  auto strain_energy = [&](const std::vector<real2>& x) {
+    upload(cl, arrays.position, x);
+    stage.enqueue(0, true);
+    EnergyTotals e;
+    stage.add_energy(e);
+    return e.strain;
+  };
+  upload(cl, arrays.position, pos);
+  stage.enqueue(0);
+  const auto corner = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
+  double largest = 0, worst = 0;
+  for (const auto& f : corner) largest = std::max({largest, std::fabs(double(f.x)), std::fabs(double(f.y))});
+  const double h = 1e-6;  // m; the triangles are 5-10 cm
+  for (size_t t = 0; t < m.num_triangles(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      for (int axis = 0; axis < 2; ++axis) {
+        auto plus = pos, minus = pos;
+        const int n = m.triangles[t][k];
+        (axis ? plus[n].y : plus[n].x) += real(h);
+        (axis ? minus[n].y : minus[n].x) -= real(h);
+        const double derivative = (strain_energy(plus) - strain_energy(minus)) / (2 * h);
+        const double force = axis ? corner[3 * t + k].y : corner[3 * t + k].x;
+        worst = std::max(worst, std::fabs(-derivative - force) / largest);
+      }
+  MESSAGE("largest |-dU/dx - f| / largest |f| = " << worst);
+  CHECK(worst < (kDoublePrecision ? 1e-6 : 1e-2));
+}
+
+TEST_CASE("viscous dissipation is the power the viscous forces absorb: -Σ f_visc·v Δt") {
+  std::mt19937 rng(5);
+  const Model m = test::triangle_soup(40, test::all_material_variants(2e5), rng);
+  auto& cl = test::context();
+  DeviceArrays arrays(cl, m);
+  const double dt = 1e-5;
+  TriangleForces stage(cl, arrays, m.thickness, dt, true);
+  const auto pos = deformed(m, rng, 0.05);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<real2> vel(m.num_nodes()), still(m.num_nodes());
+  for (auto& v : vel) v = {real(u(rng)), real(u(rng))};
+  upload(cl, arrays.position, pos);
+  upload(cl, arrays.velocity, still);
+  stage.enqueue(0);
+  const auto elastic = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
+  EnergyTotals before;
+  stage.add_energy(before);
+  upload(cl, arrays.velocity, vel);
+  stage.enqueue(1);
+  const auto total = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
+  EnergyTotals after;
+  stage.add_energy(after);
+  double power = 0;
+  for (size_t t = 0; t < m.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto& v = vel[m.triangles[t][k]];
+      power -= (double(total[3 * t + k].x) - elastic[3 * t + k].x) * v.x + (double(total[3 * t + k].y) - elastic[3 * t + k].y) * v.y;
+    }
+  const double dissipated = after.viscous - before.viscous;
+  MESSAGE("viscous dissipation " << dissipated << " J against -Σ f_visc·v Δt = " << power * dt << " J");
+  CHECK(power > 0);
+  CHECK(dissipated == doctest::Approx(power * dt).epsilon(kDoublePrecision ? 1e-9 : 1e-4));
+}
+
+TEST_CASE("a bar pulled slowly stores the boundary work as strain energy (½ σ ε V within 2%)") {
+  test::TempDir dir;
+  const double E = 10e9, nu = 0.2, v = 1e-3, rise = 5e-3, end = 30e-3, thickness = 0.1;
+  const auto path = dir.write("bar.toml", strip("tests/data/cases/bar.geo",
+      "size = 0.05\nthickness = 0.1\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 30e-3\n"
+      "[output]\ndir = \"" + dir.str() + "\"\nname = \"bar\"\nframes = 2\nhistory_every = 0.5e-3\n"
+      "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n"
+      "[[boundary]]\nregion = \"left\"\nfix = [\"x\"]\n"
+      "[[boundary]]\nregion = \"right\"\nvelocity = [1e-3, 0.0]\nfix = [\"y\"]\nrise = 5e-3\n"));
+  const auto s = run(path);
+  const std::string hist = dir.str() + "/bar_history.nc";
+  const auto strain = test::read_variable(hist, "strain_energy");
+  const auto work = test::read_variable(hist, "boundary_work");
+  const auto kinetic = test::read_variable(hist, "kinetic_energy");
+  const auto error = test::read_variable(hist, "energy_error");
+  // Plane strain, uniaxial stress in x: σ = E/(1 - ν²) ε; the pulled end also holds y.
+  const double u = v * (end - rise / 2), strain_x = u / 1.0;
+  const double analytic = 0.5 * E / (1 - nu * nu) * strain_x * strain_x * 1.0 * 0.2 * thickness;
+  MESSAGE("strain energy " << strain.back() << " J, boundary work " << work.back() << " J, kinetic "
+                           << kinetic.back() << " J, uniaxial-stress estimate " << analytic
+                           << " J; worst |energy_error| " << largest_abs(error));
+  CHECK(std::fabs(strain.back() - work.back()) < 0.01 * work.back());
+  CHECK(std::fabs(strain.back() - analytic) < 0.02 * analytic);
+  CHECK(largest_abs(error) < 1e-6);
+  CHECK(s.worst_energy_error < 1e-6);
+}
+
+TEST_CASE("a body in free fall turns gravity potential into kinetic energy: ½ M g² t²") {
+  test::TempDir dir;
+  const double g = 9.81, rho = 2000, thickness = 0.1, mass = rho * 1.0 * 0.2 * thickness;
+  const auto path = dir.write("fall.toml", strip("tests/data/cases/bar.geo",
+      "size = 0.1\nthickness = 0.1\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 0.05\n"
+      "[output]\ndir = \"" + dir.str() + "\"\nname = \"fall\"\nframes = 2\nhistory_every = 5e-3\n"
+      "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n"
+      "[gravity]\ng = [0.0, -9.81]\n"));
+  const auto p = prepare_case(path, {});
+  std::ostringstream log;
+  run_case(p, test::context(), log, false);
+  const std::string hist = dir.str() + "/fall_history.nc";
+  const auto time = test::read_variable(hist, "time");
+  const auto kinetic = test::read_variable(hist, "kinetic_energy");
+  const auto gravity = test::read_variable(hist, "gravity_potential");
+  const auto error = test::read_variable(hist, "energy_error");
+  double worst = 0;
+  for (size_t k = 0; k < time.size(); ++k) {
+    // The row's energy is that of the start of its last step, t_e = t - Δt; the leapfrog's
+    // kinetic energy there is ½ M v(t_e - Δt/2)·v(t_e + Δt/2). The initial velocity is the
+    // one the first step starts from, v(-Δt/2) = 0, so v(t_e ± Δt/2) = g (t_e + Δt/2 ± Δt/2).
+    const double te = time[k] - p.dt;
+    const double exact = 0.5 * mass * g * g * te * (te + p.dt);
+    worst = std::max(worst, std::fabs(kinetic[k] - exact) / (0.5 * mass * g * g * 0.05 * 0.05));
+    CHECK(std::fabs(kinetic[k] + gravity[k]) < 1e-9 * (0.5 * mass * g * g * 0.05 * 0.05));
+  }
+  MESSAGE("kinetic energy at the end " << kinetic.back() << " J; worst miss of ½ M g² t² " << worst
+                                       << " of the final value; worst |energy_error| " << largest_abs(error));
+  CHECK(worst < 1e-6);
+  CHECK(largest_abs(error) < 1e-6);
+}
+
+TEST_CASE("a plane P pulse leaves through an absorbing end: absorbed energy = the work put in within 2%") {
+  test::TempDir dir;
+  const auto path = dir.write("pulse.toml", strip("tests/data/cases/wave_strip.geo",
+      "size = 0.02\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 1.1e-3\n"
+      "[output]\ndir = \"" + dir.str() + "\"\nname = \"pulse\"\nframes = 2\nhistory_every = 10e-6\n"
+      "[[material]]\nname = \"rock\"\nregions = [\"strip\"]\ndensity = 3000.0\nyoung = 22.5e9\npoisson = 0.25\n"
+      "[[boundary]]\nregion = \"left\"\npressure = { times = [0.0, 50e-6, 100e-6], values = [0.0, 10e6, 0.0] }\n"
+      "[[boundary]]\nregion = \"top\"\nfix = [\"y\"]\n"
+      "[[boundary]]\nregion = \"bottom\"\nfix = [\"y\"]\n"
+      "[[boundary]]\nregion = \"right\"\nabsorbing = true\n"));
+  run(path);
+  const std::string hist = dir.str() + "/pulse_history.nc";
+  const auto load = test::read_variable(hist, "load_work");
+  const auto absorbed = test::read_variable(hist, "absorbed_energy");
+  const auto kinetic = test::read_variable(hist, "kinetic_energy");
+  const auto strain = test::read_variable(hist, "strain_energy");
+  const auto error = test::read_variable(hist, "energy_error");
+  // The pulse (100 µs at 3000 m/s: 0.3 m long) has crossed the 2 m strip by 0.77 ms.
+  MESSAGE("work put in " << load.back() << " J, absorbed " << absorbed.back() << " J, left in the strip "
+                         << kinetic.back() + strain.back() << " J; worst |energy_error| " << largest_abs(error));
+  CHECK(load.back() > 0);
+  CHECK(std::fabs(absorbed.back() - load.back()) < 0.02 * load.back());
+  CHECK(kinetic.back() + strain.back() < 0.02 * load.back());
+  CHECK(largest_abs(error) < 1e-4);
+}
+
+}  // TEST_SUITE
