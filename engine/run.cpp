@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "engine/errors.hpp"
+#include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/gmsh_reader.hpp"
@@ -26,13 +27,6 @@ std::string format_number(double v, int precision = 4) {
   std::ostringstream s;
   s << std::setprecision(precision) << v;
   return s.str();
-}
-
-std::string netcdf_name(const std::string& region) {
-  std::string out;
-  for (char c : region) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "r_" + out;
-  return out;
 }
 
 // Steps (1-based step counts, step 0 = initial state) at which frames are written.
@@ -52,129 +46,6 @@ std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt
   return list;
 }
 
-// The history quantities of one state: kinetic energy, out-of-balance forces,
-// reactions and mean displacements of regions with prescribed motion.
-struct HistoryProbe {
-  const Model& model;
-  std::vector<const Region*> regions;
-  std::vector<double> mass;
-
-  bool contact = false;
-  bool fracture = false;
-  std::vector<double> ce4_length;  // initial length of each CE4 [m]
-
-  HistoryProbe(const Model& m, const std::vector<real2>& masses)
-      : model(m), contact(m.contact.enabled), fracture(!m.ce4.empty()) {
-    for (const auto& c : m.ce4) ce4_length.push_back(std::hypot(m.x[c[1]] - m.x[c[0]], m.y[c[1]] - m.y[c[0]]));
-    for (const auto& r : m.regions) regions.push_back(&r);
-    for (const auto& mk : masses) mass.push_back(mk.x);
-  }
-
-  std::vector<io::HistoryVariable> variables() const {
-    // The energy account (docs/case-format.md defines each term). Its values are those of
-    // the row's last step's start, t - Δt: the positions that step's forces used.
-    std::vector<io::HistoryVariable> vars = {
-        {"kinetic_energy", "J", "kinetic energy, 1/2 m v(t-dt/2).v(t+dt/2) with the integrator's (scaled) masses"},
-        {"strain_energy", "J", "hyperelastic potential of the triangles (Eq. 1 or Eqs. 2-3)"},
-        {"cohesive_stored_energy", "J", "recoverable elastic energy held by the intact CE4s"},
-        {"contact_stored_energy", "J", "normal penalty potential and tangential springs of the contact couples"},
-        {"gravity_potential", "J", "-sum m g.(x - X), relative to the reference positions"},
-        {"viscous_dissipation", "J", "work of the viscous stress eta D, cumulative"},
-        {"local_damping_dissipation", "J", "work of the local (Cundall) damping forces, cumulative"},
-        {"friction_dissipation", "J", "contact friction work, cumulative"},
-        {"contact_damping_dissipation", "J", "work of the contact damping (Eq. 15), cumulative"},
-        {"fracture_dissipation", "J", "energy dissipated by CE4 softening and breaking, cumulative"},
-        {"absorbed_energy", "J", "energy taken out by absorbing boundaries, cumulative"},
-        {"boundary_work", "J", "work of the reactions of prescribed velocities and fixed components, cumulative"},
-        {"load_work", "J", "work of tractions, pressures and blast loads, cumulative"},
-        {"energy_error", "1",
-         "(stored + dissipated - supplied - initial stored) / max(|supplied|, initial stored, peak kinetic)"},
-        {"energy_ratio", "1", "(stored + dissipated) / (initial stored + supplied)"},
-        {"max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom"},
-        {"unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node"}};
-    if (contact) {
-      vars.push_back({"contact_couples", "1", "triangle couples in contact (overlapping) in the last step"});
-      vars.push_back({"contact_candidates", "1", "candidate couples from the last contact detection"});
-      vars.push_back({"contact_rebuilds", "1", "contact detections run since the start"});
-    }
-    if (fracture) {
-      vars.push_back({"broken_ce4", "1", "broken cohesive elements"});
-      vars.push_back({"broken_mode1", "1", "CE4s broken in mode I"});
-      vars.push_back({"broken_mode2", "1", "CE4s broken in mode II"});
-      vars.push_back({"broken_mixed", "1", "CE4s broken in mixed mode I-II"});
-      vars.push_back({"crack_length", "m", "total initial length of the broken CE4s"});
-    }
-    for (const auto* r : regions) {
-      const std::string n = netcdf_name(r->name);
-      if (r->prescribed) {
-        vars.push_back({n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)"});
-        vars.push_back({n + "_force_y", "N", "reaction force on region " + r->name + ", y (prescribed components)"});
-      }
-      vars.push_back({n + "_disp_x", "m", "mean displacement of region " + r->name + ", x"});
-      vars.push_back({n + "_disp_y", "m", "mean displacement of region " + r->name + ", y"});
-    }
-    return vars;
-  }
-
-  std::vector<double> values(Solver& solver, const EnergyTotals& e, double error, double ratio) const {
-    const auto x = solver.positions(), f = solver.forces();
-    double max_unbalanced = 0, internal_sum = 0;
-    for (size_t i = 0; i < x.size(); ++i) {
-      const uint32_t mask = model.groups[model.node_group[i]].mask;
-      if (!(mask & 1u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].x)));
-      if (!(mask & 2u)) max_unbalanced = std::max(max_unbalanced, std::fabs(double(f[i].y)));
-      internal_sum += std::hypot(f[i].x - mass[i] * model.gravity[0], f[i].y - mass[i] * model.gravity[1]);
-    }
-    const double mean_internal = x.empty() ? 0 : internal_sum / x.size();
-    std::vector<double> row = {e.kinetic,
-                               e.strain,
-                               e.cohesive_stored,
-                               e.contact_stored,
-                               e.gravity_potential,
-                               e.viscous,
-                               e.local_damping,
-                               e.friction,
-                               e.contact_damping,
-                               e.fracture,
-                               e.absorbed,
-                               e.boundary_work,
-                               e.load_work,
-                               error,
-                               ratio,
-                               max_unbalanced,
-                               mean_internal > 0 ? max_unbalanced / mean_internal : 0.0};
-    if (contact)
-      row.insert(row.end(), {double(solver.contact_touching()), double(solver.contact_candidates()),
-                             double(solver.contact_rebuilds())});
-    if (fracture) {
-      const auto broken = solver.cohesive()->broken();
-      const auto mode = solver.cohesive()->mode();
-      double count[4] = {0, 0, 0, 0}, length = 0;
-      for (size_t e = 0; e < broken.size(); ++e)
-        if (broken[e]) {
-          count[0] += 1;
-          if (mode[e] >= 1 && mode[e] <= 3) count[mode[e]] += 1;
-          length += ce4_length[e];
-        }
-      row.insert(row.end(), {count[0], count[1], count[2], count[3], length});
-    }
-    for (const auto* r : regions) {
-      double fx = 0, fy = 0, ux = 0, uy = 0;
-      for (int n : r->nodes) {
-        const uint32_t mask = model.groups[model.node_group[n]].mask;
-        if (mask & 1u) fx -= f[n].x;
-        if (mask & 2u) fy -= f[n].y;
-        ux += x[n].x - model.x[n];
-        uy += x[n].y - model.y[n];
-      }
-      const double count = double(r->nodes.size());
-      if (r->prescribed) row.insert(row.end(), {fx, fy});
-      row.insert(row.end(), {ux / count, uy / count});
-    }
-    return row;
-  }
-};
-
 std::vector<std::string> element_names(const Model& model) {
   std::vector<std::string> names = {"SXX", "SYY", "SXY", "PS1", "PS2"};
   if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP"});
@@ -187,8 +58,10 @@ std::vector<std::string> nodal_names(const Model& model) {
   return names;
 }
 
-void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver) {
-  solver.enqueue_stress();
+// Writes the current state as a frame; `stress_current`: the stress of this state has
+// been evaluated already (a history row with probes at the same step).
+void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver, bool stress_current = false) {
+  if (!stress_current) solver.enqueue_stress();
   const auto x = solver.positions(), v = solver.velocities();
   const auto stress = solver.stresses();
   const size_t n = model.num_nodes();
@@ -324,11 +197,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   }
   io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
                           nodal_names(model), element_names(model));
-  const HistoryProbe probe(model, solver.masses());
-  const PointProbes points(p.probes);  // [[probe]] values go after the others in each row
-  auto history_variables = probe.variables();
-  for (auto& v : points.variables(model)) history_variables.push_back(std::move(v));
-  io::HistoryWriter history(p.history_path, config.title, history_variables);
+  const PointProbes points(p.probes);
+  const HistoryTable table(model, solver.masses(), points);
+  io::HistoryWriter history(p.history_path, config.title, table.variables());
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
@@ -337,9 +208,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const long check_stride = 200;
 
   long last_frame_step = -1;
-  auto write_current_frame = [&]() {
+  auto write_current_frame = [&](bool stress_current = false) {
     last_frame_step = solver.steps_done();
-    write_frame(exodus, model, solver);
+    write_frame(exodus, model, solver, stress_current);
   };
 
   RunSummary summary;
@@ -379,13 +250,14 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         if (status_line) log << "\n";
         throw NumericalError(what + saved);
       }
+      bool stress_current = false;
       if (history_due) {
         const EnergyTotals energy = solver.energy();
         const double error = solver.balance().error(energy);
-        last_row = probe.values(solver, energy, error, solver.balance().ratio(energy));
-        auto row = last_row;
-        for (double v : points.values(solver)) row.push_back(v);
-        history.append(solver.time(), row);
+        HistoryRow row(solver, points, energy, error, solver.balance().ratio(energy));
+        last_row = table.values(row);
+        stress_current = row.stress_evaluated();
+        history.append(solver.time(), last_row);
         summary.worst_energy_error = std::max(summary.worst_energy_error, std::fabs(error));
         summary.final_energy_error = error;
         const std::string grew = EnergyBalance::largest_change(last_energy, energy);
@@ -413,7 +285,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         }
       }
       if (frame_due) {
-        write_current_frame();
+        write_current_frame(stress_current);
         ++next_frame;
       }
       solver.save_checkpoint();
@@ -448,9 +320,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   summary.wall_seconds = wall;
   summary.ns_per_element_step = 1e9 * wall / (double(p.steps) * std::max<size_t>(1, model.num_triangles()));
   summary.frames = exodus.frames_written();
-  if (last_row.size() >= 17) {
-    summary.final_kinetic_energy = last_row[0];
-    summary.final_unbalanced_ratio = last_row[16];
+  if (!last_row.empty()) {
+    summary.final_kinetic_energy = last_row[table.index("kinetic_energy")];
+    summary.final_unbalanced_ratio = last_row[table.index("unbalanced_ratio")];
   }
   exodus.close();
   history.close();

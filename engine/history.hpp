@@ -1,0 +1,73 @@
+// The history file's columns as one table: each column is one entry {name, unit,
+// description, value}, so a new history variable is one line in history.cpp. The values of
+// a row come from a HistoryRow, which fetches what the columns read from the device once.
+#pragma once
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/energy.hpp"
+#include "engine/model.hpp"
+#include "engine/probes.hpp"
+#include "engine/real.hpp"
+#include "io/history_writer.hpp"
+
+namespace fdem {
+
+class Solver;
+
+// One history row's data: the energy account (given), the rest read from the device on
+// first use and shared by every column that needs it.
+class HistoryRow {
+ public:
+  HistoryRow(Solver& solver, const PointProbes& probes, const EnergyTotals& energy, double error, double ratio)
+      : energy(energy), energy_error(error), energy_ratio(ratio), solver_(solver), probes_(probes) {}
+
+  Solver& solver() { return solver_; }
+  const std::vector<real2>& positions();
+  const std::vector<real2>& forces();  // out-of-balance force of the last step (incl. gravity)
+  const std::vector<int>& broken();
+  const std::vector<int>& mode();
+  const std::vector<double>& probe_values();  // PointProbes::values, in their order
+  // Whether this row evaluated the stress of the current state (for the probes): a frame
+  // written at the same step then need not evaluate it again.
+  bool stress_evaluated() const { return probe_values_.has_value() && !probes_.empty(); }
+
+  const EnergyTotals energy;
+  const double energy_error, energy_ratio;
+  std::optional<std::array<double, 2>> unbalance;  // (largest free component, mean internal), once computed
+
+ private:
+  Solver& solver_;
+  const PointProbes& probes_;
+  std::optional<std::vector<real2>> positions_, forces_;
+  std::optional<std::vector<int>> broken_, mode_;
+  std::optional<std::vector<double>> probe_values_;
+};
+
+struct HistoryColumn {
+  io::HistoryVariable variable;
+  std::function<double(HistoryRow&)> value;
+};
+
+class HistoryTable {
+ public:
+  // The columns of `model`'s history: energy account, out-of-balance force, contact and
+  // fracture counts when the model has them, reactions and mean displacements of regions,
+  // then the [[probe]] values. `masses`: (lumped mass, inertia) per node.
+  HistoryTable(const Model& model, const std::vector<real2>& masses, const PointProbes& probes);
+  std::vector<io::HistoryVariable> variables() const;
+  std::vector<double> values(HistoryRow& row) const;
+  // Index of a column by name (for summaries), or -1.
+  int index(const std::string& name) const;
+
+ private:
+  std::vector<HistoryColumn> columns_;
+};
+
+// A region's name as a netCDF variable prefix (letters, digits, '_').
+std::string netcdf_name(const std::string& region);
+
+}  // namespace fdem
