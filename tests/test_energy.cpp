@@ -208,4 +208,38 @@ TEST_CASE("a plane P pulse leaves through an absorbing end: absorbed energy = th
   CHECK(largest_abs(error) < 1e-4);
 }
 
+// Small versions of every case in cases/ (coarse meshes, short times): the balance
+// closes within 1% at every history row. The full-size figures are in each case's README.
+TEST_CASE("every case closes its energy balance within 1% (small versions)") {
+  struct Small {
+    const char* file;
+    std::vector<std::string> overrides;
+  };
+  const Small cases[] = {
+      {"cases/geostatic/case.toml", {"mesh.size=2.0"}},
+      {"cases/geostatic/critical.toml", {"mesh.size=2.0", "time.end=0.05"}},
+      {"cases/wave-bar/case.toml", {"time.end=200e-6"}},
+      {"cases/wave-bar/ce4.toml", {"mesh.size=0.02", "time.end=200e-6"}},
+      {"cases/anisotropic/case.toml", {"time.steps=2000"}},
+      {"cases/impact/case.toml", {"time.end=2e-3"}},
+      {"cases/sliding/case.toml", {"time.end=0.05"}},
+      {"cases/stack/case.toml", {"time.end=5e-3"}},
+      {"cases/brazilian/case.toml", {"mesh.size=4e-3", "time.end=0.3e-3"}},
+      {"cases/ucs/case.toml", {"mesh.size=6e-3", "time.end=0.1e-3"}},
+      {"cases/blasting/case.toml", {"mesh.size=0.1", "time.end=200e-6"}},
+      {"cases/blasting/free.toml", {"mesh.size=0.1", "time.end=200e-6"}},
+      {"cases/wave-penalty/case.toml", {"mesh.size=0.1", "time.end=200e-6"}},
+  };
+  for (const auto& c : cases) {
+    test::TempDir dir;
+    auto overrides = c.overrides;
+    overrides.push_back("output.dir=\"" + dir.str() + "\"");
+    overrides.push_back("output.frames=2");
+    overrides.push_back("output.energy_limit=1.0");  // measure, do not stop
+    const auto s = run(test::source_path(c.file), overrides);
+    MESSAGE(c.file << ": worst |energy_error| " << s.worst_energy_error << ", final " << s.final_energy_error);
+    CHECK(s.worst_energy_error < 0.01);
+  }
+}
+
 }  // TEST_SUITE
