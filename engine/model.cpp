@@ -7,7 +7,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "io/gmsh_reader.hpp"
 #include "io/suggest.hpp"
 

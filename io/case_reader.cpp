@@ -3,7 +3,7 @@
 // and to walk --set paths; each table then has its own read_* function.
 #include "io/case_config.hpp"
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 
 #include <toml++/toml.h>
 

@@ -22,7 +22,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem::io {
 namespace {

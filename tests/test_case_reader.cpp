@@ -1,5 +1,5 @@
 // Case file reader: every key, the defaults, every error message, and --set.
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "io/case_config.hpp"
 
 #include <doctest/doctest.h>
