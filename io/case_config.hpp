@@ -1,5 +1,6 @@
 // The case file (TOML) as a plain C++ value. docs/case-format.md documents every key;
-// io/case_reader.cpp is the only place that knows the TOML spelling.
+// io/case_*.cpp are the only places that know the TOML spelling (io/case_reader.cpp
+// lists them).
 #pragma once
 #include <array>
 #include <limits>
