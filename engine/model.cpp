@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
-#include "io/gmsh_reader.hpp"
+#include "io/mesh.hpp"
 #include "io/suggest.hpp"
 
 namespace fdem {
