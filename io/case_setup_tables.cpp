@@ -60,6 +60,7 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   o.frames = r.integer<int>("frames", 1).value_or(o.every > 0 ? -1 : 20);
   o.history_every = r.number("history_every", kPositive).value_or(-1.0);
   if (r.has("regions")) o.regions = *r.strings("regions");
+  o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
   return o;
 }
 

@@ -177,6 +177,7 @@ TEST_CASE("defaults of a minimal case") {
   CHECK(c.output.name == "base");
   CHECK(c.output.frames == 20);
   CHECK(c.output.every < 0);
+  CHECK(c.output.energy_limit == 0.05);
   CHECK(c.output.history_every < 0);
   REQUIRE(c.materials.size() == 1);
   CHECK(c.materials[0].elasticity == fdem::io::Elasticity::NeoHookean);

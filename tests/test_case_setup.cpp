@@ -37,4 +37,24 @@ TEST_CASE("mesh: missing file, geo and file together, neither, size without geo"
         contains("missing required table [mesh]"));
 }
 
+TEST_CASE("output.energy_limit: a fraction > 0, 0.05 when absent") {
+  CaseDir d;
+  CHECK(read_case(d.write("a.toml", kBase)).output.energy_limit == 0.05);
+  CHECK(read_case(d.write("b.toml", kBase + "[output]\nenergy_limit = 0.2\n")).output.energy_limit == 0.2);
+  CHECK(read_case(d.write("c.toml", kBase + "[output]\nenergy_limit = 1\n")).output.energy_limit == 1.0);
+  CHECK(read_case(d.write("d.toml", kBase), {"output.energy_limit=0.01"}).output.energy_limit == 0.01);
+  // kBase has 12 lines: [output] on line 13, energy_limit on line 14.
+  const std::string zero = d.write("zero.toml", kBase + "[output]\nenergy_limit = 0.0\n");
+  CHECK_THROWS_WITH_AS(read_case(zero),
+                       contains(zero + ":14: output.energy_limit = 0 is out of range (allowed: "
+                                       "output.energy_limit > 0)"),
+                       InputError);
+  CHECK(error_of(kBase + "[output]\nenergy_limit = -0.05\n") ==
+        contains(":14: output.energy_limit = -0.05 is out of range (allowed: output.energy_limit > 0)"));
+  CHECK(error_of(kBase + "[output]\nenergy_limit = \"5%\"\n") ==
+        contains(":14: output.energy_limit must be a number, found string \"5%\""));
+  CHECK(error_of(kBase + "[output]\nenergy_limt = 0.1\n") ==
+        contains(":14: unknown key 'energy_limt' in [output] (did you mean 'energy_limit'?)"));
+}
+
 }  // TEST_SUITE("case")
