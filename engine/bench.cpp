@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "engine/device_arrays.hpp"
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 

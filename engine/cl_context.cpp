@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "engine/real.hpp"
 
 namespace fdem {

@@ -14,7 +14,7 @@
 #include "engine/bench.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/stages/contact_detection.hpp"
 

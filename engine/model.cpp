@@ -7,8 +7,8 @@
 #include <numeric>
 #include <sstream>
 
-#include "engine/errors.hpp"
-#include "io/gmsh_reader.hpp"
+#include "base/errors.hpp"
+#include "io/mesh.hpp"
 #include "io/suggest.hpp"
 
 namespace fdem {

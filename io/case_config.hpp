@@ -1,5 +1,6 @@
 // The case file (TOML) as a plain C++ value. docs/case-format.md documents every key;
-// io/case_reader.cpp is the only place that knows the TOML spelling.
+// io/case_*.cpp are the only places that know the TOML spelling (io/case_reader.cpp
+// lists them).
 #pragma once
 #include <array>
 #include <limits>
@@ -32,7 +33,7 @@ struct OutputConfig {
   double every = -1.0;      // [s] time between frames; < 0 when frames is given
   double history_every = -1.0;  // [s]; < 0: steps/1000 steps
   std::vector<std::string> regions;  // extra regions whose mean displacement the history records
-  double energy_limit = 0.05;  // largest |energy_error| a run accepts (fraction); above: exit 3
+  double energy_limit = 0.05;  // largest |energy_error| (history; fraction) a run accepts; > 0
 };
 
 enum class Elasticity { NeoHookean, Hyperelastic };

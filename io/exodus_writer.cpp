@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem::io {
 

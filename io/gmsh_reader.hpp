@@ -1,4 +1,6 @@
-// Gmsh MSH 2.2 and 4.1 reader (ASCII and binary), and meshing of .geo files via the gmsh CLI.
+// Gmsh in: the MSH 2.2 and 4.1 reader, ASCII and binary (io/gmsh_msh.cpp, on the byte
+// buffer of io/gmsh_buffer.hpp), and meshing of .geo files via the gmsh CLI
+// (io/gmsh_geo.cpp). The mesh type and triangle orientation are in io/mesh.hpp.
 #pragma once
 #include <string>
 #include <vector>
@@ -13,14 +15,6 @@ namespace fdem::io {
 // to an unknown node tag, triangles outside any physical group, a file with no physical
 // groups at all (materials need named surfaces), no 3-node triangles.
 Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes = nullptr);
-
-// Checks every triangle's signed area. Clockwise triangles are re-oriented to
-// counter-clockwise (swapping their 2nd and 3rd node); the count is returned and one
-// note per triangle (at most 10, then a summary) is added to `notes`. A triangle whose
-// area is below `degenerate_tol` × (longest edge)² throws fdem::InputError naming the
-// file and the Gmsh element tag.
-int orient_triangles(Mesh& mesh, std::vector<std::string>* notes = nullptr,
-                     double degenerate_tol = 1e-10);
 
 // Meshes a .geo file with the gmsh CLI (2D, MSH 4.1 ASCII), passing `size` as
 // -setnumber size <size> when size > 0, and writes the mesh under `cache_dir`.

@@ -1,5 +1,6 @@
 // The mesh as read from a Gmsh file: raw geometry, 0-based indices, physical groups.
-// Units are the file's (the case's mesh.scale converts to metres later).
+// Units are the file's (the case's mesh.scale converts to metres later). Triangle
+// orientation is checked here (io/mesh.cpp); io/gmsh_reader.hpp reads meshes.
 #pragma once
 #include <array>
 #include <string>
@@ -38,5 +39,13 @@ struct Mesh {
     return -1;
   }
 };
+
+// Checks every triangle's signed area. Clockwise triangles are re-oriented to
+// counter-clockwise (swapping their 2nd and 3rd node); the count is returned and one
+// note per triangle (at most 10, then a summary) is added to `notes`. A triangle whose
+// area is below `degenerate_tol` × (longest edge)² throws fdem::InputError naming the
+// file and the Gmsh element tag.
+int orient_triangles(Mesh& mesh, std::vector<std::string>* notes = nullptr,
+                     double degenerate_tol = 1e-10);
 
 }  // namespace fdem::io

@@ -1,36 +1,54 @@
-// "Did you mean ...?" for unknown names in case files and meshes.
+// "Did you mean ...?" for unknown names in case files and meshes: the one edit distance
+// of the tree and the nearest-name rule built on it.
 #pragma once
 #include <algorithm>
+#include <cctype>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fdem::io {
 
-inline size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
+// Case files compare letters ignoring case ("Young" is one step from nothing, not five
+// from "young"); mesh physical names are compared as written.
+enum class LetterCase { Sensitive, Ignored };
+
+// Levenshtein distance: the fewest single-character insertions, deletions and
+// substitutions that turn a into b.
+inline std::size_t edit_distance(std::string_view a, std::string_view b,
+                                 LetterCase letters = LetterCase::Sensitive) {
+  auto same = [letters](char x, char y) {
+    if (letters == LetterCase::Sensitive) return x == y;
+    return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+  };
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
     row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({above + 1, row[j - 1] + 1, diagonal + (same(a[i - 1], b[j - 1]) ? 0 : 1)});
       diagonal = above;
     }
   }
   return row[b.size()];
 }
 
-// The candidate nearest to `name`, or "" when none is close enough to be a likely typo.
-inline std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates) {
-  std::string best;
-  size_t best_distance = std::string::npos;
+// The candidate nearest to `name` (the first of equally near ones), or "" when none is
+// within max(2, length/3) edits, too far to be a likely typo. `Names` is any range of
+// strings or string views.
+template <class Names>
+std::string nearest_name(std::string_view name, const Names& candidates,
+                         LetterCase letters = LetterCase::Sensitive) {
+  std::string_view best;
+  std::size_t best_distance = std::string::npos;
   for (const auto& c : candidates) {
-    const size_t d = edit_distance(name, c);
+    const std::size_t d = edit_distance(name, c, letters);
     if (d < best_distance) best_distance = d, best = c;
   }
-  const size_t limit = std::max<size_t>(2, name.size() / 3);
-  return best_distance <= limit ? best : std::string();
+  const std::size_t limit = std::max<std::size_t>(2, name.size() / 3);
+  return best_distance <= limit ? std::string(best) : std::string();
 }
 
 // " (did you mean 'x'?)" or "".

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "case_files.hpp"
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "io/case_config.hpp"
 
 namespace {

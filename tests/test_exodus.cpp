@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/history_writer.hpp"
 

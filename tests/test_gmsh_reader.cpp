@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "io/gmsh_reader.hpp"
 
 namespace fs = std::filesystem;

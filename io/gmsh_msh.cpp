@@ -1,33 +1,18 @@
-// Gmsh MSH 2.2 / 4.1 reader (ASCII and binary) and .geo meshing through the gmsh CLI.
+// Gmsh MSH 2.2 / 4.1 reader (ASCII and binary).
 // Format reference: the "MSH file format" chapter of the Gmsh manual.
 #include "io/gmsh_reader.hpp"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <unordered_map>
 #include <utility>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
+#include "io/gmsh_buffer.hpp"
 
 namespace fdem::io {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr int kLine2 = 1;
 constexpr int kTri3 = 2;
@@ -66,173 +51,6 @@ const char* entity_word(int dim) {
   static const char* const words[] = {"point", "curve", "surface", "volume"};
   return dim >= 0 && dim <= 3 ? words[dim] : "entity";
 }
-
-// The whole file in memory with a read position. ASCII tokens and binary values are
-// read from the same buffer because binary MSH files interleave ASCII header lines with
-// raw data.
-class MshBuffer {
- public:
-  MshBuffer(std::string path, std::string bytes) : path_(std::move(path)), text_(std::move(bytes)) {}
-
-  bool binary = false;
-  bool swap_bytes = false;
-  int size_t_bytes = 8;
-  std::string section;  // current section name, for messages
-
-  const std::string& path() const { return path_; }
-  size_t pos() const { return pos_; }
-  // Start of the next item, for messages. Binary data must not be skipped as whitespace.
-  size_t mark() {
-    if (!binary) skip_space();
-    return pos_;
-  }
-
-  [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
-  [[noreturn]] void fail_at(size_t at, const std::string& what) const {
-    std::string where;
-    if (binary)
-      where = "byte " + std::to_string(at);
-    else
-      where = "line " + std::to_string(1 + std::count(text_.begin(), text_.begin() + std::min(at, text_.size()), '\n'));
-    if (!section.empty()) where += " ($" + section + ")";
-    throw InputError(path_ + ": " + where + ": " + what);
-  }
-
-  void skip_space() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-  }
-  bool at_end() {
-    skip_space();
-    return pos_ >= text_.size();
-  }
-
-  std::string token(const char* what) {
-    skip_space();
-    if (pos_ >= text_.size()) fail(std::string("unexpected end of file, expected ") + what + " (file truncated?)");
-    size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-    return text_.substr(start, pos_ - start);
-  }
-
-  // Numbers are parsed in place (the buffer is NUL-terminated) to avoid a string per
-  // value; a number must end at whitespace or at the end of the file.
-  long long ascii_int(const char* what) {
-    skip_space();
-    const char* start = text_.c_str() + pos_;
-    char* end = nullptr;
-    errno = 0;
-    long long v = std::strtoll(start, &end, 10);
-    if (!number_ended(start, end) || errno != 0) not_a_number(what, "an integer");
-    pos_ += static_cast<size_t>(end - start);
-    return v;
-  }
-
-  double ascii_real(const char* what) {
-    skip_space();
-    const char* start = text_.c_str() + pos_;
-    char* end = nullptr;
-    double v = std::strtod(start, &end);
-    if (!number_ended(start, end) || !std::isfinite(v)) not_a_number(what, "a number");
-    pos_ += static_cast<size_t>(end - start);
-    return v;
-  }
-
-  // Rest of the current line without its line end; used for section headers and for
-  // stepping over ASCII element lines of types we skip.
-  std::string rest_of_line() {
-    size_t end = text_.find('\n', pos_);
-    if (end == std::string::npos) end = text_.size();
-    std::string line = text_.substr(pos_, end - pos_);
-    pos_ = std::min(end + 1, text_.size());
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-    return line;
-  }
-
-  std::string next_line() {
-    skip_space();
-    return rest_of_line();
-  }
-
-  // Binary data starts right after the '\n' of the preceding ASCII line; skipping all
-  // whitespace would eat data bytes such as 0x0a or 0x20.
-  void end_ascii_line() { rest_of_line(); }
-
-  std::string quoted(const char* what) {
-    skip_space();
-    if (pos_ >= text_.size() || text_[pos_] != '"') fail(std::string("expected ") + what + " in double quotes");
-    size_t close = text_.find('"', pos_ + 1);
-    size_t eol = text_.find('\n', pos_);
-    if (close == std::string::npos || (eol != std::string::npos && close > eol)) fail(std::string("unterminated quoted ") + what);
-    std::string s = text_.substr(pos_ + 1, close - pos_ - 1);
-    pos_ = close + 1;
-    return s;
-  }
-
-  template <class T>
-  T raw(const char* what) {
-    if (pos_ + sizeof(T) > text_.size()) fail(std::string("unexpected end of file reading ") + what + " (file truncated?)");
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, text_.data() + pos_, sizeof(T));
-    if (swap_bytes) std::reverse(b, b + sizeof(T));
-    T v;
-    std::memcpy(&v, b, sizeof(T));
-    pos_ += sizeof(T);
-    return v;
-  }
-
-  // "int" fields of the format: 4-byte int in binary files.
-  long long get_int(const char* what) { return binary ? raw<int32_t>(what) : ascii_int(what); }
-  double get_real(const char* what) {
-    if (!binary) return ascii_real(what);
-    double v = raw<double>(what);
-    if (!std::isfinite(v)) fail_at(pos_ - 8, std::string(what) + " is not a finite number");
-    return v;
-  }
-  // "size_t" fields of MSH 4.1: data-size bytes in binary files. Also used for counts,
-  // which are bounded by the file size so that a corrupt count cannot allocate wildly.
-  long long get_size(const char* what) {
-    long long v = !binary ? ascii_int(what) : size_t_bytes == 8 ? static_cast<long long>(raw<uint64_t>(what)) : raw<uint32_t>(what);
-    if (v < 0) fail(std::string(what) + " is negative");
-    return v;
-  }
-  long long get_count(long long value_of, const char* what) {
-    if (value_of > static_cast<long long>(text_.size())) fail(std::string(what) + " " + std::to_string(value_of) + " exceeds what the file can hold (corrupt or truncated)");
-    return value_of;
-  }
-
-  void expect_end(const std::string& name) {
-    skip_space();
-    size_t at = pos_;
-    std::string line = pos_ < text_.size() ? rest_of_line() : std::string();
-    if (line != "$End" + name) {
-      if (line.empty()) fail_at(at, "missing $End" + name + " (file truncated?)");
-      fail_at(at, "expected $End" + name + ", found '" + line.substr(0, 40) + "'");
-    }
-    section.clear();
-  }
-
-  void skip_section(const std::string& name) {
-    size_t end = text_.find("$End" + name, pos_);
-    if (end == std::string::npos) fail("missing $End" + name + " (file truncated?)");
-    pos_ = end;
-    rest_of_line();
-    section.clear();
-  }
-
- private:
-  bool number_ended(const char* start, const char* end) const {
-    return end != start && (*end == '\0' || std::isspace(static_cast<unsigned char>(*end)));
-  }
-  [[noreturn]] void not_a_number(const char* what, const char* kind) {
-    size_t at = pos_;
-    std::string found = token(what);
-    fail_at(at, std::string("expected ") + what + " (" + kind + "), found '" + found.substr(0, 40) + "'");
-  }
-
-  std::string path_;
-  std::string text_;
-  size_t pos_ = 0;
-};
 
 struct ElementRef {
   size_t pos;  // where in the file, for messages
@@ -626,153 +444,11 @@ class MshReader {
   std::vector<int> triangle_entity_, line_entity_, point_entity_;  // elementary entity tag per kept element
 };
 
-std::string read_file_bytes(const std::string& path, const char* what) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path + ": " + what + " not found");
-  if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory, expected a " + what);
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path + ": cannot open " + what + ": " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  if (f.bad()) throw InputError(path + ": error reading " + what);
-  return ss.str();
-}
-
-std::string find_on_path(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    if (dir.empty()) dir = ".";
-    std::string candidate = dir + "/" + program;
-    if (::access(candidate.c_str(), X_OK) == 0 && !fs::is_directory(candidate)) return candidate;
-  }
-  return {};
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-uint64_t fnv1a(const std::string& data) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : data) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
-std::string last_lines(const std::string& text, int count) {
-  size_t pos = text.size();
-  while (pos > 0 && text[pos - 1] == '\n') --pos;
-  size_t end = pos;
-  for (int i = 0; i < count && pos > 0; ++i) {
-    size_t nl = text.rfind('\n', pos - 1);
-    pos = nl == std::string::npos ? 0 : nl;
-  }
-  return text.substr(pos == 0 ? 0 : pos + 1, end - (pos == 0 ? 0 : pos + 1));
-}
-
-std::string format_point(const Mesh& m, int node) {
-  char buf[96];
-  long tag = node < static_cast<int>(m.node_tags.size()) ? m.node_tags[node] : node;
-  std::snprintf(buf, sizeof buf, "%ld (%.9g, %.9g)", tag, m.x[node], m.y[node]);
-  return buf;
-}
-
 }  // namespace
 
 Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes) {
   MshBuffer buffer(path, read_file_bytes(path, "Gmsh mesh file"));
   return MshReader(buffer, notes).read();
-}
-
-int orient_triangles(Mesh& mesh, std::vector<std::string>* notes, double degenerate_tol) {
-  constexpr int kMaxNotes = 10;
-  int flipped = 0;
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    auto& tri = mesh.triangles[t];
-    const double x0 = mesh.x[tri[0]], y0 = mesh.y[tri[0]];
-    const double ax = mesh.x[tri[1]] - x0, ay = mesh.y[tri[1]] - y0;
-    const double bx = mesh.x[tri[2]] - x0, by = mesh.y[tri[2]] - y0;
-    const double area = 0.5 * (ax * by - bx * ay);
-    const double cx = bx - ax, cy = by - ay;
-    const double longest2 = std::max({ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy});
-    long tag = t < mesh.triangle_tags.size() ? mesh.triangle_tags[t] : static_cast<long>(t);
-    // Written as !(a > b) so that NaN coordinates count as degenerate too.
-    if (!(std::abs(area) > degenerate_tol * longest2)) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.3g", area);
-      throw InputError(mesh.source + ": degenerate triangle (Gmsh element " + std::to_string(tag) + ") with nodes " +
-                       format_point(mesh, tri[0]) + ", " + format_point(mesh, tri[1]) + ", " + format_point(mesh, tri[2]) +
-                       ": area " + buf + " is below the tolerance relative to its longest edge squared");
-    }
-    if (area < 0) {
-      std::swap(tri[1], tri[2]);
-      ++flipped;
-      if (notes && flipped <= kMaxNotes)
-        notes->push_back(mesh.source + ": triangle (Gmsh element " + std::to_string(tag) + ") was clockwise; re-oriented counter-clockwise");
-    }
-  }
-  if (notes && flipped > kMaxNotes)
-    notes->push_back(mesh.source + ": " + std::to_string(flipped) + " clockwise triangles re-oriented in all (" +
-                     std::to_string(flipped - kMaxNotes) + " not listed)");
-  return flipped;
-}
-
-std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir) {
-  const std::string geo_text = read_file_bytes(geo_path, ".geo file");
-  char size_text[64];
-  std::snprintf(size_text, sizeof size_text, "%.17g", size);
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text)));
-  const fs::path final_path = fs::path(cache_dir) / (fs::path(geo_path).stem().string() + "-" + hash + ".msh");
-  std::error_code ec;
-  if (fs::is_regular_file(final_path, ec)) return final_path.string();
-
-  const std::string gmsh = find_on_path("gmsh");
-  if (gmsh.empty())
-    throw InputError(geo_path + ": cannot mesh: the gmsh program is not on PATH; install it (Debian/Ubuntu package 'gmsh': apt-get install gmsh) or give a .msh file");
-
-  fs::create_directories(cache_dir, ec);
-  if (ec) throw InputError(geo_path + ": cannot create mesh cache directory " + cache_dir + ": " + ec.message());
-  // gmsh writes into a private name first; only a complete, checked mesh gets the
-  // cache name, so an interrupted or failed run is never reused.
-  const fs::path temp_path = final_path.string() + ".part" + std::to_string(::getpid()) + ".msh";
-  std::string shown = "gmsh -2 " + shell_quote(geo_path) + " -format msh41 -o " + shell_quote(temp_path.string());
-  if (size > 0) shown += std::string(" -setnumber size ") + size_text;
-  const std::string command = shell_quote(gmsh) + shown.substr(4) + " </dev/null 2>&1";
-
-  std::string output;
-  int status = -1;
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    char buf[4096];
-    size_t got;
-    while ((got = std::fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, got);
-    status = ::pclose(pipe);
-  }
-  // gmsh 4.8 exits 1 on .geo errors but still writes what it parsed, so both the exit
-  // status and "Error" lines count.
-  const bool error_line = output.rfind("Error", 0) == 0 || output.find("\nError") != std::string::npos;
-  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || error_line || !fs::is_regular_file(temp_path, ec)) {
-    fs::remove(temp_path, ec);
-    throw InputError(geo_path + ": gmsh failed to mesh it (" + shown + "); gmsh said:\n" + last_lines(output, 12));
-  }
-  try {
-    if (read_gmsh(temp_path.string()).triangles.empty()) throw InputError("no triangles");
-  } catch (const InputError& e) {
-    fs::remove(temp_path, ec);
-    throw InputError(geo_path + ": gmsh ran but its mesh is unusable: " + e.what());
-  }
-  fs::rename(temp_path, final_path, ec);
-  if (ec) {
-    fs::remove(temp_path, ec);
-    throw InputError(geo_path + ": cannot write mesh cache file " + final_path.string() + ": " + ec.message());
-  }
-  return final_path.string();
 }
 
 }  // namespace fdem::io

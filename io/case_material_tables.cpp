@@ -1,0 +1,182 @@
+// [[material]] entries (with [material.stiffness] and [material.fracture]) and
+// [[interface]] entries, which bond two fracturable materials.
+#include "io/case_tables.hpp"
+
+#include <algorithm>
+
+namespace fdem::io::detail {
+namespace {
+
+Stiffness read_stiffness(const TableReader& r) {
+  r.check_keys(kStiffnessKeys);
+  Stiffness s;
+  s.c11 = r.required_number("c11", kPositive);
+  s.c22 = r.required_number("c22", kPositive);
+  s.c12 = r.required_number("c12");
+  s.c66 = r.required_number("c66", kPositive);
+  s.c16 = r.number("c16").value_or(0.0);
+  s.c26 = r.number("c26").value_or(0.0);
+  s.angle = r.number("angle").value_or(0.0);
+  // Leading principal minors of [[c11 c12 c16] [c12 c22 c26] [c16 c26 c66]]: a matrix that
+  // is not positive definite has zero or negative strain energy for some strain.
+  const double minor2 = s.c11 * s.c22 - s.c12 * s.c12;
+  const double det = s.c11 * (s.c22 * s.c66 - s.c26 * s.c26) -
+                     s.c12 * (s.c12 * s.c66 - s.c26 * s.c16) +
+                     s.c16 * (s.c12 * s.c26 - s.c22 * s.c16);
+  if (minor2 <= 0 || det <= 0)
+    r.ctx().fail(r.table(), r.path() + " is not positive definite (need c11*c22 > c12^2 and a "
+                                "positive determinant including c16, c26, c66)");
+  return s;
+}
+
+// The keys [material.fracture] and [[interface]] share (the CE4 law, Eqs. 4–14); the
+// caller checks for unknown keys, since an [[interface]] has one more.
+FractureConfig read_fracture_keys(const TableReader& r) {
+  FractureConfig f;
+  f.tensile_strength = r.required_number("tensile_strength", kPositive);
+  f.cohesion = r.required_number("cohesion", kPositive);
+  f.friction_angle = r.required_number("friction_angle", Range{0.0, 90.0, false, true});
+  f.gf1 = r.required_number("gf1", kPositive);
+  f.gf2 = r.required_number("gf2", kPositive);
+  if (!r.has("penalty")) r.missing("penalty");
+  const TableReader penalty = subtable_reader(r, *subtable(r, "penalty"), "penalty");
+  penalty.check_keys(kPenaltyKeys);
+  f.penalty_opening = penalty.required_number("opening", kPositive);
+  f.penalty_sliding = penalty.required_number("sliding", kPositive);
+  f.penalty_overlap = penalty.required_number("overlap", kPositive);
+  if (const toml::table* t = subtable(r, "softening")) {
+    const TableReader softening = subtable_reader(r, *t, "softening");
+    softening.check_keys(kSofteningKeys);
+    f.softening_a = softening.number("a", kPositive).value_or(f.softening_a);
+    f.softening_b = softening.number("b", kPositive).value_or(f.softening_b);
+    f.softening_c = softening.number("c", kPositive).value_or(f.softening_c);
+    // Eq. 10 divides by 1 - a - b and needs f(0) = 1 > f(1) = 0 in between.
+    if (!(f.softening_a + f.softening_b > 1.0))
+      softening.fail(softening.blamed("a", "b"),
+                     softening.path() + ": a + b = " +
+                         format_number(f.softening_a + f.softening_b, kDigits) +
+                         " is out of range (allowed: a + b > 1)");
+  }
+  return f;
+}
+
+MaterialConfig read_material(const TableReader& r) {
+  r.check_keys(kMaterialKeys);
+  MaterialConfig m;
+  m.name = r.required_string("name");
+  if (!r.has("regions")) r.missing("regions");
+  m.regions = *r.strings("regions");
+  m.density = r.required_number("density", kPositive);
+  m.young = r.required_number("young", kPositive);
+  m.poisson = r.required_number("poisson", Range{-1.0, 0.5, true, true});
+  m.elasticity = r.choice<Elasticity>("elasticity", {{"neo-hookean", Elasticity::NeoHookean},
+                                                     {"hyperelastic", Elasticity::Hyperelastic}})
+                     .value_or(Elasticity::NeoHookean);
+  m.plane = r.choice<Plane>("plane", {{"strain", Plane::Strain}, {"stress", Plane::Stress}})
+                .value_or(Plane::Strain);
+  if (const toml::table* t = subtable(r, "stiffness")) {
+    if (m.elasticity != Elasticity::Hyperelastic)
+      r.fail("stiffness", r.key_path("stiffness") +
+                              " is only allowed with elasticity = \"hyperelastic\"");
+    m.stiffness = read_stiffness(subtable_reader(r, *t, "stiffness"));
+  }
+  if (const toml::table* t = subtable(r, "fracture")) {
+    const std::string path = r.key_path("fracture");
+    const TableReader fracture(r.ctx(), *t, path, path,
+                               "[material.fracture] of " + r.path() + " ('" + m.name + "')");
+    fracture.check_keys(kFractureKeys);
+    m.fracture = read_fracture_keys(fracture);
+  }
+  if (auto v = r.number_or_keyword("viscosity", "critical", kNonNegative)) {
+    m.viscosity_critical = !*v;
+    m.viscosity = v->value_or(0.0);
+  }
+  return m;
+}
+
+InterfaceConfig read_interface(const TableReader& r,
+                               const std::vector<MaterialConfig>& materials) {
+  r.check_keys(kInterfaceKeys);
+  InterfaceConfig i;
+  i.materials = material_names(r, materials);
+  if (i.materials[0] == i.materials[1])
+    r.fail("materials", r.key_path("materials") + " names '" + i.materials[0] +
+                            "' twice: an interface joins two different materials (within one "
+                            "material its [material.fracture] applies)");
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto m = std::find_if(materials.begin(), materials.end(),
+                                [&](const MaterialConfig& c) { return c.name == i.materials[k]; });
+    if (!m->fracture)
+      r.ctx().fail(*r.find("materials")->as_array()->get(k),
+                   r.key_path("materials") + "[" + std::to_string(k) + "] = \"" +
+                       i.materials[k] + "\" is a [[material]] without [material.fracture]: an "
+                       "interface joins two fracturable materials");
+  }
+  i.fracture = read_fracture_keys(r);
+  return i;
+}
+
+}  // namespace
+
+std::vector<MaterialConfig> read_materials(const TableReader& top) {
+  std::map<std::string, std::string> path_of_name;    // "rock" → "material[0]"
+  std::map<std::string, std::string> owner_of_region;  // region → "material[0] ('rock')"
+  auto materials = read_entries(top, "material", "name", [&](const TableReader& r) {
+    MaterialConfig m = read_material(r);
+    if (auto [it, fresh] = path_of_name.emplace(m.name, r.path()); !fresh)
+      r.fail("name", r.key_path("name") + ": '" + m.name + "' is already the name of " +
+                         it->second);
+    for (const std::string& region : m.regions)
+      if (auto [it, fresh] = owner_of_region.emplace(region, r.path() + " ('" + m.name + "')");
+          !fresh)
+        r.fail("regions", r.key_path("regions") + ": region '" + region + "' is already in " +
+                              it->second + ": a region belongs to one material");
+    return m;
+  });
+  if (materials.empty()) top.ctx().fail(top.table(), "the case needs at least one [[material]]");
+  return materials;
+}
+
+std::vector<InterfaceConfig> read_interfaces(const TableReader& top,
+                                             const std::vector<MaterialConfig>& materials) {
+  PairEntries seen;
+  return read_entries(top, "interface", "", [&](const TableReader& entry) {
+    InterfaceConfig i = read_interface(entry, materials);
+    check_new_pair(seen, entry, i.materials);
+    return i;
+  });
+}
+
+std::array<std::string, 2> material_names(const TableReader& r,
+                                          const std::vector<MaterialConfig>& materials) {
+  std::array<std::string, 2> out;
+  if (!r.has("materials")) r.missing("materials");
+  const toml::node& names = *r.find("materials");
+  const toml::array* a = names.as_array();
+  if (!a || a->size() != 2)
+    r.fail("materials", r.key_path("materials") +
+                            " must be an array of 2 material names, found " + describe(names));
+  std::vector<std::string_view> known;
+  for (const MaterialConfig& m : materials) known.push_back(m.name);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const toml::node& n = *a->get(i);
+    const std::string path = r.key_path("materials") + "[" + std::to_string(i) + "]";
+    out[i] = as_string(r.ctx(), n, path);
+    if (std::find(known.begin(), known.end(), out[i]) != known.end()) continue;
+    std::string msg = path + " = \"" + out[i] + "\" is not the name of a [[material]]";
+    const std::string guess = nearest_key(out[i], known);
+    if (!guess.empty()) msg += " (did you mean \"" + guess + "\"?)";
+    r.ctx().fail(n, msg);
+  }
+  return out;
+}
+
+void check_new_pair(PairEntries& seen, const TableReader& entry,
+                    const std::array<std::string, 2>& names) {
+  const auto key = std::minmax(names[0], names[1]);
+  if (auto [it, fresh] = seen.emplace(key, entry.path()); !fresh)
+    entry.fail("materials", entry.key_path("materials") + ": the pair ('" + key.first +
+                                "', '" + key.second + "') is already given in " + it->second);
+}
+
+}  // namespace fdem::io::detail

@@ -1,0 +1,33 @@
+// [[probe]] entries: history points.
+#include "io/case_tables.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+namespace fdem::io::detail {
+
+// [[probe]] entries: the name prefixes history variables, so it must be a netCDF-safe
+// identifier and unique. Whether the point lies in the mesh is checked with the model.
+std::vector<ProbeConfig> read_probes(const TableReader& top) {
+  std::map<std::string, std::string> seen;  // name -> entry that gave it
+  return read_entries(top, "probe", "name", [&](const TableReader& r) {
+    r.check_keys(kProbeKeys);
+    ProbeConfig p;
+    p.name = r.required_string("name");
+    const bool identifier = std::isalpha(static_cast<unsigned char>(p.name[0])) &&
+                            std::all_of(p.name.begin(), p.name.end(), [](char c) {
+                              return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                            });
+    if (!identifier)
+      r.fail("name", r.key_path("name") + " = \"" + p.name + "\" must start with a letter and "
+                     "hold only letters, digits and '_' (it prefixes history variables)");
+    if (auto [it, fresh] = seen.emplace(p.name, r.path()); !fresh)
+      r.fail("name", r.key_path("name") + " = \"" + p.name + "\" is already the name of " +
+                         it->second + ": probe names must be unique");
+    if (!r.has("point")) r.missing("point");
+    p.point = *r.pair("point");
+    return p;
+  });
+}
+
+}  // namespace fdem::io::detail

@@ -1,0 +1,84 @@
+// [mesh], [time], [output], [gravity], [damping]: how the run is set up.
+#include "io/case_tables.hpp"
+
+#include <filesystem>
+
+namespace fdem::io::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string resolve_against(const std::string& dir, const std::string& file) {
+  const fs::path p(file);
+  if (p.is_absolute()) return file;
+  return (fs::path(dir) / p).lexically_normal().string();
+}
+
+}  // namespace
+
+MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
+  r.check_keys(kMeshKeys);
+  r.exactly_one("geo", "file");
+  MeshConfig m;
+  const std::string_view key = r.has("geo") ? "geo" : "file";
+  const std::string resolved = resolve_against(case_dir, r.required_string(key));
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    r.fail(key, r.key_path(key) + ": file not found: " + resolved);
+  (key == "geo" ? m.geo : m.file) = resolved;
+  if (r.has("size") && key == "file")
+    r.fail("size", "mesh.size only applies with mesh.geo (gmsh meshes the .geo at that size)");
+  m.size = r.number("size", kPositive).value_or(0.0);
+  m.scale = r.number("scale", kPositive).value_or(1.0);
+  m.thickness = r.number("thickness", kPositive).value_or(1.0);
+  return m;
+}
+
+TimeConfig read_time(const TableReader& r) {
+  r.check_keys(kTimeKeys);
+  TimeConfig t;
+  if (!r.has("dt")) r.missing("dt");
+  const std::optional<double> dt = *r.number_or_keyword("dt", "auto", kPositive);
+  t.dt_auto = !dt;
+  t.dt = dt.value_or(0.0);
+  t.safety = r.number("safety", Range{0.0, 1.0, true, false}).value_or(0.5);
+  r.exactly_one("end", "steps");
+  t.end = r.number("end", kPositive).value_or(-1.0);
+  t.steps = r.integer<long>("steps", 1).value_or(-1);
+  return t;
+}
+
+OutputConfig read_output(const TableReader& r, const std::string& case_path) {
+  r.check_keys(kOutputKeys);
+  OutputConfig o;
+  if (auto dir = r.string("dir")) o.dir = *dir;
+  o.name = r.string("name").value_or(fs::path(case_path).stem().string());
+  if (o.dir.empty()) r.fail("dir", "output.dir must not be empty");
+  if (o.name.empty()) r.fail("name", "output.name must not be empty");
+  r.exclusive("frames", "every");
+  o.every = r.number("every", kPositive).value_or(-1.0);
+  o.frames = r.integer<int>("frames", 1).value_or(o.every > 0 ? -1 : 20);
+  o.history_every = r.number("history_every", kPositive).value_or(-1.0);
+  if (r.has("regions")) o.regions = *r.strings("regions");
+  o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
+  return o;
+}
+
+GravityConfig read_gravity(const TableReader& r) {
+  r.check_keys(kGravityKeys);
+  if (!r.has("g")) r.missing("g");
+  return GravityConfig{*r.pair("g")};
+}
+
+DampingConfig read_damping(const TableReader& r) {
+  r.check_keys(kDampingKeys);
+  DampingConfig d;
+  if (auto alpha = r.number("local", Range{0.0, 1.0, false, true})) {
+    d.local_enabled = true;
+    d.local = *alpha;
+  }
+  d.mass_scaling = r.boolean("mass_scaling").value_or(false);
+  return d;
+}
+
+}  // namespace fdem::io::detail

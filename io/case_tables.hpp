@@ -1,0 +1,48 @@
+// One reader per table of the case file, each checking its keys against the schema
+// (io/case_schema.hpp) and its values' ranges, and returning the table as a plain value
+// of io/case_config.hpp. read_case (io/case_reader.cpp) calls them in order.
+#pragma once
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/case_config.hpp"
+#include "io/case_toml.hpp"
+
+namespace fdem::io::detail {
+
+// io/case_setup_tables.cpp: the run set-up.
+MeshConfig read_mesh(const TableReader& r, const std::string& case_dir);      // [mesh]
+TimeConfig read_time(const TableReader& r);                                   // [time]
+OutputConfig read_output(const TableReader& r, const std::string& case_path); // [output]
+GravityConfig read_gravity(const TableReader& r);                             // [gravity]
+DampingConfig read_damping(const TableReader& r);                             // [damping]
+
+// io/case_material_tables.cpp: what the body is made of.
+std::vector<MaterialConfig> read_materials(const TableReader& top);  // [[material]]
+std::vector<InterfaceConfig> read_interfaces(const TableReader& top,  // [[interface]]
+                                             const std::vector<MaterialConfig>& materials);
+// `materials = ["rock", "steel"]` of a [[contact.pair]] or an [[interface]]: two names of
+// [[material]] entries; a misspelt one gets a suggestion.
+std::array<std::string, 2> material_names(const TableReader& r,
+                                          const std::vector<MaterialConfig>& materials);
+// Each unordered pair once: ("rock", "steel") and ("steel", "rock") are the same.
+// `seen` maps the pairs so far to the entry that gave them ("contact.pair[0]").
+using PairEntries = std::map<std::pair<std::string, std::string>, std::string>;
+void check_new_pair(PairEntries& seen, const TableReader& entry,
+                    const std::array<std::string, 2>& names);
+
+// io/case_boundary_tables.cpp: one [[boundary]] or [[initial]] entry.
+BoundaryConfig read_boundary(const TableReader& r);
+InitialConfig read_initial(const TableReader& r);
+
+// io/case_contact_table.cpp: [contact] with its [[contact.pair]] entries.
+ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfig>& materials);
+
+// io/case_probe_table.cpp: [[probe]] entries.
+std::vector<ProbeConfig> read_probes(const TableReader& top);
+
+}  // namespace fdem::io::detail
