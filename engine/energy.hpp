@@ -34,6 +34,13 @@ class EnergyBalance {
   double error(const EnergyTotals& now);
   // LS-DYNA's energy ratio: (stored + dissipated) / (initial stored + supplied); 1 balanced.
   double ratio(const EnergyTotals& now) const;
+  // (initial stored energy, peak kinetic energy so far), for checkpoints.
+  std::array<double, 2> state() const { return {initial_stored_, peak_kinetic_}; }
+  void restore(const std::array<double, 2>& s) {
+    started_ = true;
+    initial_stored_ = s[0];
+    peak_kinetic_ = s[1];
+  }
   // The term (by history name) whose value changed most between two evaluations.
   static std::string largest_change(const EnergyTotals& before, const EnergyTotals& now);
 

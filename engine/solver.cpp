@@ -112,6 +112,52 @@ EnergyTotals Solver::energy() {
   return e;
 }
 
+void Solver::save_state(StateWriter& out) {
+  cl_.finish();
+  out.integer("step", steps_);
+  out.integer("contact_rebuilds", rebuilds_);
+  out.integer("energy_row_step", energy_row_step_);
+  const auto b = balance_.state();
+  out.number("balance_initial_stored", b[0]);
+  out.number("balance_peak_kinetic", b[1]);
+  out.buffer<real>("position", arrays_.position, arrays_.num_nodes, 2);
+  out.buffer<real>("velocity", arrays_.velocity, arrays_.num_nodes, 2);
+  // The loads' last forces: the next step's work uses them (trapezoid rule).
+  out.buffer<real>("edge_force", arrays_.edge_force, 2 * arrays_.num_loaded_edges, 2);
+  integrate_.save_state(out);
+  triangle_forces_.save_state(out);
+  boundary_loads_.save_state(out);
+  if (cohesive_) cohesive_->save_state(out);
+  if (contact_) {
+    contact_->save_state(out);
+    detection_->save_state(out);
+    if (skin_) skin_->save_state(out);
+  }
+  cl_.finish();
+}
+
+void Solver::load_state(StateReader& in) {
+  steps_ = static_cast<long>(in.integer("step"));
+  rebuilds_ = static_cast<long>(in.integer("contact_rebuilds"));
+  energy_row_step_ = static_cast<long>(in.integer("energy_row_step"));
+  balance_.restore({in.number("balance_initial_stored"), in.number("balance_peak_kinetic")});
+  in.buffer<real>("position", arrays_.position, arrays_.num_nodes, 2);
+  in.buffer<real>("velocity", arrays_.velocity, arrays_.num_nodes, 2);
+  in.buffer<real>("edge_force", arrays_.edge_force, 2 * arrays_.num_loaded_edges, 2);
+  integrate_.load_state(in);
+  triangle_forces_.load_state(in);
+  boundary_loads_.load_state(in);
+  if (cohesive_) cohesive_->load_state(in);
+  if (contact_) {
+    contact_->load_state(in);
+    detection_->load_state(in);
+    if (skin_) skin_->load_state(in);
+  }
+  cl_.finish();
+  save_checkpoint();
+  cl_.finish();
+}
+
 std::vector<real2> Solver::contact_forces() {
   std::vector<real2> out(arrays_.num_nodes);
   if (!contact_) return out;

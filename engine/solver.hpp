@@ -3,6 +3,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/checkpoint.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/energy.hpp"
@@ -75,6 +76,12 @@ class Solver {
   ContactDetection* detection() { return detection_.get(); }
   CohesiveForces* cohesive() { return cohesive_.get(); }
   ContactForces* contact() { return contact_.get(); }
+
+  // The whole state a run continues from (checkpoints): positions, velocities, every
+  // stage's history and energy sums, the step counter. save_state waits for the queue.
+  void save_state(StateWriter& out);
+  // Replaces the state by a saved one (same model; InputError when a piece does not fit).
+  void load_state(StateReader& in);
 
   ClContext& context() { return cl_; }
   DeviceArrays& arrays() { return arrays_; }

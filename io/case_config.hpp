@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -170,6 +171,10 @@ struct CaseConfig {
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
   std::vector<InterfaceConfig> interfaces;
   std::vector<ProbeConfig> probes;        // [[probe]] entries
+  // Every key of the case after --set, by dotted path ("material.0.young") → its TOML
+  // value; checkpoints keep it so that a restart can name any key that changed.
+  std::map<std::string, std::string> settings;
+  std::string text;  // the case file's text as read
 };
 
 // Reads and validates a case file. `overrides` are "key.path=value" strings from

@@ -16,6 +16,23 @@ namespace fdem::io {
 using namespace detail;
 namespace fs = std::filesystem;
 
+namespace {
+
+// Every leaf of the tree by dotted path (arrays of tables indexed), value as TOML text.
+void flatten(const toml::node& node, const std::string& path, std::map<std::string, std::string>& out) {
+  if (const auto* t = node.as_table()) {
+    for (const auto& [key, value] : *t) flatten(value, path.empty() ? std::string(key.str()) : path + "." + std::string(key.str()), out);
+  } else if (const auto* a = node.as_array(); a && a->is_array_of_tables()) {
+    for (size_t k = 0; k < a->size(); ++k) flatten(*a->get(k), path + "." + std::to_string(k), out);
+  } else {
+    std::ostringstream text;
+    text << toml::toml_formatter{node};
+    out[path] = text.str();
+  }
+}
+
+}  // namespace
+
 CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path, std::ios::binary);
   if (!in || fs::is_directory(path)) throw InputError(path + ": cannot open the case file");
@@ -68,6 +85,8 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   c.initials = read_entries(top, "initial", "region", read_initial);
   if (auto contact = reader("contact")) c.contact = read_contact(*contact, c.materials);
   c.probes = read_probes(top);
+  flatten(root, "", c.settings);
+  c.text = content.str();
   return c;
 }
 

@@ -2,6 +2,7 @@
 // boundary edges (cl_kernels/boundary_loads.cl), with their work for the energy account.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
 
 namespace fdem {
@@ -15,6 +16,10 @@ class BoundaryLoads {
   void enqueue(double time, int step);
   // Load work and absorbed energy from t = 0 up to the current step's time (waits).
   void add_energy(EnergyTotals& totals);
+
+  // The cumulative energy sums, for checkpoints.
+  void save_state(StateWriter& out) const { out.group_slots("load_energy", group_energy_, groups_, 2); }
+  void load_state(StateReader& in) { in.group_slots("load_energy", group_energy_, groups_, 2); }
 
  private:
   ClContext& cl_;

@@ -134,6 +134,24 @@ std::vector<real> CohesiveForces::output_column(int k) {
   return column;
 }
 
+void CohesiveForces::save_state(StateWriter& out) const {
+  out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
+  out.buffer<cl_int>("ce4_status", status_, count_, 2);
+  out.buffer<real>("ce4_output", output_, count_, 4);
+  out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
+  out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
+  out.buffer<real>("ce4_energy", energy_, count_, 2);
+}
+
+void CohesiveForces::load_state(StateReader& in) {
+  in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
+  in.buffer<cl_int>("ce4_status", status_, count_, 2);
+  in.buffer<real>("ce4_output", output_, count_, 4);
+  in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
+  in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
+  in.buffer<real>("ce4_energy", energy_, count_, 2);
+}
+
 std::vector<real> CohesiveForces::damage() { return output_column(0); }
 std::vector<real> CohesiveForces::opening() { return output_column(1); }
 std::vector<real> CohesiveForces::slip() { return output_column(2); }

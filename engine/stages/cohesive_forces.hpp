@@ -2,6 +2,7 @@
 #pragma once
 #include <vector>
 
+#include "engine/checkpoint.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/cohesive_model.hpp"
 #include "engine/real.hpp"
@@ -44,6 +45,10 @@ class CohesiveForces {
   // each over a fixed stride of CE4s, then the partials summed in order on the host, so
   // the total is reproducible; reads back the partials only.
   double dissipated_total();
+
+  // Every CE4's state (Gauss points, status, outputs, last forces and gaps, energy), for checkpoints.
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
 
  private:
   std::vector<real> output_column(int k);

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
 
 namespace fdem {
@@ -33,6 +34,9 @@ class ContactDetection {
   void use_radix_sort(bool on) { force_radix_ = on; }
   // Most grid cells a run may use (nx·ny ≤ this): 4 per triangle + 1024.
   size_t max_cells() const { return max_cells_; }
+  // The candidate mask (activation changes it as CE4s break), for checkpoints.
+  void save_state(StateWriter& out) const { out.buffer<cl_uint>("contact_active", active_, count_); }
+  void load_state(StateReader& in) { in.buffer<cl_uint>("contact_active", active_, count_); }
 
  private:
   void grow(size_t needed);

@@ -150,4 +150,30 @@ double ContactForces::dissipated_energy() {
 std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }
 std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
 
+void ContactForces::save_state(StateWriter& out) const {
+  out.integer("contact_couples", static_cast<std::int64_t>(count_));
+  out.buffer<cl_ulong>("contact_keys", keys_, count_);
+  out.buffer<real>("contact_history", history_[current_], count_, kHistory);
+  out.buffer<cl_uchar>("contact_live", live_, count_);
+  out.buffer<cl_long>("contact_energy", dissipated_, 1);
+}
+
+void ContactForces::load_state(StateReader& in) {
+  count_ = static_cast<size_t>(in.integer("contact_couples"));
+  if (count_ > capacity_) {
+    capacity_ = grown(count_);
+    keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
+    for (auto& h : history_) h = cl_.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+  }
+  if (count_ > list_capacity_) {
+    list_capacity_ = grown(count_);
+    overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
+    live_ = cl_.allocate(list_capacity_, "contact live flags");
+  }
+  in.buffer<cl_ulong>("contact_keys", keys_, count_);
+  in.buffer<real>("contact_history", history_[current_], count_, kHistory);
+  in.buffer<cl_uchar>("contact_live", live_, count_);
+  in.buffer<cl_long>("contact_energy", dissipated_, 1);
+}
+
 }  // namespace fdem

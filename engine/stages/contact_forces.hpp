@@ -1,5 +1,6 @@
 // Stage: contact forces between detected couples (cl_kernels/contact_forces.cl).
 #pragma once
+#include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/model.hpp"
 
@@ -25,6 +26,10 @@ class ContactForces {
   double dissipated_energy();
   std::vector<real> history();   // per couple, 10 reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
+
+  // The couple list with each couple's history and live flag, and the energy sums (checkpoints).
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
 
  private:
   ClContext& cl_;

@@ -41,7 +41,7 @@ bool ContactSkin::decide(unsigned slot, bool exact) {
 }
 
 bool ContactSkin::decide_batch() {
-  batch_read_.wait();
+  if (batch_read_.get()) batch_read_.wait();  // none after a restart: the checkpoint held the batch
   batch_pending_ = false;
   speed_known_ = true;
   largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
@@ -75,6 +75,37 @@ bool ContactSkin::rebuild_due(long step) {
     batch_pending_ = true;
   }
   return due;
+}
+
+void ContactSkin::save_state(StateWriter& out) {
+  cl_.finish();  // a batch read in flight lands in host_
+  out.buffer<real>("skin_position_at_build", at_build_, arrays_.num_nodes, 2);
+  out.buffer<cl_uint>("skin_ring", monitor_, 4 * kSlots);
+  out.host<cl_uint>("skin_ring_read", host_.data(), host_.size());
+  std::vector<cl_long> generations(generation_of_.begin(), generation_of_.end());
+  generations.push_back(generation_);
+  out.host<cl_long>("skin_generations", generations.data(), generations.size());
+  out.integer("skin_batch_first", batch_first_);
+  out.integer("skin_flags", (batch_pending_ ? 1 : 0) | (speed_known_ ? 2 : 0));
+  out.number("skin_largest_speed", largest_speed_);
+  out.integer("skin_synchronous", synchronous_);
+}
+
+void ContactSkin::load_state(StateReader& in) {
+  in.buffer<real>("skin_position_at_build", at_build_, arrays_.num_nodes, 2);
+  in.buffer<cl_uint>("skin_ring", monitor_, 4 * kSlots);
+  in.host<cl_uint>("skin_ring_read", host_.data(), host_.size());
+  std::vector<cl_long> generations(kSlots + 1);
+  in.host<cl_long>("skin_generations", generations.data(), generations.size());
+  for (unsigned k = 0; k < kSlots; ++k) generation_of_[k] = generations[k];
+  generation_ = generations[kSlots];
+  batch_first_ = static_cast<unsigned>(in.integer("skin_batch_first"));
+  const auto flags = in.integer("skin_flags");
+  batch_pending_ = flags & 1;
+  speed_known_ = flags & 2;
+  largest_speed_ = in.number("skin_largest_speed");
+  synchronous_ = static_cast<long>(in.integer("skin_synchronous"));
+  batch_read_ = compute::event();
 }
 
 }  // namespace fdem

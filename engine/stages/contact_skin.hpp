@@ -3,6 +3,7 @@
 #include <array>
 #include <vector>
 
+#include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
 
 namespace fdem {
@@ -36,6 +37,10 @@ class ContactSkin {
   compute::buffer& monitor() { return monitor_; }
   static unsigned slot_of(long step) { return static_cast<unsigned>(step % kSlots); }
   long synchronous_checks() const { return synchronous_; }
+  // Positions at the last detection, the device ring and the host's view of it (the
+  // decisions of the steps to come depend on all of them), for checkpoints. Waits.
+  void save_state(StateWriter& out);
+  void load_state(StateReader& in);
 
  private:
   bool decide(unsigned slot, bool exact);

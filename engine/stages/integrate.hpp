@@ -4,6 +4,7 @@
 #include <array>
 
 #include "engine/device_arrays.hpp"
+#include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
 
 namespace fdem {
@@ -25,6 +26,10 @@ class Integrate {
   // Kinetic energy and gravity potential at the last energy row, and the local damping
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
   void add_energy(EnergyTotals& totals);
+
+  // The cumulative energy sums, for checkpoints.
+  void save_state(StateWriter& out) const { out.group_slots("integrate_work", group_work_, groups_, 2); }
+  void load_state(StateReader& in) { in.group_slots("integrate_work", group_work_, groups_, 2); }
 
  private:
   ClContext& cl_;

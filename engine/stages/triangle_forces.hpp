@@ -2,6 +2,7 @@
 // viscous dissipation of the energy account.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
 
 namespace fdem {
@@ -18,6 +19,10 @@ class TriangleForces {
   void enqueue_stress(int step);
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
   void add_energy(EnergyTotals& totals);
+
+  // The cumulative energy sums, for checkpoints.
+  void save_state(StateWriter& out) const { out.group_slots("triangle_energy", group_energy_, groups_, 2); }
+  void load_state(StateReader& in) { in.group_slots("triangle_energy", group_energy_, groups_, 2); }
 
  private:
   ClContext& cl_;

@@ -1,0 +1,186 @@
+#include "io/checkpoint_file.hpp"
+
+#include <fcntl.h>
+#include <netcdf.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "base/errors.hpp"
+
+namespace fdem::io {
+
+namespace {
+
+constexpr const char* kMagic = "fdem-cl checkpoint";
+
+nc_type nc_type_of(ArrayType t) {
+  switch (t) {
+    case ArrayType::Float64: return NC_DOUBLE;
+    case ArrayType::Float32: return NC_FLOAT;
+    case ArrayType::Int32: return NC_INT;
+    case ArrayType::UInt32: return NC_UINT;
+    case ArrayType::Int64: return NC_INT64;
+    case ArrayType::UInt64: return NC_UINT64;
+    case ArrayType::UInt8: return NC_UBYTE;
+  }
+  return NC_NAT;
+}
+
+bool array_type_of(nc_type t, ArrayType& out) {
+  switch (t) {
+    case NC_DOUBLE: out = ArrayType::Float64; return true;
+    case NC_FLOAT: out = ArrayType::Float32; return true;
+    case NC_INT: out = ArrayType::Int32; return true;
+    case NC_UINT: out = ArrayType::UInt32; return true;
+    case NC_INT64: out = ArrayType::Int64; return true;
+    case NC_UINT64: out = ArrayType::UInt64; return true;
+    case NC_UBYTE: out = ArrayType::UInt8; return true;
+    default: return false;
+  }
+}
+
+// A netCDF handle closed on every path out (the constructor's failures included).
+struct Handle {
+  int id = -1;
+  ~Handle() {
+    if (id >= 0) nc_close(id);
+  }
+};
+
+// FNV-1a over every array's name and bytes: a damaged or truncated file fails it.
+std::uint64_t checksum(const std::vector<CheckpointArray>& arrays) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const unsigned char* p, size_t n) {
+    for (size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ull;
+  };
+  for (const auto& a : arrays) {
+    mix(reinterpret_cast<const unsigned char*>(a.name.data()), a.name.size());
+    mix(a.bytes.data(), a.bytes.size());
+  }
+  return h;
+}
+
+}  // namespace
+
+std::size_t element_bytes(ArrayType type) {
+  switch (type) {
+    case ArrayType::Float64: case ArrayType::Int64: case ArrayType::UInt64: return 8;
+    case ArrayType::Float32: case ArrayType::Int32: case ArrayType::UInt32: return 4;
+    case ArrayType::UInt8: return 1;
+  }
+  return 1;
+}
+
+const CheckpointArray* CheckpointData::find(const std::string& name) const {
+  for (const auto& a : arrays)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+void write_checkpoint_file(const std::string& path, const CheckpointData& data) {
+  const std::string tmp = path + ".tmp";
+  auto fail = [&](int status, const std::string& what) {
+    if (status != NC_NOERR)
+      throw OutputError("checkpoint '" + path + "': " + nc_strerror(status) + " (" + what + ")");
+  };
+  {
+    Handle nc;
+    fail(nc_create(tmp.c_str(), NC_CLOBBER | NC_64BIT_DATA, &nc.id), "creating " + tmp);
+    int old_fill = 0;
+    fail(nc_set_fill(nc.id, NC_NOFILL, &old_fill), "setting fill mode");
+    auto text = [&](const std::string& name, const std::string& value) {
+      fail(nc_put_att_text(nc.id, NC_GLOBAL, name.c_str(), value.size(), value.c_str()), "attribute " + name);
+    };
+    text("format", kMagic);
+    text("checksum", std::to_string(checksum(data.arrays)));
+    for (const auto& [k, v] : data.text) text(k, v);
+    for (const auto& [k, v] : data.numbers)
+      fail(nc_put_att_double(nc.id, NC_GLOBAL, k.c_str(), NC_DOUBLE, 1, &v), "attribute " + k);
+    for (const auto& [k, v] : data.integers) {
+      const long long value = v;
+      fail(nc_put_att_longlong(nc.id, NC_GLOBAL, k.c_str(), NC_INT64, 1, &value), "attribute " + k);
+    }
+    std::vector<int> ids;
+    for (const auto& a : data.arrays) {
+      int dims[2];
+      fail(nc_def_dim(nc.id, (a.name + "_items").c_str(), a.items(), &dims[0]), "dimension of " + a.name);
+      fail(nc_def_dim(nc.id, (a.name + "_width").c_str(), a.width, &dims[1]), "dimension of " + a.name);
+      int id = -1;
+      fail(nc_def_var(nc.id, a.name.c_str(), nc_type_of(a.type), 2, dims, &id), "variable " + a.name);
+      ids.push_back(id);
+    }
+    fail(nc_enddef(nc.id), "header");
+    for (size_t k = 0; k < data.arrays.size(); ++k)
+      if (!data.arrays[k].bytes.empty())
+        fail(nc_put_var(nc.id, ids[k], data.arrays[k].bytes.data()), "writing " + data.arrays[k].name);
+    fail(nc_close(nc.id), "closing " + tmp);
+    nc.id = -1;
+  }
+  // Data on the disk before the rename makes it visible.
+  const int fd = ::open(tmp.c_str(), O_RDONLY);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    if (fd >= 0) ::close(fd);
+    throw OutputError("checkpoint '" + path + "': cannot sync " + tmp);
+  }
+  ::close(fd);
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) std::filesystem::rename(path, path + ".prev", ec);
+  if (ec) throw OutputError("checkpoint '" + path + "': cannot keep the previous one as " + path + ".prev: " + ec.message());
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw OutputError("checkpoint '" + path + "': cannot rename " + tmp + ": " + ec.message());
+}
+
+CheckpointData read_checkpoint_file(const std::string& path) {
+  auto bad = [&](const std::string& why) { return InputError("checkpoint '" + path + "': " + why); };
+  if (!std::filesystem::is_regular_file(path)) throw bad("no such file");
+  Handle nc;
+  if (int s = nc_open(path.c_str(), NC_NOWRITE, &nc.id); s != NC_NOERR)
+    throw bad(std::string("not a readable netCDF file (") + nc_strerror(s) + "); truncated or not a checkpoint");
+  CheckpointData data;
+  int natts = 0, nvars = 0;
+  if (nc_inq_natts(nc.id, &natts) != NC_NOERR || nc_inq_nvars(nc.id, &nvars) != NC_NOERR) throw bad("unreadable header");
+  for (int k = 0; k < natts; ++k) {
+    char name[NC_MAX_NAME + 1];
+    nc_type type;
+    size_t len = 0;
+    if (nc_inq_attname(nc.id, NC_GLOBAL, k, name) != NC_NOERR || nc_inq_att(nc.id, NC_GLOBAL, name, &type, &len) != NC_NOERR)
+      throw bad("unreadable attribute");
+    if (type == NC_CHAR) {
+      std::string value(len, '\0');
+      if (len && nc_get_att_text(nc.id, NC_GLOBAL, name, value.data()) != NC_NOERR) throw bad(std::string("attribute ") + name);
+      data.text[name] = value;
+    } else if (type == NC_DOUBLE && len == 1) {
+      nc_get_att_double(nc.id, NC_GLOBAL, name, &data.numbers[name]);
+    } else if (type == NC_INT64 && len == 1) {
+      long long value = 0;
+      nc_get_att_longlong(nc.id, NC_GLOBAL, name, &value);
+      data.integers[name] = value;
+    }
+  }
+  if (data.text["format"] != kMagic) throw bad("not an fdem-cl checkpoint (no 'format = " + std::string(kMagic) + "')");
+  for (int v = 0; v < nvars; ++v) {
+    char name[NC_MAX_NAME + 1];
+    nc_type type;
+    int ndims = 0, dims[NC_MAX_VAR_DIMS];
+    if (nc_inq_var(nc.id, v, name, &type, &ndims, dims, nullptr) != NC_NOERR || ndims != 2) throw bad("unreadable variable");
+    CheckpointArray a;
+    a.name = name;
+    if (!array_type_of(type, a.type)) throw bad(std::string("variable ") + name + " has an unknown type");
+    size_t items = 0, width = 0;
+    nc_inq_dimlen(nc.id, dims[0], &items);
+    nc_inq_dimlen(nc.id, dims[1], &width);
+    a.width = width;
+    a.bytes.resize(items * width * element_bytes(a.type));
+    if (!a.bytes.empty())
+      if (int s = nc_get_var(nc.id, v, a.bytes.data()); s != NC_NOERR)
+        throw bad(std::string("cannot read ") + name + " (" + nc_strerror(s) + "); the file is truncated or damaged");
+    data.arrays.push_back(std::move(a));
+  }
+  if (data.text["checksum"] != std::to_string(checksum(data.arrays)))
+    throw bad("its contents do not match their checksum: the file is damaged or was cut short");
+  return data;
+}
+
+}  // namespace fdem::io
