@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <set>
-#include <filesystem>
 #include <stdexcept>
-#include <utility>
 
 #include "base/errors.hpp"
 
@@ -22,12 +20,6 @@ constexpr size_t kLenString = 33;
 constexpr size_t kLenLine = 81;  // the title is one "line" of 80 characters
 // The Exodus file-format version recorded in the file; readers only insist on >= 2.0.
 constexpr float kExodusVersion = 5.0f;
-
-[[noreturn]] void throw_output_error(const std::string& path, int status,
-                                     const std::string& what) {
-  throw OutputError("Exodus output '" + path + "': " + nc_strerror(status) + " (" +
-                    what + ")");
-}
 
 void check_name(const std::string& name, const std::string& kind) {
   if (name.empty())
@@ -57,16 +49,6 @@ std::vector<char> padded_names(const std::vector<std::string>& names) {
   return buf;
 }
 
-// nc_create unlinks the path when creation fails (seen with netCDF-C 4.9.0), so an
-// existing path that is not a regular file (a device such as /dev/null, a FIFO) is
-// refused before netCDF touches it.
-void refuse_non_regular(const std::string& path) {
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
-    throw OutputError("Exodus output '" + path + "': exists and is not a regular file");
-}
-
 }  // namespace
 
 ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
@@ -74,7 +56,7 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
                            const std::vector<ExodusBlock>& blocks,
                            const std::vector<std::string>& nodal_var_names,
                            const std::vector<std::string>& elem_var_names)
-    : path_(path),
+    : file_("Exodus output", path),
       num_nodes_(x.size()),
       nodal_var_names_(nodal_var_names),
       elem_var_names_(elem_var_names) {
@@ -120,219 +102,188 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
   size_t num_elem = 0;
   for (size_t n : block_sizes_) num_elem += n;
 
-  refuse_non_regular(path_);
+  // A failure below leaves file_ to close the file: members are destroyed when a
+  // constructor throws.
+  file_.create();
+  const int nc = file_.id();
+  auto check = [&](int status, const std::string& what) { file_.check(status, what); };
 
-  // From here on every failure must release the netCDF handle: the destructor does not
-  // run for a constructor that throws.
-  try {
-    auto check = [&](int status, const std::string& what) {
-      if (status != NC_NOERR) throw_output_error(path_, status, what);
-    };
-    check(nc_create(path_.c_str(), NC_CLOBBER | NC_64BIT_OFFSET, &ncid_), "creating the file");
-    // Every record is written in full each frame, so pre-filling it is wasted I/O.
-    int old_fill = 0;
-    check(nc_set_fill(ncid_, NC_NOFILL, &old_fill), "setting fill mode");
+  auto put_int_att = [&](const char* name, int value) {
+    check(nc_put_att_int(nc, NC_GLOBAL, name, NC_INT, 1, &value),
+          std::string("writing global attribute ") + name);
+  };
+  auto put_float_att = [&](const char* name, float value) {
+    check(nc_put_att_float(nc, NC_GLOBAL, name, NC_FLOAT, 1, &value),
+          std::string("writing global attribute ") + name);
+  };
+  put_float_att("api_version", kExodusVersion);
+  put_float_att("version", kExodusVersion);
+  put_int_att("floating_point_word_size", 8);
+  put_int_att("file_size", 1);
+  put_int_att("maximum_name_length", static_cast<int>(kMaxNameLength));
+  put_int_att("int64_status", 0);
+  // The title is descriptive only; longer ones are cut to the Exodus line length.
+  const std::string short_title = title.substr(0, kLenLine - 1);
+  check(nc_put_att_text(nc, NC_GLOBAL, "title", short_title.size(), short_title.c_str()),
+        "writing global attribute title");
 
-    auto put_int_att = [&](const char* name, int value) {
-      check(nc_put_att_int(ncid_, NC_GLOBAL, name, NC_INT, 1, &value),
-            std::string("writing global attribute ") + name);
-    };
-    auto put_float_att = [&](const char* name, float value) {
-      check(nc_put_att_float(ncid_, NC_GLOBAL, name, NC_FLOAT, 1, &value),
-            std::string("writing global attribute ") + name);
-    };
-    put_float_att("api_version", kExodusVersion);
-    put_float_att("version", kExodusVersion);
-    put_int_att("floating_point_word_size", 8);
-    put_int_att("file_size", 1);
-    put_int_att("maximum_name_length", static_cast<int>(kMaxNameLength));
-    put_int_att("int64_status", 0);
-    // The title is descriptive only; longer ones are cut to the Exodus line length.
-    const std::string short_title = title.substr(0, kLenLine - 1);
-    check(nc_put_att_text(ncid_, NC_GLOBAL, "title", short_title.size(), short_title.c_str()),
-          "writing global attribute title");
+  auto def_dim = [&](const std::string& name, size_t len) {
+    int id = -1;
+    check(nc_def_dim(nc, name.c_str(), len, &id), "defining dimension " + name);
+    return id;
+  };
+  auto def_var = [&](const std::string& name, nc_type type, std::vector<int> dims) {
+    int id = -1;
+    check(nc_def_var(nc, name.c_str(), type, static_cast<int>(dims.size()), dims.data(),
+                     &id),
+          "defining variable " + name);
+    return id;
+  };
+  auto put_text_att = [&](int varid, const std::string& var, const char* name,
+                          const std::string& value) {
+    check(nc_put_att_text(nc, varid, name, value.size(), value.c_str()),
+          "writing attribute " + std::string(name) + " of " + var);
+  };
 
-    auto def_dim = [&](const std::string& name, size_t len) {
-      int id = -1;
-      check(nc_def_dim(ncid_, name.c_str(), len, &id), "defining dimension " + name);
-      return id;
-    };
-    auto def_var = [&](const std::string& name, nc_type type, std::vector<int> dims) {
-      int id = -1;
-      check(nc_def_var(ncid_, name.c_str(), type, static_cast<int>(dims.size()), dims.data(),
-                       &id),
-            "defining variable " + name);
-      return id;
-    };
-    auto put_text_att = [&](int varid, const std::string& var, const char* name,
-                            const std::string& value) {
-      check(nc_put_att_text(ncid_, varid, name, value.size(), value.c_str()),
-            "writing attribute " + std::string(name) + " of " + var);
-    };
+  def_dim("len_string", kLenString);
+  def_dim("len_line", kLenLine);
+  def_dim("four", 4);
+  const int dim_len_name = def_dim("len_name", kLenName);
+  const int dim_time = def_dim("time_step", NC_UNLIMITED);
+  const int dim_num_dim = def_dim("num_dim", 2);
+  const int dim_nodes = def_dim("num_nodes", num_nodes_);
+  def_dim("num_elem", num_elem);
+  const int dim_blocks = def_dim("num_el_blk", num_blocks);
+  const int dim_nod_var =
+      nodal_var_names.empty() ? -1 : def_dim("num_nod_var", nodal_var_names.size());
+  const int dim_elem_var =
+      elem_var_names.empty() ? -1 : def_dim("num_elem_var", elem_var_names.size());
 
-    def_dim("len_string", kLenString);
-    def_dim("len_line", kLenLine);
-    def_dim("four", 4);
-    const int dim_len_name = def_dim("len_name", kLenName);
-    const int dim_time = def_dim("time_step", NC_UNLIMITED);
-    const int dim_num_dim = def_dim("num_dim", 2);
-    const int dim_nodes = def_dim("num_nodes", num_nodes_);
-    def_dim("num_elem", num_elem);
-    const int dim_blocks = def_dim("num_el_blk", num_blocks);
-    const int dim_nod_var =
-        nodal_var_names.empty() ? -1 : def_dim("num_nod_var", nodal_var_names.size());
-    const int dim_elem_var =
-        elem_var_names.empty() ? -1 : def_dim("num_elem_var", elem_var_names.size());
+  time_var_ = def_var("time_whole", NC_DOUBLE, {dim_time});
+  const int var_eb_names = def_var("eb_names", NC_CHAR, {dim_blocks, dim_len_name});
+  const int var_eb_status = def_var("eb_status", NC_INT, {dim_blocks});
+  const int var_eb_prop1 = def_var("eb_prop1", NC_INT, {dim_blocks});
+  // Readers identify blocks by this property; ParaView shows no variables without it.
+  put_text_att(var_eb_prop1, "eb_prop1", "name", "ID");
+  const int var_coordx = def_var("coordx", NC_DOUBLE, {dim_nodes});
+  const int var_coordy = def_var("coordy", NC_DOUBLE, {dim_nodes});
+  const int var_coor_names = def_var("coor_names", NC_CHAR, {dim_num_dim, dim_len_name});
 
-    time_var_ = def_var("time_whole", NC_DOUBLE, {dim_time});
-    const int var_eb_names = def_var("eb_names", NC_CHAR, {dim_blocks, dim_len_name});
-    const int var_eb_status = def_var("eb_status", NC_INT, {dim_blocks});
-    const int var_eb_prop1 = def_var("eb_prop1", NC_INT, {dim_blocks});
-    // Readers identify blocks by this property; ParaView shows no variables without it.
-    put_text_att(var_eb_prop1, "eb_prop1", "name", "ID");
-    const int var_coordx = def_var("coordx", NC_DOUBLE, {dim_nodes});
-    const int var_coordy = def_var("coordy", NC_DOUBLE, {dim_nodes});
-    const int var_coor_names = def_var("coor_names", NC_CHAR, {dim_num_dim, dim_len_name});
-
-    std::vector<int> var_connect(num_blocks);
-    std::vector<int> dim_block_elems(num_blocks);
-    for (size_t b = 0; b < num_blocks; ++b) {
-      const std::string n = std::to_string(b + 1);
-      dim_block_elems[b] = def_dim("num_el_in_blk" + n, block_sizes_[b]);
-      const int dim_per_elem =
-          def_dim("num_nod_per_el" + n, static_cast<size_t>(blocks[b].nodes_per_elem));
-      var_connect[b] = def_var("connect" + n, NC_INT, {dim_block_elems[b], dim_per_elem});
-      put_text_att(var_connect[b], "connect" + n, "elem_type", blocks[b].elem_type);
-    }
-
-    int var_name_nod_var = -1;
-    if (!nodal_var_names.empty()) {
-      var_name_nod_var = def_var("name_nod_var", NC_CHAR, {dim_nod_var, dim_len_name});
-      for (size_t k = 0; k < nodal_var_names.size(); ++k)
-        nodal_var_ids_.push_back(def_var("vals_nod_var" + std::to_string(k + 1), NC_DOUBLE,
-                                         {dim_time, dim_nodes}));
-    }
-    int var_name_elem_var = -1;
-    int var_elem_var_tab = -1;
-    if (!elem_var_names.empty()) {
-      var_name_elem_var = def_var("name_elem_var", NC_CHAR, {dim_elem_var, dim_len_name});
-      var_elem_var_tab = def_var("elem_var_tab", NC_INT, {dim_blocks, dim_elem_var});
-      elem_var_ids_.assign(elem_var_names.size(), std::vector<int>(num_blocks, -1));
-      for (size_t k = 0; k < elem_var_names.size(); ++k)
-        for (size_t b = 0; b < num_blocks; ++b)
-          elem_var_ids_[k][b] =
-              def_var("vals_elem_var" + std::to_string(k + 1) + "eb" + std::to_string(b + 1),
-                      NC_DOUBLE, {dim_time, dim_block_elems[b]});
-    }
-
-    check(nc_enddef(ncid_), "finishing the header definition");
-
-    // Fixed data.
-    check(nc_put_var_double(ncid_, var_coordx, x.data()), "writing coordx");
-    check(nc_put_var_double(ncid_, var_coordy, y.data()), "writing coordy");
-    check(nc_put_var_text(ncid_, var_coor_names, padded_names({"x", "y"}).data()),
-          "writing coor_names");
-    check(nc_put_var_text(ncid_, var_eb_names, padded_names(block_names).data()),
-          "writing eb_names");
-    const std::vector<int> ones(std::max(num_blocks * elem_var_names.size(), num_blocks), 1);
-    check(nc_put_var_int(ncid_, var_eb_status, ones.data()), "writing eb_status");
-    std::vector<int> ids(num_blocks);
-    for (size_t b = 0; b < num_blocks; ++b) ids[b] = static_cast<int>(b + 1);
-    check(nc_put_var_int(ncid_, var_eb_prop1, ids.data()), "writing eb_prop1");
-    for (size_t b = 0; b < num_blocks; ++b) {
-      std::vector<int> one_based(blocks[b].connectivity);
-      for (int& n : one_based) ++n;
-      check(nc_put_var_int(ncid_, var_connect[b], one_based.data()),
-            "writing connect" + std::to_string(b + 1));
-    }
-    if (var_name_nod_var >= 0)
-      check(nc_put_var_text(ncid_, var_name_nod_var, padded_names(nodal_var_names).data()),
-            "writing name_nod_var");
-    if (var_name_elem_var >= 0) {
-      check(nc_put_var_text(ncid_, var_name_elem_var, padded_names(elem_var_names).data()),
-            "writing name_elem_var");
-      // Every element variable exists on every block.
-      check(nc_put_var_int(ncid_, var_elem_var_tab, ones.data()), "writing elem_var_tab");
-    }
-    check(nc_sync(ncid_), "syncing the header");
-  } catch (...) {
-    // nc_close, not nc_abort: aborting a file in define mode unlinks the path, which
-    // must never happen to a device node such as /dev/null given as the output.
-    if (ncid_ >= 0) nc_close(ncid_);
-    ncid_ = -1;
-    throw;
+  std::vector<int> var_connect(num_blocks);
+  std::vector<int> dim_block_elems(num_blocks);
+  for (size_t b = 0; b < num_blocks; ++b) {
+    const std::string n = std::to_string(b + 1);
+    dim_block_elems[b] = def_dim("num_el_in_blk" + n, block_sizes_[b]);
+    const int dim_per_elem =
+        def_dim("num_nod_per_el" + n, static_cast<size_t>(blocks[b].nodes_per_elem));
+    var_connect[b] = def_var("connect" + n, NC_INT, {dim_block_elems[b], dim_per_elem});
+    put_text_att(var_connect[b], "connect" + n, "elem_type", blocks[b].elem_type);
   }
-}
 
-ExodusWriter::~ExodusWriter() {
-  // Errors on close are lost here; every frame was already synced, and callers that
-  // need to know call close() themselves.
-  try {
-    close();
-  } catch (...) {
+  int var_name_nod_var = -1;
+  if (!nodal_var_names.empty()) {
+    var_name_nod_var = def_var("name_nod_var", NC_CHAR, {dim_nod_var, dim_len_name});
+    for (size_t k = 0; k < nodal_var_names.size(); ++k)
+      nodal_var_ids_.push_back(def_var("vals_nod_var" + std::to_string(k + 1), NC_DOUBLE,
+                                       {dim_time, dim_nodes}));
   }
+  int var_name_elem_var = -1;
+  int var_elem_var_tab = -1;
+  if (!elem_var_names.empty()) {
+    var_name_elem_var = def_var("name_elem_var", NC_CHAR, {dim_elem_var, dim_len_name});
+    var_elem_var_tab = def_var("elem_var_tab", NC_INT, {dim_blocks, dim_elem_var});
+    elem_var_ids_.assign(elem_var_names.size(), std::vector<int>(num_blocks, -1));
+    for (size_t k = 0; k < elem_var_names.size(); ++k)
+      for (size_t b = 0; b < num_blocks; ++b)
+        elem_var_ids_[k][b] =
+            def_var("vals_elem_var" + std::to_string(k + 1) + "eb" + std::to_string(b + 1),
+                    NC_DOUBLE, {dim_time, dim_block_elems[b]});
+  }
+
+  check(nc_enddef(nc), "finishing the header definition");
+
+  // Fixed data.
+  check(nc_put_var_double(nc, var_coordx, x.data()), "writing coordx");
+  check(nc_put_var_double(nc, var_coordy, y.data()), "writing coordy");
+  check(nc_put_var_text(nc, var_coor_names, padded_names({"x", "y"}).data()),
+        "writing coor_names");
+  check(nc_put_var_text(nc, var_eb_names, padded_names(block_names).data()),
+        "writing eb_names");
+  const std::vector<int> ones(std::max(num_blocks * elem_var_names.size(), num_blocks), 1);
+  check(nc_put_var_int(nc, var_eb_status, ones.data()), "writing eb_status");
+  std::vector<int> ids(num_blocks);
+  for (size_t b = 0; b < num_blocks; ++b) ids[b] = static_cast<int>(b + 1);
+  check(nc_put_var_int(nc, var_eb_prop1, ids.data()), "writing eb_prop1");
+  for (size_t b = 0; b < num_blocks; ++b) {
+    std::vector<int> one_based(blocks[b].connectivity);
+    for (int& n : one_based) ++n;
+    check(nc_put_var_int(nc, var_connect[b], one_based.data()),
+          "writing connect" + std::to_string(b + 1));
+  }
+  if (var_name_nod_var >= 0)
+    check(nc_put_var_text(nc, var_name_nod_var, padded_names(nodal_var_names).data()),
+          "writing name_nod_var");
+  if (var_name_elem_var >= 0) {
+    check(nc_put_var_text(nc, var_name_elem_var, padded_names(elem_var_names).data()),
+          "writing name_elem_var");
+    // Every element variable exists on every block.
+    check(nc_put_var_int(nc, var_elem_var_tab, ones.data()), "writing elem_var_tab");
+  }
+  check(nc_sync(nc), "syncing the header");
 }
 
 void ExodusWriter::write_frame(double time, const std::vector<std::vector<double>>& nodal,
                                const std::vector<std::vector<std::vector<double>>>& elem) {
-  if (ncid_ < 0)
-    throw std::logic_error("Exodus output '" + path_ + "': write_frame after close");
+  if (!file_.is_open())
+    throw std::logic_error("Exodus output '" + path() + "': write_frame after close");
   const std::string frame = "frame " + std::to_string(frames_);
   if (nodal.size() != nodal_var_names_.size())
-    throw std::invalid_argument("Exodus output '" + path_ + "', " + frame + ": " +
+    throw std::invalid_argument("Exodus output '" + path() + "', " + frame + ": " +
                                 std::to_string(nodal.size()) + " nodal variables given, " +
                                 std::to_string(nodal_var_names_.size()) + " declared");
   if (elem.size() != elem_var_names_.size())
-    throw std::invalid_argument("Exodus output '" + path_ + "', " + frame + ": " +
+    throw std::invalid_argument("Exodus output '" + path() + "', " + frame + ": " +
                                 std::to_string(elem.size()) + " element variables given, " +
                                 std::to_string(elem_var_names_.size()) + " declared");
   for (size_t k = 0; k < nodal.size(); ++k)
     if (nodal[k].size() != num_nodes_)
-      throw std::invalid_argument("Exodus output '" + path_ + "', " + frame + ", variable " +
+      throw std::invalid_argument("Exodus output '" + path() + "', " + frame + ", variable " +
                                   nodal_var_names_[k] + ": " + std::to_string(nodal[k].size()) +
                                   " values for " + std::to_string(num_nodes_) + " nodes");
   for (size_t k = 0; k < elem.size(); ++k) {
     if (elem[k].size() != block_sizes_.size())
-      throw std::invalid_argument("Exodus output '" + path_ + "', " + frame + ", variable " +
+      throw std::invalid_argument("Exodus output '" + path() + "', " + frame + ", variable " +
                                   elem_var_names_[k] + ": values for " +
                                   std::to_string(elem[k].size()) + " blocks, the mesh has " +
                                   std::to_string(block_sizes_.size()));
     for (size_t b = 0; b < block_sizes_.size(); ++b)
       if (elem[k][b].size() != block_sizes_[b])
         throw std::invalid_argument(
-            "Exodus output '" + path_ + "', " + frame + ", variable " + elem_var_names_[k] +
+            "Exodus output '" + path() + "', " + frame + ", variable " + elem_var_names_[k] +
             ", block " + std::to_string(b + 1) + ": " + std::to_string(elem[k][b].size()) +
             " values for " + std::to_string(block_sizes_[b]) + " elements");
   }
 
+  const int nc = file_.id();
   const size_t rec = static_cast<size_t>(frames_);
-  auto check = [&](int status, const std::string& what) {
-    if (status != NC_NOERR) throw_output_error(path_, status, frame + ", " + what);
-  };
+  auto check = [&](int status, const std::string& what) { file_.check(status, frame + ", " + what); };
   for (size_t k = 0; k < nodal.size(); ++k) {
     const size_t start[2] = {rec, 0};
     const size_t count[2] = {1, num_nodes_};
-    check(nc_put_vara_double(ncid_, nodal_var_ids_[k], start, count, nodal[k].data()),
+    check(nc_put_vara_double(nc, nodal_var_ids_[k], start, count, nodal[k].data()),
           "variable " + nodal_var_names_[k]);
   }
   for (size_t k = 0; k < elem.size(); ++k)
     for (size_t b = 0; b < block_sizes_.size(); ++b) {
       const size_t start[2] = {rec, 0};
       const size_t count[2] = {1, block_sizes_[b]};
-      check(nc_put_vara_double(ncid_, elem_var_ids_[k][b], start, count, elem[k][b].data()),
+      check(nc_put_vara_double(nc, elem_var_ids_[k][b], start, count, elem[k][b].data()),
             "variable " + elem_var_names_[k] + " on block " + std::to_string(b + 1));
     }
-  check(nc_put_var1_double(ncid_, time_var_, &rec, &time), "time_whole");
+  check(nc_put_var1_double(nc, time_var_, &rec, &time), "time_whole");
   // The record count on disk only grows here, so a killed run leaves whole frames.
-  check(nc_sync(ncid_), "sync");
+  check(nc_sync(nc), "sync");
   ++frames_;
-}
-
-void ExodusWriter::close() {
-  if (ncid_ < 0) return;
-  const int id = std::exchange(ncid_, -1);
-  const int status = nc_close(id);
-  if (status != NC_NOERR) throw_output_error(path_, status, "closing the file");
 }
 
 }  // namespace fdem::io

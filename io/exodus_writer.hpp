@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "io/netcdf_file.hpp"
+
 namespace fdem::io {
 
 struct ExodusBlock {
@@ -22,7 +24,6 @@ class ExodusWriter {
                const std::vector<ExodusBlock>& blocks,
                const std::vector<std::string>& nodal_var_names,
                const std::vector<std::string>& elem_var_names);
-  ~ExodusWriter();
   ExodusWriter(const ExodusWriter&) = delete;
   ExodusWriter& operator=(const ExodusWriter&) = delete;
 
@@ -32,12 +33,11 @@ class ExodusWriter {
                    const std::vector<std::vector<std::vector<double>>>& elem);
 
   int frames_written() const { return frames_; }
-  const std::string& path() const { return path_; }
-  void close();  // idempotent; the destructor calls it and never throws
+  const std::string& path() const { return file_.path(); }
+  void close() { file_.close(); }  // idempotent; the destructor closes and never throws
 
  private:
-  std::string path_;
-  int ncid_ = -1;
+  NetcdfFile file_;
   int frames_ = 0;
   size_t num_nodes_ = 0;
   std::vector<size_t> block_sizes_;

@@ -4,6 +4,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/netcdf_file.hpp"
+
 namespace fdem::io {
 
 struct HistoryVariable {
@@ -20,19 +22,17 @@ class HistoryWriter {
   // double variable per entry of `variables`. Throws fdem::OutputError naming the path.
   HistoryWriter(const std::string& path, const std::string& title,
                 const std::vector<HistoryVariable>& variables);
-  ~HistoryWriter();
   HistoryWriter(const HistoryWriter&) = delete;
   HistoryWriter& operator=(const HistoryWriter&) = delete;
 
   // Appends one row (values in the order of `variables`) and syncs.
   void append(double time, const std::vector<double>& values);
   int rows_written() const { return rows_; }
-  const std::string& path() const { return path_; }
-  void close();  // idempotent; the destructor calls it and never throws
+  const std::string& path() const { return file_.path(); }
+  void close() { file_.close(); }  // idempotent; the destructor closes and never throws
 
  private:
-  std::string path_;
-  int ncid_ = -1;
+  NetcdfFile file_;
   int rows_ = 0;
   int time_var_ = -1;
   std::vector<int> var_ids_;

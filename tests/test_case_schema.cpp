@@ -1,4 +1,4 @@
-// Case reader: The key schema (io/case_schema.cpp) and its suggestions for misspelt names, and the
+// Case reader: the key schema (io/case_schema.cpp) and its suggestions for misspelt names, and the
 // one edit distance (io/suggest.hpp).
 #include <doctest/doctest.h>
 

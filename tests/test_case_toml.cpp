@@ -1,4 +1,4 @@
-// Case reader: Typed access to the TOML tree (io/case_toml.cpp): keywords in place of numbers,
+// Case reader: typed access to the TOML tree (io/case_toml.cpp): keywords in place of numbers,
 // integers for reals, missing keys, wrong types, ranges, exclusive keys.
 #include <doctest/doctest.h>
 

@@ -135,6 +135,40 @@ for name, want in expected.items():
     assert abs(float(peak_row["strain"]) - 0.05 * 1.2e-3 / size) < 1e-12, peak_row
 PY
 
+# What the Makefile's demo and validate targets run: its own plot flags (make prints
+# them), on the sample's frames. The sample has t = 0.02595 m and the cases t = 1 m, so
+# the Makefile's curves peak at the sample's peak × 0.02595.
+make_var() {
+  make -s --no-print-directory -C "$repo" -f Makefile -f - "print-$1" <<'MK'
+print-%: ; @echo '$($*)'
+MK
+}
+cracks_flags=$(make_var CRACKS) && brazilian_flags=$(make_var BRAZILIAN_CURVE) &&
+  ucs_flags=$(make_var UCS_CURVE) && [ -n "$cracks_flags" ] && [ -n "$brazilian_flags" ] &&
+  [ -n "$ucs_flags" ] || { echo "FAIL: cannot read the plot flags from the Makefile" >&2; exit 1; }
+grep -q "fdem-fracture" "$repo/Makefile" && fail "the Makefile still calls tools/fdem-fracture"
+# shellcheck disable=SC2086  # the flags are words
+"$plot" $cracks_flags "$fexo" --frames 0 1 2 --range -5 2 -o "$work/make_cracks.png" ||
+  fail "Makefile cracks: $cracks_flags"
+check_png "$work/make_cracks.png"
+"$plot" $cracks_flags "$fexo" --frames 2 --range -20 10 -o "$work/make_cracks1.png" ||
+  fail "Makefile cracks, one frame: $cracks_flags"
+check_png "$work/make_cracks1.png"
+"$plot" $brazilian_flags "$fhist" -o "$work/make_bd.png" >"$work/make_bd.txt" ||
+  fail "Makefile Brazilian curve: $brazilian_flags"
+check_png "$work/make_bd.png"
+"$plot" $ucs_flags "$fhist" -o "$work/make_ucs.png" >"$work/make_ucs.txt" ||
+  fail "Makefile UCS curve: $ucs_flags"
+check_png "$work/make_ucs.png"
+/usr/bin/python3 - "$work" "$peak_sigma_t" "$peak_ucs" <<'PY' || fail "Makefile curves' peaks"
+import re, sys
+work, expected = sys.argv[1], {"make_bd": float(sys.argv[2]), "make_ucs": float(sys.argv[3])}
+for name, want in expected.items():
+    printed = open(f"{work}/{name}.txt").read()
+    m = re.search(r"peak stress: ([0-9.eE+-]+) MPa", printed)
+    assert m and abs(float(m.group(1)) * 1e6 - want * 0.02595) <= 1e-5 * want, (name, printed, want)
+PY
+
 expect_error "available: kinetic_energy, platen_top_force_x" "$plot" stress-strain "$fhist" \
   --test brazilian --load-region top --size 0.05 --thickness 1 -o "$work/x.png"
 expect_error "platen_side_disp_y" "$plot" stress-strain "$fhist" --test brazilian \

@@ -79,6 +79,9 @@ class HistoryData:
     values: Dict[str, np.ndarray]
     units: Dict[str, str]
     long_names: Dict[str, str]
+    # Numeric attributes per variable, e.g. a probe's {"probe_point": array([x, y]),
+    # "probe_element": array([e])}; empty for most variables.
+    attributes: Dict[str, Dict[str, np.ndarray]] = field(default_factory=dict)
 
 
 def _names(ds, var: str) -> List[str]:
@@ -165,15 +168,19 @@ def load_history(path: str) -> HistoryData:
         if "time" not in ds.variables:
             raise ValueError(f"{path} has no 'time' variable: not an fdem-cl history file")
         times = np.asarray(ds.variables["time"][:], dtype=float)
-        values, units, long_names = {}, {}, {}
+        values, units, long_names, attributes = {}, {}, {}, {}
         for name, var in ds.variables.items():
             if name == "time" or var.dimensions != ("time",):
                 continue
             values[name] = np.asarray(var[:], dtype=float)
             units[name] = _text_attr(var, "units")
             long_names[name] = _text_attr(var, "long_name", name)
+            attributes[name] = {a: np.asarray(var.getncattr(a), dtype=float).ravel()
+                                for a in var.ncattrs()
+                                if not isinstance(var.getncattr(a), (str, bytes))}
         return HistoryData(path=str(path), title=_text_attr(ds, "title"), times=times,
-                           values=values, units=units, long_names=long_names)
+                           values=values, units=units, long_names=long_names,
+                           attributes=attributes)
 
 
 def to_xarray(path: str):
