@@ -5,7 +5,7 @@
 #include <limits>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "engine/solver.hpp"
 
 namespace fdem {

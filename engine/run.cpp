@@ -10,7 +10,8 @@
 #include <ostream>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
+#include "base/format.hpp"
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "io/exodus_writer.hpp"
@@ -22,12 +23,6 @@ namespace fdem {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string format_number(double v, int precision = 4) {
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
 
 // Steps (1-based step counts, step 0 = initial state) at which frames are written.
 std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt) {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <climits>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 

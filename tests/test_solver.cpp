@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "fixture.hpp"
 

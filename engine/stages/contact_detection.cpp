@@ -8,7 +8,7 @@
 #include <boost/compute/iterator/buffer_iterator.hpp>
 #include <string>
 
-#include "engine/errors.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 
