@@ -1,7 +1,10 @@
 // fdem: the command-line front end. Library code throws typed errors; this file alone
 // turns them into messages and exit codes (0 done, 2 bad input, 3 numerical failure,
-// 4 device error, 5 output error).
+// 4 device error, 5 output error, 75 stopped cleanly with a checkpoint to resume from).
 #include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
 
 #include <boost/compute/exception.hpp>
 #include <cstdio>
@@ -17,13 +20,16 @@
 #include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/stages/contact_detection.hpp"
+#include "io/checkpoint_file.hpp"
 
 namespace {
 
 const char* kUsage =
     "usage:\n"
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
+    "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
+    "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--csv FILE] [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
@@ -34,6 +40,9 @@ struct Arguments {
   std::vector<std::string> overrides;
   bool quiet = false;
   bool profile = false;
+  bool restart = false;
+  std::string restart_file;  // empty with --restart: OUT/NAME.ckpt
+  double max_wall = 0;
   fdem::BenchOptions bench;
 };
 
@@ -52,6 +61,25 @@ Arguments parse(int argc, char** argv) {
     else if (arg == "--set") a.overrides.push_back(value(arg));
     else if (arg.rfind("--set=", 0) == 0) a.overrides.push_back(arg.substr(6));
     else if (arg == "--quiet" || arg == "-q") a.quiet = true;
+    else if (arg == "--restart") {
+      a.restart = true;
+      // An optional file: the next word unless it is an option or the case file still to come.
+      if (i + 1 < argc && argv[i + 1][0] != '-' && !(a.case_path.empty() && std::string(argv[i + 1]).size() > 5 &&
+                                                     std::string(argv[i + 1]).substr(std::string(argv[i + 1]).size() - 5) == ".toml"))
+        a.restart_file = argv[++i];
+    } else if (arg.rfind("--restart=", 0) == 0) {
+      a.restart = true;
+      a.restart_file = arg.substr(10);
+    } else if (arg == "--max-wall") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        a.max_wall = std::stod(v, &used);
+        if (used != v.size() || !(a.max_wall > 0)) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--max-wall needs a positive number of seconds, not '" + v + "'");
+      }
+    }
     else if (arg == "--profile") a.profile = true;
     else if (arg == "--sizes") {
       a.bench.sizes.clear();
@@ -107,7 +135,27 @@ void print_notes(const fdem::PreparedCase& p) {
   for (const auto& note : p.notes) std::cout << "note: " << note << "\n";
 }
 
+// `fdem check FILE.ckpt`: what a checkpoint holds.
+int check_checkpoint(const std::string& path) {
+  const auto data = fdem::io::read_checkpoint_file(path);
+  auto text = [&](const char* k) { return data.text.count(k) ? data.text.at(k) : std::string("?"); };
+  auto integer = [&](const char* k) { return data.integers.count(k) ? data.integers.at(k) : -1L; };
+  auto number = [&](const char* k) { return data.numbers.count(k) ? data.numbers.at(k) : 0.0; };
+  std::cout << "checkpoint " << path << " (" << mib(std::filesystem::file_size(path)) << ", format "
+            << text("format_version") << ")\n"
+            << "case       " << text("case_path") << (text("title").empty() ? "" : "  (" + text("title") + ")") << "\n"
+            << "step       " << integer("step") << "\n"
+            << "time       " << number("time") << " s (dt " << number("dt") << " s)\n"
+            << "device     " << text("device") << "\n"
+            << "precision  " << text("precision") << "\n"
+            << "mesh       " << text("mesh_hash") << "\n"
+            << "broken CE4 " << integer("broken_ce4") << "\n"
+            << "worst energy_error so far " << number("worst_energy_error") << "\n";
+  return 0;
+}
+
 int check_command(const Arguments& a) {
+  if (a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt") return check_checkpoint(a.case_path);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
   const auto& m = p.model;
@@ -164,6 +212,17 @@ int check_command(const Arguments& a) {
   return 0;
 }
 
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void request_stop(int signal) { g_stop = signal; }
+
+// The command line that continues a stopped run from `checkpoint`.
+std::string resume_command(const Arguments& a, const std::string& checkpoint) {
+  std::string cmd = "fdem run " + a.case_path;
+  if (!a.device.empty()) cmd += " --device " + a.device;
+  for (const auto& o : a.overrides) cmd += " --set '" + o + "'";
+  return cmd + " --restart " + checkpoint;
+}
+
 int run_command(const Arguments& a) {
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
@@ -172,7 +231,21 @@ int run_command(const Arguments& a) {
             << p.model.num_nodes() << " nodes, " << p.model.num_triangles() << " TRI3, dt " << p.dt << " s, "
             << p.steps << " steps\n" << std::flush;
   const bool status_line = !a.quiet && isatty(STDERR_FILENO);
-  const auto s = fdem::run_case(p, cl, status_line ? std::cerr : std::cout, status_line);
+  fdem::RunOptions options;
+  if (a.restart) options.restart = a.restart_file.empty() ? fdem::checkpoint_path(p) : a.restart_file;
+  options.max_wall = a.max_wall;
+  options.stop = &g_stop;
+  options.info = &std::cout;
+  // SIGTERM (batch systems, kill), SIGINT (Ctrl-C), SIGUSR1 (a scheduler's warning):
+  // finish the step, write a checkpoint, close the files, exit 75.
+  for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
+  const auto s = fdem::run_case(p, cl, status_line ? std::cerr : std::cout, status_line, options);
+  if (s.interrupted) {
+    std::cout << "stopped by " << s.stop_reason << " at step " << s.first_step + s.steps << ", t = " << s.simulated_time
+              << " s (" << s.steps << " steps run); checkpoint " << s.checkpoint << "\n"
+              << "resume with: " << resume_command(a, s.checkpoint) << "\n";
+    return 75;
+  }
   std::cout << "done: " << s.steps << " steps, t = " << s.simulated_time << " s, wall " << std::fixed
             << std::setprecision(2) << s.wall_seconds << " s, " << std::setprecision(1)
             << s.steps / std::max(s.wall_seconds, 1e-9) << " steps/s, " << std::setprecision(2)

@@ -7,6 +7,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <memory>
+#include <cstdint>
+#include <csignal>
+#include <set>
+#include <map>
 #include <ostream>
 #include <sstream>
 
@@ -16,7 +20,9 @@
 #include "engine/solver.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/gmsh_reader.hpp"
+#include "io/checkpoint_file.hpp"
 #include "io/history_writer.hpp"
+#include "io/output_resume.hpp"
 
 namespace fdem {
 
@@ -120,7 +126,82 @@ std::string describe_failure(const Model& model, const Conditions& c) {
   return msg.str();
 }
 
+// A hash of the mesh the run computes on (coordinates, triangles, CE4s): a checkpoint of
+// another mesh is refused.
+std::string model_hash(const Model& m) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const void* p, size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  mix(m.x.data(), m.x.size() * sizeof(double));
+  mix(m.y.data(), m.y.size() * sizeof(double));
+  for (const auto& t : m.triangles) mix(t.data(), sizeof(t));
+  for (const auto& c : m.ce4) mix(c.data(), sizeof(c));
+  std::ostringstream s;
+  s << std::hex << h << " (" << m.num_nodes() << " nodes, " << m.num_triangles() << " TRI3, " << m.ce4.size() << " CE4)";
+  return s.str();
+}
+
+std::string settings_text(const std::map<std::string, std::string>& settings) {
+  std::string out;
+  for (const auto& [key, value] : settings) out += key + " = " + value + "\n";
+  return out;
+}
+
+std::map<std::string, std::string> parse_settings(const std::string& text) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  return out;
+}
+
+// Keys that may change between a checkpoint and its restart.
+bool may_change(const std::string& key) {
+  return key == "time.end" || key == "time.steps" || key.rfind("output.", 0) == 0 || key == "output";
+}
+
+// Refuses a checkpoint that does not fit the case (InputError, exit 2).
+void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std::string& path) {
+  const auto text = [&](const char* key) {
+    const auto it = data.text.find(key);
+    return it == data.text.end() ? std::string() : it->second;
+  };
+  if (text("format_version") != "1")
+    throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") +
+                     "'; this fdem reads version 1");
+  const std::string precision = kDoublePrecision ? "double" : "float";
+  if (text("precision") != precision)
+    throw InputError("checkpoint '" + path + "' was written by a " + text("precision") + "-precision build; this is a " +
+                     precision + "-precision build (rebuild with -DFDEM_PRECISION=" + text("precision") + ")");
+  const std::string mesh = model_hash(p.model);
+  if (text("mesh_hash") != mesh)
+    throw InputError("checkpoint '" + path + "' is of another mesh: " + text("mesh_hash") + " in the checkpoint, " +
+                     mesh + " now");
+  const auto before = parse_settings(text("settings"));
+  const auto& now = p.config.settings;
+  std::set<std::string> keys;
+  for (const auto& kv : before) keys.insert(kv.first);
+  for (const auto& kv : now) keys.insert(kv.first);
+  for (const auto& key : keys) {
+    if (may_change(key)) continue;
+    const auto a = before.find(key), b = now.find(key);
+    const std::string was = a == before.end() ? "(absent)" : a->second, is = b == now.end() ? "(absent)" : b->second;
+    if (was != is)
+      throw InputError("checkpoint '" + path + "': " + key + " was " + was + " in the checkpointed run and is " + is +
+                       " now; only time.end (time.steps) and output.* may change on restart");
+  }
+}
+
 }  // namespace
+
+std::string checkpoint_path(const PreparedCase& p) {
+  return (fs::path(p.config.output.dir) / (p.config.output.name + ".ckpt")).string();
+}
 
 PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides) {
   PreparedCase p;
@@ -166,7 +247,8 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   return p;
 }
 
-RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, bool status_line) {
+RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, bool status_line,
+                    const RunOptions& options) {
   const Model& model = p.model;
   const auto& config = p.config;
   try {
@@ -176,6 +258,22 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   }
 
   Solver solver(cl, model, p.dt);
+  RunSummary summary;
+  const bool resumed = !options.restart.empty();
+  if (resumed) {
+    const io::CheckpointData data = io::read_checkpoint_file(options.restart);
+    check_fits(data, p, options.restart);
+    StateReader in(cl, data, options.restart);
+    solver.load_state(in);
+    if (solver.steps_done() >= p.steps)
+      throw InputError("checkpoint '" + options.restart + "' is at step " + std::to_string(solver.steps_done()) +
+                       " (t = " + format_number(solver.time()) + " s), and the case ends at step " +
+                       std::to_string(p.steps) + ": extend the run with --set time.end=...");
+    summary.worst_energy_error = data.numbers.count("worst_energy_error") ? data.numbers.at("worst_energy_error") : 0;
+    summary.first_step = solver.steps_done();
+    (options.info ? *options.info : log) << "resumed from " << options.restart << " at step " << solver.steps_done()
+                                         << ", t = " << format_number(solver.time(), 10) << " s\n" << std::flush;
+  }
 
   std::vector<io::ExodusBlock> blocks;
   for (size_t m = 0; m < model.materials.size(); ++m) {
@@ -190,17 +288,37 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     for (const auto& c : model.ce4) block.connectivity.insert(block.connectivity.end(), c.begin(), c.end());
     blocks.push_back(std::move(block));
   }
-  io::ExodusWriter exodus(p.exodus_path, config.title, model.x, model.y, blocks,
+  // A resumed run writes new files beside the old ones, copies what the old ones hold up
+  // to the checkpoint's time, and puts them in place: the files at the final paths are
+  // whole at every moment.
+  const std::string suffix = resumed ? ".resume" : "";
+  io::ExodusWriter exodus(p.exodus_path + suffix, config.title, model.x, model.y, blocks,
                           nodal_names(model), element_names(model));
   const PointProbes points(p.probes);
   const HistoryTable table(model, solver.masses(), points);
-  io::HistoryWriter history(p.history_path, config.title, table.variables());
+  io::HistoryWriter history(p.history_path + suffix, config.title, table.variables());
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
                                       : std::max(1L, p.steps / 1000);
+  if (resumed) {
+    // What the earlier run wrote up to the checkpoint, as far as this run's schedule has
+    // it: the row and frame a run writes at its own last step are not on the schedule of
+    // the longer run that continues it, so a chain of runs gives the same files as one.
+    auto step_of = [&](double t) { return std::lround(t / p.dt); };
+    io::copy_exodus_frames(p.exodus_path, exodus, solver.time(), [&](double t) {
+      return std::binary_search(frames.begin(), frames.end(), step_of(t));
+    });
+    io::copy_history_rows(p.history_path, history, solver.time(),
+                          [&](double t) { return step_of(t) % history_stride == 0; });
+    std::error_code ec;
+    fs::rename(p.exodus_path + suffix, p.exodus_path, ec);
+    if (!ec) fs::rename(p.history_path + suffix, p.history_path, ec);
+    if (ec) throw OutputError("cannot put the continued output in place of " + p.exodus_path + ": " + ec.message());
+  }
   const long check_stride = 200;
+  const long first = solver.steps_done();
 
   long last_frame_step = -1;
   auto write_current_frame = [&](bool stress_current = false) {
@@ -208,12 +326,35 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     write_frame(exodus, model, solver, stress_current);
   };
 
-  RunSummary summary;
+  const std::string ckpt_path = checkpoint_path(p);
+  auto write_checkpoint = [&]() {
+    io::CheckpointData data;
+    StateWriter out(cl, data);
+    solver.save_state(out);
+    data.text["format_version"] = "1";
+    data.text["precision"] = kDoublePrecision ? "double" : "float";
+    data.text["device"] = cl.description();
+    data.text["case_path"] = config.path;
+    data.text["title"] = config.title;
+    data.text["case_text"] = config.text;
+    data.text["settings"] = settings_text(config.settings);
+    data.text["mesh_hash"] = model_hash(model);
+    data.numbers["time"] = solver.time();
+    data.numbers["dt"] = p.dt;
+    data.numbers["worst_energy_error"] = summary.worst_energy_error;
+    data.integers["broken_ce4"] = solver.cohesive() ? static_cast<std::int64_t>(solver.cohesive()->count_broken()) : 0;
+    io::write_checkpoint_file(ckpt_path, data);
+    summary.checkpoint = ckpt_path;
+  };
+  const double checkpoint_every = config.output.checkpoint_every;
+  double next_checkpoint = checkpoint_every > 0 ? (std::floor(solver.time() / checkpoint_every + 1e-9) + 1) * checkpoint_every : 0;
+
   std::vector<double> last_row;
   size_t next_frame = 0;
-  if (!frames.empty() && frames[0] == 0) {
+  while (next_frame < frames.size() && frames[next_frame] <= first) ++next_frame;
+  if (!resumed && !frames.empty() && frames[0] == 0) {
     write_current_frame();
-    ++next_frame;
+    next_frame = 1;
   }
   solver.save_checkpoint();
 
@@ -223,11 +364,16 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const double energy_limit = config.output.energy_limit;
   bool energy_warned = false;
   EnergyTotals last_energy;
-  for (long s = 1; s <= p.steps; ++s) {
+  for (long s = first + 1; s <= p.steps; ++s) {
     const bool history_due = s % history_stride == 0 || s == p.steps;
     solver.step(history_due);
     const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
-    if (frame_due || history_due || s % check_stride == 0) {
+    const bool checkpoint_due = checkpoint_every > 0 && solver.time() >= next_checkpoint - 1e-6 * p.dt;
+    const double elapsed_now = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const bool stop_signal = options.stop && *options.stop;
+    const bool out_of_time = options.max_wall > 0 && elapsed_now > options.max_wall;
+    const bool stopping = (stop_signal || out_of_time) && s < p.steps;
+    if (frame_due || history_due || checkpoint_due || stopping || s % check_stride == 0) {
       const Conditions cond = solver.conditions();
       if (!cond.ok()) {
         const std::string what = describe_failure(model, cond);
@@ -285,13 +431,27 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       }
       solver.save_checkpoint();
       cl.collect_profile();
+      if (checkpoint_due) {
+        write_checkpoint();
+        while (next_checkpoint <= solver.time() + 1e-6 * p.dt) next_checkpoint += checkpoint_every;
+      }
+      if (stopping) {
+        summary.interrupted = true;
+        if (stop_signal) {
+          const int signal = static_cast<int>(*options.stop);
+          summary.stop_reason = signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : signal == SIGUSR1 ? "SIGUSR1" : "a signal";
+        } else {
+          summary.stop_reason = "--max-wall " + format_number(options.max_wall) + " s";
+        }
+        break;
+      }
     }
 
     const auto now = std::chrono::steady_clock::now();
     const double elapsed = std::chrono::duration<double>(now - start).count();
     if (status_line && (std::chrono::duration<double>(now - last_report).count() > 0.5 || s == p.steps)) {
       last_report = now;
-      const double rate = s / std::max(elapsed, 1e-9);
+      const double rate = (s - first) / std::max(elapsed, 1e-9);
       log << "\rstep " << s << "/" << p.steps << "  t = " << format_number(solver.time()) << " s  "
           << std::fixed << std::setprecision(1) << 100.0 * s / p.steps << "%  " << std::setprecision(0)
           << rate << " steps/s  ETA " << std::setprecision(1) << (p.steps - s) / rate << " s   "
@@ -301,7 +461,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       if (decile > last_decile) {
         last_decile = decile;
         log << "  " << decile * 10 << "%  step " << s << "/" << p.steps << "  t = " << format_number(solver.time())
-            << " s  " << std::fixed << std::setprecision(0) << s / std::max(elapsed, 1e-9) << " steps/s"
+            << " s  " << std::fixed << std::setprecision(0) << (s - first) / std::max(elapsed, 1e-9) << " steps/s"
             << std::defaultfloat << "\n" << std::flush;
       }
     }
@@ -310,10 +470,12 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (status_line) log << "\n";
 
-  summary.steps = p.steps;
+  write_checkpoint();  // every run ends with one, finished or stopped
+  summary.steps = solver.steps_done() - first;
   summary.simulated_time = solver.time();
   summary.wall_seconds = wall;
-  summary.ns_per_element_step = 1e9 * wall / (double(p.steps) * std::max<size_t>(1, model.num_triangles()));
+  summary.ns_per_element_step =
+      1e9 * wall / (double(std::max(1L, summary.steps)) * std::max<size_t>(1, model.num_triangles()));
   summary.frames = exodus.frames_written();
   if (!last_row.empty()) {
     summary.final_kinetic_energy = last_row[table.index("kinetic_energy")];

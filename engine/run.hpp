@@ -1,5 +1,6 @@
 // Running a case end to end: case → mesh → model → device → steps → Exodus + history.
 #pragma once
+#include <csignal>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -38,11 +39,31 @@ struct RunSummary {
   double worst_energy_error = 0;  // largest |energy_error| of any row
   double final_unbalanced_ratio = 0;
   int frames = 0;
+  long first_step = 0;       // the step the run started from (the checkpoint's, on restart)
+  bool interrupted = false;  // stopped by a signal or --max-wall (a checkpoint was written)
+  std::string stop_reason;   // "SIGTERM", "--max-wall", ...
+  std::string checkpoint;    // the last checkpoint written
 };
+
+struct RunOptions {
+  std::string restart;  // checkpoint to continue from; empty: start at t = 0
+  double max_wall = 0;  // [s] wall time after which the run stops cleanly; 0: no limit
+  // Set (to the signal number) by a signal handler: the run stops cleanly after the step.
+  const volatile std::sig_atomic_t* stop = nullptr;
+  std::ostream* info = nullptr;  // where "resumed from ..." goes (else `log`)
+};
+
+// OUT/NAME.ckpt: where a case's checkpoints go.
+std::string checkpoint_path(const PreparedCase& prepared);
 
 // Runs the prepared case on `cl`. Progress goes to `log` (a live status line when
 // `status_line`, else periodic lines). Throws NumericalError after writing the last
 // good frame when a NaN or an inverted element appears; OutputError when writing fails.
-RunSummary run_case(const PreparedCase& prepared, ClContext& cl, std::ostream& log, bool status_line);
+// With options.restart it continues from that checkpoint (InputError when the checkpoint
+// does not fit the case: another mesh, precision or setting other than time.end and
+// output.*), keeping the frames and rows written up to its time. Checkpoints are written
+// every output.checkpoint_every, at the end, and when stopped (options.stop, max_wall).
+RunSummary run_case(const PreparedCase& prepared, ClContext& cl, std::ostream& log, bool status_line,
+                    const RunOptions& options = {});
 
 }  // namespace fdem

@@ -34,6 +34,7 @@ struct OutputConfig {
   double every = -1.0;      // [s] time between frames; < 0 when frames is given
   double history_every = -1.0;  // [s]; < 0: steps/1000 steps
   std::vector<std::string> regions;  // extra regions whose mean displacement the history records
+  double checkpoint_every = 0;  // [s] simulated time between checkpoints; 0: only at the end
   double energy_limit = 0.05;  // largest |energy_error| (history; fraction) a run accepts; > 0
 };
 

@@ -61,6 +61,7 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   o.history_every = r.number("history_every", kPositive).value_or(-1.0);
   if (r.has("regions")) o.regions = *r.strings("regions");
   o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
+  o.checkpoint_every = r.number("checkpoint_every", kNonNegative).value_or(0.0);
   return o;
 }
 

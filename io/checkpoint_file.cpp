@@ -4,6 +4,7 @@
 #include <netcdf.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -55,9 +56,12 @@ std::uint64_t checksum(const std::vector<CheckpointArray>& arrays) {
   auto mix = [&](const unsigned char* p, size_t n) {
     for (size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ull;
   };
-  for (const auto& a : arrays) {
-    mix(reinterpret_cast<const unsigned char*>(a.name.data()), a.name.size());
-    mix(a.bytes.data(), a.bytes.size());
+  std::vector<const CheckpointArray*> sorted;  // by name: the order they are stored in does not matter
+  for (const auto& a : arrays) sorted.push_back(&a);
+  std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->name < b->name; });
+  for (const auto* a : sorted) {
+    mix(reinterpret_cast<const unsigned char*>(a->name.data()), a->name.size());
+    mix(a->bytes.data(), a->bytes.size());
   }
   return h;
 }
@@ -82,8 +86,11 @@ const CheckpointArray* CheckpointData::find(const std::string& name) const {
 void write_checkpoint_file(const std::string& path, const CheckpointData& data) {
   const std::string tmp = path + ".tmp";
   auto fail = [&](int status, const std::string& what) {
-    if (status != NC_NOERR)
+    if (status != NC_NOERR) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);  // the previous checkpoint stays as it was
       throw OutputError("checkpoint '" + path + "': " + nc_strerror(status) + " (" + what + ")");
+    }
   };
   {
     Handle nc;
@@ -104,6 +111,14 @@ void write_checkpoint_file(const std::string& path, const CheckpointData& data) 
     }
     std::vector<int> ids;
     for (const auto& a : data.arrays) {
+      if (a.items() == 0) {
+        // netCDF takes a dimension of length 0 for the unlimited one: an empty array is
+        // recorded by its width and type alone.
+        const long long shape[2] = {static_cast<long long>(a.width), static_cast<long long>(a.type)};
+        fail(nc_put_att_longlong(nc.id, NC_GLOBAL, ("empty " + a.name).c_str(), NC_INT64, 2, shape), "empty " + a.name);
+        ids.push_back(-1);
+        continue;
+      }
       int dims[2];
       fail(nc_def_dim(nc.id, (a.name + "_items").c_str(), a.items(), &dims[0]), "dimension of " + a.name);
       fail(nc_def_dim(nc.id, (a.name + "_width").c_str(), a.width, &dims[1]), "dimension of " + a.name);
@@ -113,7 +128,7 @@ void write_checkpoint_file(const std::string& path, const CheckpointData& data) 
     }
     fail(nc_enddef(nc.id), "header");
     for (size_t k = 0; k < data.arrays.size(); ++k)
-      if (!data.arrays[k].bytes.empty())
+      if (ids[k] >= 0)
         fail(nc_put_var(nc.id, ids[k], data.arrays[k].bytes.data()), "writing " + data.arrays[k].name);
     fail(nc_close(nc.id), "closing " + tmp);
     nc.id = -1;
@@ -153,6 +168,14 @@ CheckpointData read_checkpoint_file(const std::string& path) {
       data.text[name] = value;
     } else if (type == NC_DOUBLE && len == 1) {
       nc_get_att_double(nc.id, NC_GLOBAL, name, &data.numbers[name]);
+    } else if (type == NC_INT64 && len == 2 && std::string(name).rfind("empty ", 0) == 0) {
+      long long shape[2] = {0, 0};
+      nc_get_att_longlong(nc.id, NC_GLOBAL, name, shape);
+      CheckpointArray a;
+      a.name = std::string(name).substr(6);
+      a.width = static_cast<size_t>(shape[0]);
+      a.type = static_cast<ArrayType>(shape[1]);
+      data.arrays.push_back(std::move(a));
     } else if (type == NC_INT64 && len == 1) {
       long long value = 0;
       nc_get_att_longlong(nc.id, NC_GLOBAL, name, &value);

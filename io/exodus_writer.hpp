@@ -33,6 +33,10 @@ class ExodusWriter {
                    const std::vector<std::vector<std::vector<double>>>& elem);
 
   int frames_written() const { return frames_; }
+  size_t node_count() const { return num_nodes_; }
+  const std::vector<size_t>& block_sizes() const { return block_sizes_; }
+  size_t nodal_variable_count() const { return nodal_var_names_.size(); }
+  size_t element_variable_count() const { return elem_var_names_.size(); }
   const std::string& path() const { return file_.path(); }
   void close() { file_.close(); }  // idempotent; the destructor closes and never throws
 

@@ -43,6 +43,7 @@ HistoryWriter::HistoryWriter(const std::string& path, const std::string& title,
       file_.check(nc_put_att_double(nc, id, att.c_str(), NC_DOUBLE, values.size(), values.data()),
                   "writing attribute " + att + " of " + v.name);
     var_ids_.push_back(id);
+    var_names_.push_back(v.name);
   }
   file_.check(nc_enddef(nc), "finishing the header definition");
   file_.check(nc_sync(nc), "syncing the header");

@@ -28,6 +28,7 @@ class HistoryWriter {
   // Appends one row (values in the order of `variables`) and syncs.
   void append(double time, const std::vector<double>& values);
   int rows_written() const { return rows_; }
+  const std::vector<std::string>& variable_names() const { return var_names_; }
   const std::string& path() const { return file_.path(); }
   void close() { file_.close(); }  // idempotent; the destructor closes and never throws
 
@@ -36,6 +37,7 @@ class HistoryWriter {
   int rows_ = 0;
   int time_var_ = -1;
   std::vector<int> var_ids_;
+  std::vector<std::string> var_names_;
 };
 
 }  // namespace fdem::io
