@@ -139,7 +139,7 @@ std::string model_hash(const Model& m) {
   for (const auto& t : m.triangles) mix(t.data(), sizeof(t));
   for (const auto& c : m.ce4) mix(c.data(), sizeof(c));
   std::ostringstream s;
-  s << std::hex << h << " (" << m.num_nodes() << " nodes, " << m.num_triangles() << " TRI3, " << m.ce4.size() << " CE4)";
+  s << std::hex << h << std::dec << " (" << m.num_nodes() << " nodes, " << m.num_triangles() << " TRI3, " << m.ce4.size() << " CE4)";
   return s.str();
 }
 
@@ -178,10 +178,6 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
   if (text("precision") != precision)
     throw InputError("checkpoint '" + path + "' was written by a " + text("precision") + "-precision build; this is a " +
                      precision + "-precision build (rebuild with -DFDEM_PRECISION=" + text("precision") + ")");
-  const std::string mesh = model_hash(p.model);
-  if (text("mesh_hash") != mesh)
-    throw InputError("checkpoint '" + path + "' is of another mesh: " + text("mesh_hash") + " in the checkpoint, " +
-                     mesh + " now");
   const auto before = parse_settings(text("settings"));
   const auto& now = p.config.settings;
   std::set<std::string> keys;
@@ -195,6 +191,11 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
       throw InputError("checkpoint '" + path + "': " + key + " was " + was + " in the checkpointed run and is " + is +
                        " now; only time.end (time.steps) and output.* may change on restart");
   }
+  // The same settings can still mesh differently (an edited .geo or .msh file).
+  const std::string mesh = model_hash(p.model);
+  if (text("mesh_hash") != mesh)
+    throw InputError("checkpoint '" + path + "' is of another mesh: " + text("mesh_hash") + " in the checkpoint, " +
+                     mesh + " now");
 }
 
 }  // namespace

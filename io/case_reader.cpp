@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -18,6 +19,26 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A value as TOML text; numbers with the fewest digits that read back to the same double.
+std::string value_text(const toml::node& node) {
+  if (const auto* d = node.as_floating_point()) {
+    const double v = d->get();
+    for (int digits = 1; digits <= 17; ++digits) {
+      std::ostringstream s;
+      s << std::setprecision(digits) << v;
+      if (std::stod(s.str()) == v) return s.str();
+    }
+  }
+  if (const auto* a = node.as_array()) {
+    std::string out = "[";
+    for (size_t k = 0; k < a->size(); ++k) out += (k ? ", " : "") + value_text(*a->get(k));
+    return out + "]";
+  }
+  std::ostringstream text;
+  text << toml::toml_formatter{node};
+  return text.str();
+}
+
 // Every leaf of the tree by dotted path (arrays of tables indexed), value as TOML text.
 void flatten(const toml::node& node, const std::string& path, std::map<std::string, std::string>& out) {
   if (const auto* t = node.as_table()) {
@@ -25,9 +46,7 @@ void flatten(const toml::node& node, const std::string& path, std::map<std::stri
   } else if (const auto* a = node.as_array(); a && a->is_array_of_tables()) {
     for (size_t k = 0; k < a->size(); ++k) flatten(*a->get(k), path + "." + std::to_string(k), out);
   } else {
-    std::ostringstream text;
-    text << toml::toml_formatter{node};
-    out[path] = text.str();
+    out[path] = value_text(node);
   }
 }
 

@@ -1,0 +1,223 @@
+// Checkpoint and restart: a continued run gives the same bytes as one that never stopped,
+// stops on signals and wall time with exit 75, and refuses checkpoints that do not fit.
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "base/errors.hpp"
+#include "case_files.hpp"
+#include "engine/run.hpp"
+#include "fixture.hpp"
+#include "io/checkpoint_file.hpp"
+
+using namespace fdem;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A coarse Brazilian disc (contact with a skin, CE4s that break): every piece of state a
+// restart must carry. Frames and rows on a fixed schedule (every, history_every), so runs
+// of different lengths share it.
+std::string disc_case(const test::TempDir& dir, const std::string& out, double end, const std::string& extra = "") {
+  std::ifstream in(test::source_path("cases/brazilian/case.toml"));
+  std::ostringstream text;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("frames", 0) == 0 || line.rfind("history_every", 0) == 0 || line.rfind("dir", 0) == 0) continue;
+    if (line.rfind("geo", 0) == 0) line = "geo = \"" + test::source_path("cases/brazilian/brazilian.geo") + "\"";
+    if (line.rfind("size", 0) == 0) line = "size = 4e-3";
+    if (line.rfind("end", 0) == 0) line = "end = " + std::to_string(end);
+    // Platens 100 times faster than the case's: the disc cracks within the run.
+    if (line.rfind("velocity", 0) == 0) line = line.find('-') != std::string::npos ? "velocity = [0.0, -2.5]" : "velocity = [0.0, 2.5]";
+    text << line << "\n";
+    if (line == "[output]")
+      text << "dir = \"" << out << "\"\nevery = 5e-5\nhistory_every = 2e-6\nenergy_limit = 10.0\n" << extra;
+  }
+  return dir.write("disc.toml", text.str());
+}
+
+RunSummary run(const std::string& path, const std::string& restart = "", const std::vector<std::string>& set = {}) {
+  const PreparedCase p = prepare_case(path, set);
+  std::ostringstream log;
+  RunOptions options;
+  options.restart = restart;
+  return run_case(p, test::context(), log, false, options);
+}
+
+bool same_bytes(const std::string& a, const std::string& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+  return !sa.empty() && sa == sb;
+}
+
+std::string fdem_binary() {
+  const char* env = std::getenv("FDEM_BINARY");
+  return env && *env ? env : FDEM_BINARY;
+}
+
+// Starts `fdem run CASE ARGS...` as a child with its output in `log`; returns its pid.
+pid_t start_fdem(const std::vector<std::string>& args, const std::string& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    FILE* f = freopen(log.c_str(), "w", stdout);
+    (void)f;
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv;
+    std::string bin = fdem_binary();
+    argv.push_back(bin.data());
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int wait_exit(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+// Waits (up to 60 s) until `path` exists.
+bool wait_for(const std::string& path) {
+  for (int k = 0; k < 6000; ++k) {
+    if (fs::exists(path)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+std::string text_of(const std::string& path) {
+  std::ifstream f(path);
+  return std::string((std::istreambuf_iterator<char>(f)), {});
+}
+
+std::string refusal(const std::string& path, const std::string& restart, const std::vector<std::string>& set = {}) {
+  try {
+    run(path, restart, set);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+}  // namespace
+
+TEST_SUITE("restart") {
+
+TEST_CASE("a run to T and a run to T/2 restarted to T write the same bytes (history and every frame)") {
+  test::TempDir dir;
+  const std::string one = dir.str() + "/one", two = dir.str() + "/two";
+  const auto whole = run(disc_case(dir, one, 2e-4));
+  const auto half = run(disc_case(dir, two, 1e-4));
+  const auto rest = run(disc_case(dir, two, 2e-4), two + "/brazilian.ckpt");
+  CHECK(rest.first_step == half.steps);
+  CHECK(half.steps + rest.steps == whole.steps);
+  CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
+  CHECK(same_bytes(one + "/brazilian.exo", two + "/brazilian.exo"));
+  CHECK(fs::exists(two + "/brazilian.ckpt.prev"));
+  // The state really moved: contact was detected again and CE4s broke, before the
+  // checkpoint and after it.
+  const auto rebuilds = test::read_variable(one + "/brazilian_history.nc", "contact_rebuilds");
+  const auto broken = test::read_variable(one + "/brazilian_history.nc", "broken_ce4");
+  const size_t middle = rebuilds.size() / 2;
+  MESSAGE("contact detections " << rebuilds[middle] << " then " << rebuilds.back() << ", broken CE4s " << broken[middle]
+                                << " then " << broken.back());
+  CHECK(rebuilds[middle] > 1);
+  CHECK(rebuilds.back() > rebuilds[middle]);
+  CHECK(broken.back() > broken[middle]);
+}
+
+TEST_CASE("a run killed with SIGKILL after a checkpoint, restarted, writes the same bytes as one never killed") {
+  test::TempDir dir;
+  const std::string one = dir.str() + "/one", two = dir.str() + "/two";
+  run(disc_case(dir, one, 2e-4));
+  const std::string path = disc_case(dir, two, 2e-4, "checkpoint_every = 3e-5\n");
+  const pid_t pid = start_fdem({"run", path, "--quiet"}, dir.str() + "/killed.log");
+  REQUIRE(wait_for(two + "/brazilian.ckpt.prev"));  // the second checkpoint is in place
+  kill(pid, SIGKILL);
+  CHECK(wait_exit(pid) == -SIGKILL);
+  const auto before = io::read_checkpoint_file(two + "/brazilian.ckpt").integers.at("step");
+  const auto rest = run(path, two + "/brazilian.ckpt");
+  MESSAGE("killed after the checkpoint at step " << before << "; the restart ran " << rest.steps << " steps");
+  CHECK(rest.first_step == before);
+  CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
+  CHECK(same_bytes(one + "/brazilian.exo", two + "/brazilian.exo"));
+}
+
+TEST_CASE("SIGTERM and --max-wall stop the run with exit 75, a checkpoint and the command that resumes it") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = disc_case(dir, out, 2e-3, "checkpoint_every = 2e-5\n");
+  const pid_t pid = start_fdem({"run", path, "--quiet"}, dir.str() + "/term.log");
+  REQUIRE(wait_for(out + "/brazilian.ckpt"));
+  kill(pid, SIGTERM);
+  CHECK(wait_exit(pid) == 75);
+  const std::string log = text_of(dir.str() + "/term.log");
+  CHECK(log.find("stopped by SIGTERM") != std::string::npos);
+  CHECK(log.find("resume with: fdem run " + path + " --restart " + out + "/brazilian.ckpt") != std::string::npos);
+  const auto at = io::read_checkpoint_file(out + "/brazilian.ckpt").integers.at("step");
+  CHECK(at > 0);
+
+  const pid_t wall = start_fdem({"run", path, "--quiet", "--restart", "--max-wall", "0.5"}, dir.str() + "/wall.log");
+  CHECK(wait_exit(wall) == 75);
+  const std::string wall_log = text_of(dir.str() + "/wall.log");
+  CHECK(wall_log.find("resumed from " + out + "/brazilian.ckpt at step " + std::to_string(at)) != std::string::npos);
+  CHECK(wall_log.find("stopped by --max-wall") != std::string::npos);
+  CHECK(io::read_checkpoint_file(out + "/brazilian.ckpt").integers.at("step") > at);
+
+  const pid_t check = start_fdem({"check", out + "/brazilian.ckpt"}, dir.str() + "/check.log");
+  CHECK(wait_exit(check) == 0);
+  const std::string check_log = text_of(dir.str() + "/check.log");
+  for (const char* line : {"step", "time", "device", "precision     ", "broken CE4"})
+    CHECK(check_log.find(std::string(line).substr(0, 9)) != std::string::npos);
+}
+
+TEST_CASE("checkpoints that do not fit are refused, naming the culprit (exit 2)") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = disc_case(dir, out, 5e-5);
+  run(path);
+  const std::string ckpt = out + "/brazilian.ckpt";
+  const std::vector<std::string> longer = {"time.end=1e-4"};
+  // A material value changed.
+  const auto young = refusal(path, ckpt, {"time.end=1e-4", "material.0.young=20e9"});
+  CHECK(young.find("material.0.young was 1.22e+10 in the checkpointed run and is 2e+10 now") !=
+        std::string::npos);
+  // Another mesh.
+  const auto mesh = refusal(path, ckpt, {"time.end=1e-4", "mesh.size=5e-3"});
+  CHECK(mesh.find("mesh.size was 0.004 in the checkpointed run and is 0.005 now") != std::string::npos);
+  // Truncated and garbage files.
+  const std::string cut = dir.str() + "/cut.ckpt", junk = dir.str() + "/junk.ckpt";
+  {
+    const std::string bytes = text_of(ckpt);
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream(junk, std::ios::binary) << "this is not a checkpoint\n";
+  }
+  const auto truncated = refusal(path, cut, longer);
+  CHECK((truncated.find("cut short") != std::string::npos || truncated.find("truncated") != std::string::npos));
+  CHECK(refusal(path, junk, longer).find("not a readable netCDF file") != std::string::npos);
+  CHECK(refusal(path, dir.str() + "/none.ckpt", longer).find("no such file") != std::string::npos);
+  // A checkpoint of the other precision.
+  auto data = io::read_checkpoint_file(ckpt);
+  data.text["precision"] = kDoublePrecision ? "float" : "double";
+  io::write_checkpoint_file(dir.str() + "/other.ckpt", data);
+  CHECK(refusal(path, dir.str() + "/other.ckpt", longer).find("-precision build") != std::string::npos);
+  // Nothing left to run.
+  CHECK(refusal(path, ckpt).find("extend the run with --set time.end") != std::string::npos);
+  // The command line says exit 2.
+  const pid_t pid = start_fdem({"run", path, "--restart", junk, "--set", "time.end=1e-4"}, dir.str() + "/junk.log");
+  CHECK(wait_exit(pid) == 2);
+  CHECK(text_of(dir.str() + "/junk.log").find("error: checkpoint '" + junk + "'") != std::string::npos);
+}
+
+}  // TEST_SUITE
