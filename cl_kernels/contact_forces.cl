@@ -432,77 +432,91 @@ __kernel void contact_forces(const uint n_couples,
 
   // The rest of the exact gradient of E (see the note at couple_potential): on each
   // triangle k, −(E_k / A_k) ∂A_k/∂x_a = (E_k / 2A_k) × (outward normal × length of the
-  // edge opposite vertex a). Zero net force and moment on each triangle.
+  // edge opposite vertex a). Zero net force and moment on each triangle. It rides along
+  // with the first pass that writes all three of the triangle's vertices (as B), so it
+  // costs no extra atomics there.
+  real2 area_force[2][3];
+  bool area_due[2] = {true, true};
   for (int q = 0; q < 2; ++q) {
     const real twice_area = (x[q][1].x - x[q][0].x) * (x[q][2].y - x[q][0].y) - (x[q][1].y - x[q][0].y) * (x[q][2].x - x[q][0].x);
     const real coeff = ratio * Pn * thickness * potential[q] / twice_area;
     for (int a = 0; a < 3; ++a) {
       const real2 e = x[q][(a + 2) % 3] - x[q][(a + 1) % 3];
-      COUPLE_FORCE(q, a, coeff * (real2)(e.y, -e.x));
+      area_force[q][a] = coeff * (real2)(e.y, -e.x);
     }
   }
 
+  const bool friction = mu != (real)0 && Ptan != (real)0;
+  const real kn = ratio * Pn * thickness;  // normal force per unit ∫φ ds
   real friction_lost = (real)0, pending = (real)0;
   for (int dir = 0; dir < 2; ++dir) {
     const int A = dir, B = 1 - dir;
-      for (int e = 0; e < 3; ++e) {
+    for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
-      // Relative velocity at the acting point s* of this pass's normal force (the edge's
-      // middle for a pass that no longer overlaps: only its spring's last step uses it).
       const real I = I0[p] + I1[p];
-      const real s = I > (real)0 ? I1[p] / I : (real)0.5;
-      real wB[3];
-      for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
-      const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
-      const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
       const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
       const real2 edge = pb - pa;
       const real L = length(edge);
       const real2 tangent = edge / L;
-      const bool friction = mu != (real)0 && Ptan != (real)0;
-      const real stiffness = Ptan * L * thickness;      // the slip spring: whole edge (header note)
-      const real previous = hist[p];                    // slip of the last step
-      const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
+      const real stiffness = Ptan * L * thickness;  // the slip spring: whole edge (header note)
+      const real previous = hist[p];                // slip of the last step
       if (!(I > (real)0)) {
         // The pass let go: its spring's energy and the half step of work its last force
-        // does (trapezoid rule, force ending at zero) are dissipated.
-        if (friction) friction_lost += (real)0.5 * stiffness * previous * (previous + step_slip);
+        // does (trapezoid rule, the force ending at zero) are dissipated; the last step's
+        // relative move is taken at the edge's middle.
+        if (friction && previous != (real)0) {
+          real2 vB = (real2)(0, 0);
+          for (int m = 0; m < 3; ++m) vB += (lv[dir][e][(m + 1) % 3] + lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)6 * v[B][m];
+          const real step_slip = dot((real)0.5 * (v[A][e] + v[A][(e + 1) % 3]) - vB, tangent) * dt;
+          friction_lost += (real)0.5 * stiffness * previous * (previous + step_slip);
+        }
         hist[p] = (real)0;
         continue;
       }
-      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
-      const real k = ratio * Pn * thickness;
       // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
-      COUPLE_FORCE(A, e, -k * I0[p] * nL);
-      COUPLE_FORCE(A, (e + 1) % 3, -k * I1[p] * nL);
-      for (int m = 0; m < 3; ++m)
-        COUPLE_FORCE(B, m, k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL);
+      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
+      real2 fA0 = -kn * I0[p] * nL, fA1 = -kn * I1[p] * nL, fB[3];
+      for (int m = 0; m < 3; ++m) fB[m] = kn * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL;
 
-      // Friction (Eq. 16): elastic slip, returned to the Coulomb cap μ F_n.
-      if (!friction) {
+      // Friction (Eq. 16): elastic slip at the normal force's acting point s*, returned to
+      // the Coulomb cap μ F_n.
+      if (friction) {
+        const real s = I1[p] / I;
+        real wB[3];
+        for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
+        const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
+        const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
+        const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
+        const real cap = mu * kn * L * I;
+        const real trial = previous + step_slip;
+        const real slip = stiffness * fabs(trial) > cap ? cap / stiffness * sign(trial) : trial;
+        // Dissipated over the last step: the spring's work by the trapezoid rule,
+        // ½ (σ_prev + σ) Δs, less the change of its energy ½ k s²; zero while elastic.
+        friction_lost += (real)0.5 * stiffness * (previous + slip) * (trial - slip);
+        // What it dissipates if it lets go before the next step: its energy and the half
+        // step of work of its last force (the next step's move estimated by this one's).
+        pending += (real)0.5 * stiffness * slip * (slip + step_slip);
+        hist[p] = slip;
+        if (energy_row) stored += (real)0.5 * stiffness * slip * slip;
+        const real2 f = -stiffness * slip * tangent;
+        fA0 += (1 - s) * f;
+        fA1 += s * f;
+        for (int m = 0; m < 3; ++m) fB[m] -= wB[m] * f;
+      } else {
         hist[p] = (real)0;
-        continue;
       }
-      const real cap = mu * k * L * I;
-      const real trial = previous + step_slip;
-      const real slip = stiffness * fabs(trial) > cap ? cap / stiffness * sign(trial) : trial;
-      // Dissipated over the last step: the spring's work by the trapezoid rule,
-      // ½ (σ_prev + σ) Δs, less the change of its energy ½ k s²; zero while elastic.
-      friction_lost += (real)0.5 * stiffness * (previous + slip) * (trial - slip);
-      // What it dissipates if it lets go before the next step: its energy and the half
-      // step of work of its last force (the next step's move estimated by this one's).
-      pending += (real)0.5 * stiffness * slip * (slip + step_slip);
-      hist[p] = slip;
-      if (energy_row) stored += (real)0.5 * stiffness * slip * slip;
-      const real ft = -stiffness * slip;
-      if (ft != (real)0) {
-        const real2 f = ft * tangent;
-        COUPLE_FORCE(A, e, (1 - s) * f);
-        COUPLE_FORCE(A, (e + 1) % 3, s * f);
-        for (int m = 0; m < 3; ++m) COUPLE_FORCE(B, m, -wB[m] * f);
+      if (area_due[B]) {
+        for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
+        area_due[B] = false;
       }
+      COUPLE_FORCE(A, e, fA0);
+      COUPLE_FORCE(A, (e + 1) % 3, fA1);
+      for (int m = 0; m < 3; ++m) COUPLE_FORCE(B, m, fB[m]);
     }
   }
+  for (int q = 0; q < 2; ++q)
+    if (area_due[q])
+      for (int a = 0; a < 3; ++a) COUPLE_FORCE(q, a, area_force[q][a]);
   hist[HIST_PENDING] = pending;
   for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
   live[c] = 1;
