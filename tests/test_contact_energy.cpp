@@ -151,6 +151,10 @@ std::string incline_gravity(double degrees) {
 TEST_SUITE("contact") {
 
 TEST_CASE("undamped sliding block: stops within 2% of v²/(2μg), and its energy account closes within 1% at every step") {
+  if (!kDoublePrecision) {  // the block's overlaps (nm) are below float resolution at metres
+    MESSAGE("skipped in the float build");
+    return;
+  }
   // cases/sliding/undamped.toml: no viscosity, no contact damping; 1 m/s keeps it short.
   const double v = 1.0, mu = 0.5, g = 9.81;
   EnergyRun run(test::source_path("cases/sliding/undamped.toml"), {"initial.0.velocity=[1.0, 0.0]"});
@@ -170,6 +174,10 @@ TEST_CASE("undamped sliding block: stops within 2% of v²/(2μg), and its energy
 }
 
 TEST_CASE("undamped block on an incline: at 0.9 × the friction angle it creeps < 0.05 mm in 0.2 s; at 1.5 × it slides with a = g(sin θ − μ cos θ)") {
+  if (!kDoublePrecision) {  // the block's overlaps (nm) are below float resolution at metres
+    MESSAGE("skipped in the float build");
+    return;
+  }
   const double friction_angle = std::atan(0.4) * 180 / M_PI;
   {
     EnergyRun run(test::source_path("cases/sliding/incline.toml"), {incline_gravity(0.9 * friction_angle)});

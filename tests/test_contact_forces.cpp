@@ -271,6 +271,10 @@ TEST_CASE("friction: dissipation + stored energy = work done on the couple, thro
   // rule over each step, as the central-difference integrator applies the forces) must
   // reappear as friction dissipated plus energy stored, and all of it as dissipation
   // once the couple has let go.
+  if (!kDoublePrecision) {  // moves of 1e-8 m a step at coordinates of 1 m: float resolution
+    MESSAGE("skipped in the float build");
+    return;
+  }
   const double pn = 1e9, ptan = 1e12, mu = 0.5, dt = 1e-6;
   TwoTriangles two(pn, ptan, mu);
   CoupleRunner runner(two.model);
@@ -312,7 +316,7 @@ TEST_CASE("friction: dissipation + stored energy = work done on the couple, thro
   CHECK(r.stored == 0);
   CHECK(slipping > 100);
   CHECK(r.friction > 0);
-  CHECK(r.friction == doctest::Approx(work + stored0).epsilon(kDoublePrecision ? 1e-3 : 1e-2));
+  CHECK(r.friction == doctest::Approx(work + stored0).epsilon(1e-3));
 }
 
 TEST_CASE("two-triangle normal force agrees with plain fine quadrature") {
