@@ -5,20 +5,52 @@
 //     each of its three centroid sub-triangles, zero outside) is integrated along the
 //     part of the edge inside it; the result acts normal to the edge, on the edge's
 //     nodes by the lever rule and, opposite, on the other triangle's nodes by their
-//     barycentric weights at the same points (zero net force and moment);
+//     barycentric weights at the same points (zero net force and moment); plus an area
+//     term per triangle, so that the nodal forces are the exact gradient of the
+//     potential E = P_n t ∫_{c∩t}(φ_c + φ_t) dA (see couple_potential);
 //   damping       the couple's total normal force is scaled by σ/σ_try of Eq. 15;
-//   friction      per edge pass, an elastic slip spring P_tan × slip × contact length
-//     × thickness at the normal force's acting point, capped at μ × normal force (Eq. 16).
+//   friction      per edge pass, an elastic slip spring P_tan × L × t × slip at the normal
+//     force's acting point, capped at μ × normal force (Eq. 16).
 // Forces go to the nodes through 64-bit fixed-point atomic adds (integer addition is
 // associative, so the sums are bitwise reproducible whatever the order).
-// History per couple (CONTACT_HISTORY reals): six slips (one per edge pass), o_n_max,
-// σ_peak, and the work the damped normal force has absorbed since the couple touched
-// (counted as dissipated when the couple lets go: all stored energy is back by then);
-// carried over from the previous couple list by binary search on the key.
+//
+// Energy (issue 11). The integrator (central difference) changes the kinetic energy by
+// exactly f_n·(x_{n+1} − x_{n−1})/2 per step, which summed by parts is the trapezoid rule
+// ½ (f_{n−1} + f_n)·(x_n − x_{n−1}) per step. Every dissipation below is that work less
+// the change of the energy the couple stores, so kinetic + stored + dissipated is
+// conserved to the integrator's own O(Δt²) and nothing is created or lost unbooked.
+// What this changes against the paper / Y-Geo formulation:
+//   - the slip spring's stiffness is P_tan L t with L the whole edge (not the length of
+//     the edge inside the other triangle, which changes every step: a stiffness that
+//     changes without motion changes the spring's force and energy without work; in an
+//     undamped sliding block that lost 13% of the energy and let it slide 30% too far);
+//     P_tan is per unit length of the edge pass;
+//   - friction dissipation is ½ (σ_prev + σ)(trial slip − slip) (trapezoid) instead of
+//     μ F_n × (plastic slip): the latter misses ½ Δσ²/k whenever the cap moves, and the
+//     spring's energy when a couple lets go (3% of the friction work with a bouncing
+//     block); a pass or couple that lets go books its spring's energy and last half step;
+//   - the area term of the normal force (the exact gradient; the edge passes alone are
+//     the gradient for rigid motions only);
+//   - the damping is booked as it happens (held work above ratio × E), not when the
+//     couple lets go, with the trapezoid rule (the one-sided rule booked 3.5% too much).
+// History per couple (CONTACT_HISTORY reals, HIST_* below), carried over from the
+// previous couple list by binary search on the key.
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#define CONTACT_HISTORY 10
+#define CONTACT_HISTORY 11
+// History slots: 0–5 slip of each edge pass; then
+#define HIST_OVERLAP_MAX 6  /* o_n_max (damped couples; σ there is min(P_n o_n_max, T)) */
+#define HIST_RATIO 7        /* σ/σ_try of the last step (damped couples) */
+#define HIST_ENERGY 8       /* E of the last step (damped couples) */
+#define HIST_PENDING 9      /* what the friction springs dissipate if the couple lets go */
+#define HIST_HELD 10        /* work done on the damped normal force not yet dissipated */
 #define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
+// The stage's energy account, 64-bit fixed point (energy_scale units): cumulative
+// friction and contact-damping dissipation, and the stored energy summed on the last
+// energy row.
+#define ENERGY_FRICTION 0
+#define ENERGY_DAMPING 1
+#define ENERGY_STORED 2
 
 // Compare-exchange: a ≤ b afterwards.
 #define SORT2(a, b)           \
@@ -102,6 +134,38 @@ inline int find_key(__global const ulong* keys, uint n, ulong key) {
   return -1;
 }
 
+// The potential of a couple: potential[k] = ∫_{c∩t} φ_k dA for its triangles k = 0, 1;
+// E = P_n t (potential[0] + potential[1]). For a translation of c against t, dE is
+// −f_c · dx exactly (the boundary term of the moving domain is P_n t ∫_{∂c∩t} φ_t n ds, the
+// edge passes' integral). For general node motion the edge passes give the lever-rule
+// part of ∂E/∂x exactly, but the barycentric reaction misses one term: φ_t at a fixed
+// point changes when t's nodes move, ∂φ_t/∂y_i = −λ_i ∇φ_t, and ∫ λ_i ∇φ_t dA differs
+// from the boundary form by −∇λ_i ∫_Ω φ_t dA = −(∫_Ω φ_t dA / A_t) ∂A_t/∂y_i. That area term
+// (zero net force and moment) is added to each triangle's nodes in contact_forces; with
+// it the forces are −∂E/∂x (tested to 1e-7 by finite differences). Computed from the
+// edge passes' integrals: in each centroid sub-triangle of t, φ_t
+// is linear and 1 at t's centroid g, so div((x − g) φ_t) = 3 φ_t − 1 there, and (x − g) φ_t
+// is continuous and zero on t's boundary. The divergence theorem over Ω = c∩t then gives
+//   ∫_Ω φ_t dA = (∫_{∂c∩t} φ_t (x − g)·n ds + |Ω|) / 3,
+// and (x − g)·n is constant along a straight edge, so each pass adds (a − g)·n L × I
+// (a: the edge's first vertex, I: its ∫φ ds / L). |Ω| = ½ ∮ (x − r)·n ds over the edge
+// parts inside the other triangle, again one constant per pass times the inside fraction.
+inline void couple_potential(real2 x[2][3], const real I0[6], const real I1[6], const real inside[6], real potential[2]) {
+  real2 g[2];
+  for (int k = 0; k < 2; ++k) g[k] = (x[k][0] + x[k][1] + x[k][2]) / (real)3;
+  real flux[2] = {0, 0}, twice_area = 0;
+  for (int dir = 0; dir < 2; ++dir)
+    for (int e = 0; e < 3; ++e) {
+      const int p = 3 * dir + e;
+      const real2 pa = x[dir][e], edge = x[dir][(e + 1) % 3] - pa;
+      const real2 nL = (real2)(edge.y, -edge.x);
+      flux[1 - dir] += dot(pa - g[1 - dir], nL) * (I0[p] + I1[p]);  // A = dir's edges in φ of B = 1 − dir
+      twice_area += dot(pa - g[0], nL) * inside[p];
+    }
+  // ∫_Ω φ_k dA for k = 0, 1.
+  for (int k = 0; k < 2; ++k) potential[k] = (flux[k] + (real)0.5 * twice_area) / (real)3;
+}
+
 // The couple's two triangles (i, j from its key): node indices and positions.
 inline void couple_nodes(const ulong key, __global const uint* tri_nodes, __global const real2* position,
                          uint tri[2], uint nodes[2][3], real2 x[2][3]) {
@@ -158,20 +222,23 @@ inline bool separated(real2 x[2][3]) {
   return apart;
 }
 
-// A couple that does not touch: the couple let go, so the work its damped normal force
-// absorbed counts as dissipated, and its history is forgotten (zeroed; in place only
-// where not zero yet, so untouched couples write nothing).
+// A couple that does not touch: the couple let go. What its friction springs held (their
+// energy and the half step of work of their last forces, HIST_PENDING) counts as
+// dissipated, and its history is forgotten (zeroed; in place only where not zero yet, so
+// untouched couples write nothing).
 inline void forget_couple(const uint c, const int found, __global const real* previous_history,
                           __global real* history, const uint same_list, const real energy_scale,
-                          __global long* dissipated) {
-  real absorbed = (real)0;
+                          __global long* energy) {
+  real pending = (real)0, held = (real)0;
   bool stored = !same_list;  // a new list's slot must be written
   for (int h = 0; h < CONTACT_HISTORY; ++h) {
     const real value = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
-    if (h == 8) absorbed = value;
+    if (h == HIST_PENDING) pending = value;
+    if (h == HIST_HELD) held = value;
     stored = stored || value != (real)0;
   }
-  if (absorbed > (real)0) atom_add(dissipated, convert_long_rte(absorbed * energy_scale));
+  if (pending != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(pending * energy_scale));
+  if (held != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(held * energy_scale));
   if (stored)
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
 }
@@ -180,7 +247,7 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
 inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
-                            const real energy_scale, __global long* dissipated, const uint same_list,
+                            const real energy_scale, __global long* energy, const uint same_list,
                             __global uchar* live) {
   const ulong key = keys[c];
   uint tri[2], nodes[2][3];
@@ -189,7 +256,7 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
   if (!separated(x)) return true;
   if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
     const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-    forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
+    forget_couple(c, found, previous_history, history, same_list, energy_scale, energy);
     live[c] = 0;
   }
   return false;
@@ -216,7 +283,7 @@ __kernel void contact_classify(const uint n_couples,
                                __global const uint* restrict tri_nodes,
                                __global const real2* restrict position,
                                const real energy_scale,
-                               __global long* restrict dissipated,
+                               __global long* restrict energy,
                                const uint same_list,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
@@ -224,14 +291,14 @@ __kernel void contact_classify(const uint n_couples,
   const uint c = get_global_id(0);
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, dissipated, same_list, live))
+                                       position, energy_scale, energy, same_list, live))
     overlap_list[atomic_inc(&counters[1])] = c;
 #else
   __local uint group_count, group_base;
   if (get_local_id(0) == 0) group_count = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
-                                                       tri_nodes, position, energy_scale, dissipated, same_list, live);
+                                                       tri_nodes, position, energy_scale, energy, same_list, live);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
@@ -260,11 +327,12 @@ __kernel void contact_forces(const uint n_couples,
                              const real force_scale,
                              const real energy_scale,
                              __global long* restrict contact_acc,
-                             __global long* restrict dissipated,
+                             __global long* restrict energy,
                              __global uint* restrict counters,
                              const uint same_list,
                              __global const uint* restrict overlap_list,
-                             __global uchar* restrict live) {
+                             __global uchar* restrict live,
+                             const uint energy_row) {
   const uint entry = get_global_id(0);
   if (entry >= n_couples || entry >= counters[1]) return;
   const uint c = overlap_list[entry];
@@ -303,7 +371,7 @@ __kernel void contact_forces(const uint n_couples,
   }
 
   if (normal_total <= (real)0) {  // no overlap after all
-    forget_couple(c, found, previous_history, history, same_list, energy_scale, dissipated);
+    forget_couple(c, found, previous_history, history, same_list, energy_scale, energy);
     live[c] = 0;
     return;
   }
@@ -320,107 +388,167 @@ __kernel void contact_forces(const uint n_couples,
 
   // An-Tannant damping (Eq. 15) on the couple's total normal force.
   real ratio = (real)1;
-  real absorbed = (real)0;
   if (damped) {
     const real area = (real)0.5 * contact_length * thickness;       // contact area A_con
     const real sigma_try = normal_total / area;
     const real overlap = sigma_try / Pn;                            // nominal overlap o_n (mean potential)
     real sigma;
-    if (overlap >= hist[6]) {  // loading
+    if (overlap >= hist[HIST_OVERLAP_MAX]) {  // loading
       sigma = fmin(sigma_try, T);
-      hist[6] = overlap;
-      hist[7] = sigma;
-    } else {                   // unloading
-      sigma = hist[7] * pow(overlap / hist[6], b);
+      hist[HIST_OVERLAP_MAX] = overlap;
+    } else {                                  // unloading, from σ_peak = min(P_n o_n_max, T)
+      sigma = fmin(Pn * hist[HIST_OVERLAP_MAX], T) * pow(overlap / hist[HIST_OVERLAP_MAX], b);
     }
     ratio = sigma / sigma_try;
   }
 
-  real friction_lost = (real)0;
+  // The couple's potential energy E = P_n t ∫_{c∩t}(φ_c + φ_t) dA, per triangle's φ.
+  real potential[2];
+  couple_potential(x, I0, I1, inside, potential);
+  const real elastic = Pn * thickness * (potential[0] + potential[1]);
+  real stored = (real)0, damping_lost = (real)0;
+  if (damped) {
+    // Damped couple: force = ratio × (−∇E). The work done on it over the last step, by the
+    // trapezoid rule ½ (ratio_prev + ratio)(E − E_prev), is held. Unloading (Eq. 15) only
+    // lowers the ratio, so the couple can give back at most ratio × E; held work above
+    // that is dissipated now. The dissipation so never decreases, held + dissipated is
+    // exactly the work done, and what is still held when the couple lets go is
+    // dissipated then. A new couple starts from E = 0.
+    const real e_prev = hist[HIST_ENERGY];
+    const real r_prev = e_prev > (real)0 ? hist[HIST_RATIO] : ratio;
+    real held = hist[HIST_HELD] + (real)0.5 * (r_prev + ratio) * (elastic - e_prev);
+    const real branch = ratio * elastic;
+    if (held > branch) {
+      damping_lost = held - branch;
+      held = branch;
+    }
+    hist[HIST_ENERGY] = elastic;
+    hist[HIST_RATIO] = ratio;
+    hist[HIST_HELD] = held;
+    stored = held;
+  } else {
+    stored = elastic;
+  }
+
+  // The rest of the exact gradient of E (see the note at couple_potential): on each
+  // triangle k, −(E_k / A_k) ∂A_k/∂x_a = (E_k / 2A_k) × (outward normal × length of the
+  // edge opposite vertex a). Zero net force and moment on each triangle. It rides along
+  // with the first pass that writes all three of the triangle's vertices (as B), so it
+  // costs no extra atomics there.
+  real2 area_force[2][3];
+  bool area_due[2] = {true, true};
+  for (int q = 0; q < 2; ++q) {
+    const real twice_area = (x[q][1].x - x[q][0].x) * (x[q][2].y - x[q][0].y) - (x[q][1].y - x[q][0].y) * (x[q][2].x - x[q][0].x);
+    const real coeff = ratio * Pn * thickness * potential[q] / twice_area;
+    for (int a = 0; a < 3; ++a) {
+      const real2 e = x[q][(a + 2) % 3] - x[q][(a + 1) % 3];
+      area_force[q][a] = coeff * (real2)(e.y, -e.x);
+    }
+  }
+
+  const bool friction = mu != (real)0 && Ptan != (real)0;
+  const real kn = ratio * Pn * thickness;  // normal force per unit ∫φ ds
+  real friction_lost = (real)0, pending = (real)0;
   for (int dir = 0; dir < 2; ++dir) {
     const int A = dir, B = 1 - dir;
-      for (int e = 0; e < 3; ++e) {
+    for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real I = I0[p] + I1[p];
-      if (!(I > (real)0)) {
-        hist[p] = (real)0;
-        continue;
-      }
       const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
       const real2 edge = pb - pa;
       const real L = length(edge);
-      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
-      const real k = ratio * Pn * thickness;
-      // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
-      COUPLE_FORCE(A, e, -k * I0[p] * nL);
-      COUPLE_FORCE(A, (e + 1) % 3, -k * I1[p] * nL);
-      for (int m = 0; m < 3; ++m)
-        COUPLE_FORCE(B, m, k * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL);
-
-      // Relative velocity at the acting point s* of this pass's normal force.
-      const real s = I1[p] / I;
-      real wB[3];
-      for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
-      const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
-      const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
-      // Work absorbed by the (damped) normal force this step: −f·v over the couple's nodes.
-      if (damped) {
-        real2 vB0 = (real2)(0, 0), vB1 = (real2)(0, 0);
-        for (int m = 0; m < 3; ++m) vB0 += lv[dir][e][(m + 1) % 3] / (real)3 * v[B][m], vB1 += lv[dir][(e + 1) % 3][(m + 1) % 3] / (real)3 * v[B][m];
-        absorbed += k * dot(nL, I0[p] * (v[A][e] - vB0) + I1[p] * (v[A][(e + 1) % 3] - vB1)) * dt;
-      }
-
-      // Friction (Eq. 16).
-      if (mu == (real)0 || Ptan == (real)0) {
+      const real2 tangent = edge / L;
+      const real stiffness = Ptan * L * thickness;  // the slip spring: whole edge (header note)
+      const real previous = hist[p];                // slip of the last step
+      if (!(I > (real)0)) {
+        // The pass let go: its spring's energy and the half step of work its last force
+        // does (trapezoid rule, the force ending at zero) are dissipated; the last step's
+        // relative move is taken at the edge's middle.
+        if (friction && previous != (real)0) {
+          real2 vB = (real2)(0, 0);
+          for (int m = 0; m < 3; ++m) vB += (lv[dir][e][(m + 1) % 3] + lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)6 * v[B][m];
+          const real step_slip = dot((real)0.5 * (v[A][e] + v[A][(e + 1) % 3]) - vB, tangent) * dt;
+          friction_lost += (real)0.5 * stiffness * previous * (previous + step_slip);
+        }
         hist[p] = (real)0;
         continue;
       }
-      const real fn = k * L * I;
-      const real2 tangent = edge / L;
-      const real stiffness = Ptan * inside[p] * L * thickness;
-      real slip = hist[p] + dot(vA - vB, tangent) * dt;
-      real ft = -stiffness * slip;
-      const real cap = mu * fn;
-      if (fabs(ft) > cap) {
-        const real elastic = (stiffness > (real)0 ? cap / stiffness : (real)0) * sign(slip);
-        friction_lost += cap * fabs(slip - elastic);
-        slip = elastic;
-        ft = -cap * sign(slip);
+      // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
+      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
+      real2 fA0 = -kn * I0[p] * nL, fA1 = -kn * I1[p] * nL, fB[3];
+      for (int m = 0; m < 3; ++m) fB[m] = kn * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL;
+
+      // Friction (Eq. 16): elastic slip at the normal force's acting point s*, returned to
+      // the Coulomb cap μ F_n.
+      if (friction) {
+        const real s = I1[p] / I;
+        real wB[3];
+        for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
+        const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
+        const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
+        const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
+        const real cap = mu * kn * L * I;
+        const real trial = previous + step_slip;
+        const real slip = stiffness * fabs(trial) > cap ? cap / stiffness * sign(trial) : trial;
+        // Dissipated over the last step: the spring's work by the trapezoid rule,
+        // ½ (σ_prev + σ) Δs, less the change of its energy ½ k s²; zero while elastic.
+        friction_lost += (real)0.5 * stiffness * (previous + slip) * (trial - slip);
+        // What it dissipates if it lets go before the next step: its energy and the half
+        // step of work of its last force (the next step's move estimated by this one's).
+        pending += (real)0.5 * stiffness * slip * (slip + step_slip);
+        hist[p] = slip;
+        if (energy_row) stored += (real)0.5 * stiffness * slip * slip;
+        const real2 f = -stiffness * slip * tangent;
+        fA0 += (1 - s) * f;
+        fA1 += s * f;
+        for (int m = 0; m < 3; ++m) fB[m] -= wB[m] * f;
+      } else {
+        hist[p] = (real)0;
       }
-      hist[p] = slip;
-      if (ft != (real)0) {
-        const real2 f = ft * tangent;
-        COUPLE_FORCE(A, e, (1 - s) * f);
-        COUPLE_FORCE(A, (e + 1) % 3, s * f);
-        for (int m = 0; m < 3; ++m) COUPLE_FORCE(B, m, -wB[m] * f);
+      if (area_due[B]) {
+        for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
+        area_due[B] = false;
       }
+      COUPLE_FORCE(A, e, fA0);
+      COUPLE_FORCE(A, (e + 1) % 3, fA1);
+      for (int m = 0; m < 3; ++m) COUPLE_FORCE(B, m, fB[m]);
     }
   }
-  hist[8] += absorbed;
+  for (int q = 0; q < 2; ++q)
+    if (area_due[q])
+      for (int a = 0; a < 3; ++a) COUPLE_FORCE(q, a, area_force[q][a]);
+  hist[HIST_PENDING] = pending;
   for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
   live[c] = 1;
 #ifdef CONTACT_SUM_PER_COUPLE
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[k][a], fnode[k][a], force_scale);
 #endif
-  if (friction_lost > (real)0) atom_add(dissipated, convert_long_rte(friction_lost * energy_scale));
+  // Signed increments: each is the exact balance of its step (see above), so the sums
+  // close the account; they are ≥ 0 but for rounding and one-step reversals.
+  if (energy_row && stored != (real)0) atom_add(&energy[ENERGY_STORED], convert_long_rte(stored * energy_scale));
+  if (friction_lost != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(friction_lost * energy_scale));
+  if (damping_lost != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(damping_lost * energy_scale));
 }
 
 // One work-item per couple of the previous list, at a new detection: a couple that is
-// no longer a candidate has let go; the work its damped normal force absorbed counts as
-// dissipated (as contact_forces does for a couple that stops overlapping).
+// no longer a candidate has let go; what its friction springs held counts as dissipated
+// (as forget_couple does for a couple that stops overlapping).
 __kernel void release_vanished(const uint n_previous,
                                __global const ulong* restrict previous_keys,
                                __global const real* restrict previous_history,
                                const uint n_couples,
                                __global const ulong* restrict keys,
                                const real energy_scale,
-                               __global long* restrict dissipated) {
+                               __global long* restrict energy) {
   const uint c = get_global_id(0);
   if (c >= n_previous) return;
-  const real absorbed = previous_history[CONTACT_HISTORY * c + 8];
-  if (absorbed > (real)0 && find_key(keys, n_couples, previous_keys[c]) < 0)
-    atom_add(dissipated, convert_long_rte(absorbed * energy_scale));
+  const real pending = previous_history[CONTACT_HISTORY * c + HIST_PENDING];
+  const real held = previous_history[CONTACT_HISTORY * c + HIST_HELD];
+  if ((pending != (real)0 || held != (real)0) && find_key(keys, n_couples, previous_keys[c]) < 0) {
+    if (pending != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(pending * energy_scale));
+    if (held != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(held * energy_scale));
+  }
 }
 
 // One work-item per node: clears its fixed-point contact force (start of each step);

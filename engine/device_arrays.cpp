@@ -22,7 +22,7 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
                         model.materials.size() * kMaterialStride * r + 64;
   // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
   // per candidate couple its detection key and, with room for an eighth more, the
-  // force stage's key, two history lists (10 reals each), overlap-list entry and live
+  // force stage's key, two history lists (11 reals each), overlap-list entry and live
   // flag. About 8 couples per candidate triangle (7 measured on the UCS mesh, all
   // triangles candidates).
   size_t candidates = t;
@@ -31,7 +31,7 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
                                                    [](uint32_t a) { return a != 0; }));
   const size_t couples = 8 * std::max<size_t>(candidates, 1);
   const size_t contact_bytes =
-      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 10 * r + u + 1) : 0;
+      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 11 * r + u + 1) : 0;
   // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), status, output row,
   // 4 force slots, last gaps (real4) and energy account (real2), 4 CSR entries.
   const size_t ce4 =

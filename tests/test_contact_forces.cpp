@@ -50,6 +50,33 @@ std::vector<std::pair<Polygon, Vector2d>> pieces(const std::array<Vector2d, 3>& 
   return out;
 }
 
+Vector2d centroid(const Polygon& p) {  // area centroid, about the first vertex
+  Vector2d sum = Vector2d::Zero();
+  double twice = 0;
+  for (size_t i = 1; i + 1 < p.size(); ++i) {
+    const double a = cross(p[i] - p[0], p[i + 1] - p[0]);
+    sum += a * (p[0] + p[i] + p[i + 1]) / 3.0;
+    twice += a;
+  }
+  return twice != 0 ? Vector2d(sum / twice) : p[0];
+}
+
+// P_n t ∫_{c∩t} (φ_c + φ_t) dA by polygon intersection: on each pair of sub-triangles
+// both potentials are linear (1 at their triangle's centroid), so the integral is the
+// area times their value at the intersection's centroid.
+double reference_energy(const std::array<Vector2d, 3>& c, const std::array<Vector2d, 3>& t, double pn, double thick) {
+  const Vector2d gc = (c[0] + c[1] + c[2]) / 3.0, gt = (t[0] + t[1] + t[2]) / 3.0;
+  double e = 0;
+  for (const auto& [pc, dc] : pieces(c))
+    for (const auto& [pt, dt] : pieces(t)) {
+      const Polygon overlap = clip_polygon(pc, pt);
+      if (overlap.size() < 3) continue;
+      const Vector2d m = centroid(overlap);
+      e += area(overlap) * (2.0 + dc.dot(m - gc) + dt.dot(m - gt));
+    }
+  return pn * thick * e;
+}
+
 // P_n t ∫_{c∩t} (∇φ_c − ∇φ_t) dA, the force on the contactor, by polygon intersection.
 Vector2d reference_force(const std::array<Vector2d, 3>& c, const std::array<Vector2d, 3>& t, double pn, double thick) {
   Vector2d f = Vector2d::Zero();
@@ -87,6 +114,7 @@ struct CoupleResult {
   std::array<Vector2d, 6> force;  // nodes of triangle 0, then triangle 1
   std::vector<real> history;
   double dissipated = 0;
+  double stored = 0, friction = 0, damping = 0;  // the stage's energy account (every step is an energy row)
   size_t touching = 0;
 };
 
@@ -119,12 +147,15 @@ class CoupleRunner {
     upload(cl, arrays_.position, pos);
     upload(cl, arrays_.velocity, vel);
     forces_.enqueue_clear();
-    forces_.enqueue(keys_, 1, first, dt);
+    forces_.enqueue(keys_, 1, first, dt, true);
     const auto acc = download<cl_long>(cl, arrays_.contact_acc, 12);
     CoupleResult r;
     for (int k = 0; k < 6; ++k) r.force[k] = Vector2d(double(acc[2 * k]), double(acc[2 * k + 1])) / forces_.force_scale();
     r.history = forces_.history();
     r.dissipated = forces_.dissipated_energy();
+    r.stored = forces_.stored_energy();
+    r.friction = forces_.friction_dissipation();
+    r.damping = forces_.damping_dissipation();
     r.touching = forces_.touching();
     return r;
   }
@@ -190,6 +221,102 @@ TEST_CASE("two-triangle normal force equals P_n ∫(∇φc − ∇φt) dA by pol
   CHECK(overlapping > 100);
   CHECK(worst < (kDoublePrecision ? 1e-10 : 1e-4));
   CHECK(worst_balance < (kDoublePrecision ? 1e-10 : 1e-4));
+}
+
+TEST_CASE("contact stored energy is P_n t ∫(φ_c + φ_t) dA, and the nodal forces are exactly its gradient") {
+  // The edge passes' forces alone are the gradient only for rigid motions of the two
+  // triangles; the stage adds the area term that makes them the full gradient.
+  const double pn = 1e9, thick = 0.5, size = 1e-2;
+  TwoTriangles two(pn, 0.0, 0.0, std::numeric_limits<double>::max(), 1.0, size);
+  two.model.thickness = thick;
+  CoupleRunner runner(two.model);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto energy = [&](const std::array<Vector2d, 6>& y) {
+    return reference_energy({y[0], y[1], y[2]}, {y[3], y[4], y[5]}, pn, thick);
+  };
+  int overlapping = 0;
+  double worst_energy = 0, worst_gradient = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const auto c = random_triangle(rng, Vector2d(0.1, 0.2), size);
+    const auto t = random_triangle(rng, Vector2d(0.1, 0.2) + 1.2 * size * Vector2d(u(rng), u(rng)), size);
+    const std::array<Vector2d, 6> x{c[0], c[1], c[2], t[0], t[1], t[2]};
+    const double expected = energy(x);
+    if (expected < 1e-3 * pn * thick * size * size) continue;  // barely touching: little to compare
+    ++overlapping;
+    const auto r = runner.step(x, still(), 1e-9, true);
+    worst_energy = std::max(worst_energy, std::fabs(r.stored - expected) / expected);
+    // −∂E/∂x by central differences of the reference, for every node coordinate.
+    double scale = 0;
+    for (const auto& f : r.force) scale = std::max(scale, f.norm());
+    const double h = 1e-7 * size;
+    for (int k = 0; k < 6; ++k)
+      for (int d = 0; d < 2; ++d) {
+        auto plus = x, minus = x;
+        plus[k][d] += h, minus[k][d] -= h;
+        const double gradient = (energy(plus) - energy(minus)) / (2 * h);
+        worst_gradient = std::max(worst_gradient, std::fabs(r.force[k][d] + gradient) / scale);
+      }
+  }
+  MESSAGE(overlapping << " overlapping couples: stored energy error " << worst_energy << ", largest |f + ∂E/∂x| "
+                      << worst_gradient << " of the largest nodal force");
+  CHECK(overlapping > 20);
+  CHECK(worst_energy < (kDoublePrecision ? 1e-9 : 1e-4));
+  CHECK(worst_gradient < (kDoublePrecision ? 1e-5 : 1e-2));
+}
+
+TEST_CASE("friction: dissipation + stored energy = work done on the couple, through stick, slip, reversals and letting go") {
+  // The upper triangle slides back and forth on the lower one's top edge while the
+  // depth breathes, then lifts off. The work the motion does on the couple (trapezoid
+  // rule over each step, as the central-difference integrator applies the forces) must
+  // reappear as friction dissipated plus energy stored, and all of it as dissipation
+  // once the couple has let go.
+  if (!kDoublePrecision) {  // moves of 1e-8 m a step at coordinates of 1 m: float resolution
+    MESSAGE("skipped in the float build");
+    return;
+  }
+  const double pn = 1e9, ptan = 1e12, mu = 0.5, dt = 1e-6;
+  TwoTriangles two(pn, ptan, mu);
+  CoupleRunner runner(two.model);
+  const std::array<Vector2d, 3> lower{Vector2d(0, 0), Vector2d(1, -1), Vector2d(1, 0)};
+  auto place = [&](double sx, double depth) {
+    return std::array<Vector2d, 6>{lower[0], lower[1], lower[2], Vector2d(0.2 + sx, -depth), Vector2d(0.8 + sx, -depth),
+                                   Vector2d(0.5 + sx, 0.5 - depth)};
+  };
+  const int steps = 1200;
+  const double omega = 2 * M_PI / 300, d0 = 1e-3;
+  auto motion = [&](int n) {  // (slide, depth) at step n: ±3 µm (the elastic range is about 1.5 µm), depth ±40 %, then it lifts off
+    const double t = n;
+    const double slide = 3e-6 * std::sin(omega * t);
+    double depth = d0 * (1 + 0.4 * std::sin(0.37 * omega * t));
+    if (n > steps - 100) depth -= d0 * 1.5 * (n - (steps - 100)) / 100.0;
+    return std::pair<double, double>{slide, depth};
+  };
+  const auto [slide0, depth0] = motion(0);
+  auto x = place(slide0, depth0);
+  std::array<Vector2d, 6> v = still();
+  CoupleResult r = runner.step(x, v, dt, true);
+  const double stored0 = r.stored;
+  double work = 0;
+  int slipping = 0;
+  auto previous = r;
+  for (int n = 1; n <= steps; ++n) {
+    const auto [slide, depth] = motion(n);
+    const auto y = place(slide, depth);
+    for (int k = 3; k < 6; ++k) v[k] = (y[k] - x[k]) / dt;  // the move that led to this step's positions
+    r = runner.step(y, v, dt, false);
+    for (int k = 0; k < 6; ++k) work -= 0.5 * (previous.force[k] + r.force[k]).dot(y[k] - x[k]);
+    if (r.friction > previous.friction + 1e-9 * std::fabs(r.friction)) ++slipping;
+    x = y;
+    previous = r;
+  }
+  MESSAGE("work done on the couple " << work << " J, friction dissipated " << r.friction << " J, stored at the start "
+                                     << stored0 << " J, slipping in " << slipping << " of " << steps << " steps");
+  CHECK(r.touching == 0);
+  CHECK(r.stored == 0);
+  CHECK(slipping > 100);
+  CHECK(r.friction > 0);
+  CHECK(r.friction == doctest::Approx(work + stored0).epsilon(1e-3));
 }
 
 TEST_CASE("two-triangle normal force agrees with plain fine quadrature") {

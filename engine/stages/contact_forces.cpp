@@ -8,7 +8,7 @@
 namespace fdem {
 
 namespace {
-constexpr int kHistory = 10;  // CONTACT_HISTORY in contact_forces.cl
+constexpr int kHistory = 11;  // CONTACT_HISTORY in contact_forces.cl
 
 // Room for a grown couple list: an eighth more (the lists are the largest arrays, about
 // 170 bytes a couple; couples grow slowly once the first detection has run).
@@ -36,9 +36,11 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  dissipated_ = cl.allocate(sizeof(cl_long), "contact_dissipated");
+  // Friction dissipated, damping dissipated, stored at the last energy row
+  // (ENERGY_FRICTION, ENERGY_DAMPING, ENERGY_STORED in contact_forces.cl).
+  energy_ = cl.allocate(3 * sizeof(cl_long), "contact energy account");
   counters_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
-  upload(cl, dissipated_, std::vector<cl_long>{0});
+  upload(cl, energy_, std::vector<cl_long>{0, 0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
   capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
   keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
@@ -66,12 +68,12 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   forces_.set_arg(15, static_cast<real>(force_scale_));
   forces_.set_arg(16, static_cast<real>(energy_scale_));
   forces_.set_arg(17, a.contact_acc);
-  forces_.set_arg(18, dissipated_);
+  forces_.set_arg(18, energy_);
   forces_.set_arg(19, counters_);
   classify_.set_arg(6, a.tri_nodes);
   classify_.set_arg(7, a.position);
   classify_.set_arg(8, static_cast<real>(energy_scale_));
-  classify_.set_arg(9, dissipated_);
+  classify_.set_arg(9, energy_);
   classify_.set_arg(11, counters_);
   clear_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
   clear_.set_arg(1, a.contact_acc);
@@ -80,7 +82,13 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
 
 void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
 
-void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt) {
+void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row) {
+  energy_row = energy_row || energy_row_requested_;
+  energy_row_requested_ = false;
+  if (energy_row) {  // the couples add their stored energy to a zeroed sum
+    const cl_long zero = 0;
+    cl_.queue().enqueue_fill_buffer(energy_, &zero, sizeof(zero), 2 * sizeof(cl_long), sizeof(cl_long));
+  }
   const int next = new_list ? 1 - current_ : current_;
   if (new_list && count > capacity_) {
     // Grow the write side now; the previous list and history stay readable for this call.
@@ -93,7 +101,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     release_.set_arg(3, static_cast<cl_uint>(count));
     release_.set_arg(4, keys);
     release_.set_arg(5, static_cast<real>(energy_scale_));
-    release_.set_arg(6, dissipated_);
+    release_.set_arg(6, energy_);
     cl_.enqueue(release_, count_);
   }
   if (count > list_capacity_) {
@@ -124,6 +132,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(20, same_list);
   forces_.set_arg(21, overlap_list_);
   forces_.set_arg(22, live_);
+  forces_.set_arg(23, static_cast<cl_uint>(energy_row ? 1 : 0));
   cl_.enqueue(forces_, count);
   if (new_list) {
     if (count > capacity_) {
@@ -143,8 +152,15 @@ size_t ContactForces::touching() {
   return static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
 }
 
+std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, 3); }
+
+double ContactForces::stored_energy() { return static_cast<double>(energy_account()[2]) / energy_scale_; }
+double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[0]) / energy_scale_; }
+double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[1]) / energy_scale_; }
+
 double ContactForces::dissipated_energy() {
-  return static_cast<double>(download<cl_long>(cl_, dissipated_, 1)[0]) / energy_scale_;
+  const auto e = energy_account();
+  return static_cast<double>(e[0] + e[1]) / energy_scale_;
 }
 
 std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }

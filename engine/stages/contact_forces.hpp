@@ -17,14 +17,30 @@ class ContactForces {
   void enqueue_clear();
   // Forces of the couples in `keys` (sorted cl_ulong keys, i << 32 | j). With new_list the
   // keys come from a fresh detection and each couple's history is carried over from the
-  // previous list by key; otherwise the list is the one of the last call. Never waits.
-  void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt);
+  // previous list by key; otherwise the list is the one of the last call. With
+  // energy_row the step also sums the stored energy of all couples (stored_energy()),
+  // at the positions and slips this step's forces use; that costs a little in the force
+  // kernel, so ask for it on history rows only. Never waits.
+  void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row = false);
+  // Makes the next enqueue an energy row whatever its argument says (for callers that
+  // do not make the enqueue call themselves, e.g. tests stepping a Solver).
+  void request_energy_row() { energy_row_requested_ = true; }
 
   size_t couples() const { return count_; }
   size_t touching();             // couples in contact in the last step (waits; counts live flags)
-  // Friction (as it slips) + damping (when a couple lets go), cumulative [J] (waits).
+  // Energy account [J] (each waits; 2⁻³² J resolution). stored_energy: the normal
+  // penalty potential E = P_n t ∫_{c∩t}(φ_c + φ_t) dA (the normal forces are exactly −∇E)
+  // plus the friction springs' ½ k s², summed over the couples at the last energy row (0
+  // before the first); for a damped couple (Eq. 15) the work done on it not yet
+  // dissipated, at most σ/σ_try × E. friction_dissipation, damping_dissipation:
+  // cumulative (never decreasing but for rounding). Kinetic energy + these + the other
+  // stages' energies is conserved to the integrator's O(Δt²) (tests/test_contact_energy.cpp).
+  double stored_energy();
+  double friction_dissipation();
+  double damping_dissipation();
+  // friction_dissipation() + damping_dissipation() (one read).
   double dissipated_energy();
-  std::vector<real> history();   // per couple, 10 reals (waits; for tests)
+  std::vector<real> history();   // per couple, 11 reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
 
   // The couple list with each couple's history and live flag, and the energy sums (checkpoints).
@@ -36,9 +52,11 @@ class ContactForces {
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
   compute::kernel classify_, forces_, clear_, release_;
-  compute::buffer keys_, history_[2], dissipated_, counters_, pair_index_, pair_props_, overlap_list_, live_;
+  compute::buffer keys_, history_[2], energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
+  bool energy_row_requested_ = false;
+  std::vector<cl_long> energy_account();  // the three fixed-point sums (waits)
 };
 
 }  // namespace fdem
