@@ -6,9 +6,16 @@
 // reference edge matrix X = [x1-x0, x2-x0]. Outputs: corner forces [N]; on request the
 // stress (σxx, σyy, σxy [Pa], J).
 // Energy account (energy_mode bits; 0 for the output-only stress pass):
-//   bit 0, every step: the viscous dissipation η D:D A t Δt (D from the velocities the
-//     step's forces use, so it is exactly the power the viscous corner forces absorb at
-//     those velocities), summed over the work-group and added to the group's slot .y;
+//   bit 0, every step: the work the viscous corner forces did over the last step, by the
+//     trapezoid rule in time like every other term: ½ (f_before + f_now)·(x_now - x_before)
+//     per node, x_now - x_before = v Δt with v the velocity the step's forces use. The
+//     triangle keeps A t σ_viscous of the step before (viscous_stress, 3 reals) and takes
+//     the positions before as x - v Δt, so f_before·v = -A t σ:L(v) there; f_now·v is
+//     -η D:D A t. Minus that work is the viscous dissipation, summed over the work-group
+//     into the group's slot .y. (Only f_now·v, as a first version did, misses half of the
+//     change of the viscous force over the step: with critical damping of split
+//     fracturable triangles, whose relative modes are near the stable limit, that was
+//     the largest term of the balance.) The first step has no "before".
 //   bit 1, energy rows: the strain energy of the current shape, W A₀ t, with W the
 //     potential whose stress the triangle uses:
 //       Eq. 1 (Neo-Hookean): W = μ/2 (F:F - 2 - 2 ln J) + λ/4 (J² - 1 - 2 ln J)
@@ -92,7 +99,8 @@ inline real4 triangle(const uint t,
                         __global real4* restrict stress,
                         __global int* restrict conditions,
                         const int energy_mode,
-                        const real dt) {
+                        const real dt,
+                        __global real4* restrict viscous_stress) {
   const uint n0 = tri_nodes[3 * t], n1 = tri_nodes[3 * t + 1], n2 = tri_nodes[3 * t + 2];
   const real2 x0 = position[n0], x1 = position[n1], x2 = position[n2];
   const real2 e1 = x1 - x0, e2 = x2 - x0;
@@ -131,7 +139,23 @@ inline real4 triangle(const uint t,
     const real lyy = v0.y * g0.y + v1.y * g1.y + v2.y * g2.y;
     const real dxy = (real)0.5 * (lxy + lyx);
     sigma += eta * (real4)(lxx, dxy, dxy, lyy);
-    if ((energy_mode & 1) != 0) energy.y = eta * (lxx * lxx + lyy * lyy + (real)2 * dxy * dxy) * area_t * dt;
+    if ((energy_mode & 1) != 0) {
+      const real now = eta * (lxx * lxx + lyy * lyy + (real)2 * dxy * dxy) * area_t;  // -f_now·v
+      real before = (real)0;                                                          // -f_before·v
+      if (step > 0) {
+        const real4 s = viscous_stress[t];  // (A t σxx, A t σyy, A t σxy) of the step before
+        const real2 p0 = x0 - v0 * dt, p1 = x1 - v1 * dt, p2 = x2 - v2 * dt;
+        const real4 Pinv = inverse2((real4)(p1.x - p0.x, p2.x - p0.x, p1.y - p0.y, p2.y - p0.y));
+        const real2 h1 = (real2)(Pinv.x, Pinv.y), h2 = (real2)(Pinv.z, Pinv.w), h0 = -(h1 + h2);
+        const real kxx = v0.x * h0.x + v1.x * h1.x + v2.x * h2.x;
+        const real kxy = v0.x * h0.y + v1.x * h1.y + v2.x * h2.y;
+        const real kyx = v0.y * h0.x + v1.y * h1.x + v2.y * h2.x;
+        const real kyy = v0.y * h0.y + v1.y * h1.y + v2.y * h2.y;
+        before = s.x * kxx + s.y * kyy + s.z * (kxy + kyx);
+        energy.y = (real)0.5 * (before + now) * dt;
+      }
+      viscous_stress[t] = area_t * eta * (real4)(lxx, lyy, dxy, (real)0);
+    }
   }
 
   // f_a = -A t σ ∇N_a
@@ -159,13 +183,14 @@ __kernel void triangle_forces(const uint n_triangles,
                               __global int* restrict conditions,
                               const int energy_mode,
                               const real dt,
-                              __global real2* restrict group_energy) {
+                              __global real2* restrict group_energy,
+                              __global real4* restrict viscous_stress) {
   __local real4 energy_scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
   real4 energy = (real4)(0, 0, 0, 0);
   if (t < n_triangles)
     energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
-                      step, corner_force, stress, conditions, energy_mode, dt);
+                      step, corner_force, stress, conditions, energy_mode, dt, viscous_stress);
   if (energy_mode) {  // the same for every work-item: no barrier is skipped by some only
     const real4 sum = group_sum4(energy_scratch, energy);
     if (get_local_id(0) == 0) {

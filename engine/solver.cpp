@@ -81,11 +81,11 @@ void Solver::step(bool energy_row) {
       if (cl_.profiling())
         cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      contact_->enqueue(detection_->couple_keys(), count, true, dt_);
+      contact_->enqueue(detection_->couple_keys(), count, true, dt_, energy_row);
       if (skin_) skin_->mark();
       ++rebuilds_;
     } else {
-      contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_);
+      contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row);
     }
   }
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
@@ -108,7 +108,11 @@ EnergyTotals Solver::energy() {
     const auto work = cohesive_->work(), lost = cohesive_->dissipated();
     for (size_t k = 0; k < work.size(); ++k) e.cohesive_stored += double(work[k]) - double(lost[k]);
   }
-  if (contact_) e.friction += contact_->dissipated_energy();
+  if (contact_) {
+    e.contact_stored += contact_->stored_energy();
+    e.friction += contact_->friction_dissipation();
+    e.contact_damping += contact_->damping_dissipation();
+  }
   return e;
 }
 

@@ -171,7 +171,7 @@ void ContactForces::save_state(StateWriter& out) const {
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
   out.buffer<real>("contact_history", history_[current_], count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
-  out.buffer<cl_long>("contact_energy", dissipated_, 1);
+  out.buffer<cl_long>("contact_energy", energy_, 3);
 }
 
 void ContactForces::load_state(StateReader& in) {
@@ -189,7 +189,7 @@ void ContactForces::load_state(StateReader& in) {
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
   in.buffer<real>("contact_history", history_[current_], count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
-  in.buffer<cl_long>("contact_energy", dissipated_, 1);
+  in.buffer<cl_long>("contact_energy", energy_, 3);
 }
 
 }  // namespace fdem

@@ -11,6 +11,10 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
                             "triangle_forces");
   group_energy_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
+  // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
+  const size_t viscous_items = viscous_ ? std::max<size_t>(1, count_) : 1;
+  viscous_stress_ = cl.allocate(viscous_items * sizeof(real4), "triangle viscous_stress");
+  upload(cl, viscous_stress_, std::vector<real4>(viscous_items));
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, a.tri_nodes);
   kernel_.set_arg(2, a.ref_inverse);
@@ -27,6 +31,7 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   kernel_.set_arg(13, cl_int(0));
   kernel_.set_arg(14, static_cast<real>(dt));
   kernel_.set_arg(15, group_energy_);
+  kernel_.set_arg(16, viscous_stress_);
 }
 
 void TriangleForces::enqueue(int step, bool energy_row) {

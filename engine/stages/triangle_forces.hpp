@@ -21,8 +21,14 @@ class TriangleForces {
   void add_energy(EnergyTotals& totals);
 
   // The cumulative energy sums, for checkpoints.
-  void save_state(StateWriter& out) const { out.group_slots("triangle_energy", group_energy_, groups_, 2); }
-  void load_state(StateReader& in) { in.group_slots("triangle_energy", group_energy_, groups_, 2); }
+  void save_state(StateWriter& out) const {
+    out.group_slots("triangle_energy", group_energy_, groups_, 2);
+    if (viscous_) out.buffer<real>("triangle_viscous_stress", viscous_stress_, count_, 4);
+  }
+  void load_state(StateReader& in) {
+    in.group_slots("triangle_energy", group_energy_, groups_, 2);
+    if (viscous_) in.buffer<real>("triangle_viscous_stress", viscous_stress_, count_, 4);
+  }
 
  private:
   ClContext& cl_;
@@ -30,6 +36,7 @@ class TriangleForces {
   bool viscous_;
   compute::kernel kernel_;
   compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation)
+  compute::buffer viscous_stress_;  // real4 per triangle when viscous: A t σ_viscous of the last step
 };
 
 }  // namespace fdem
