@@ -45,12 +45,11 @@
 #define HIST_PENDING 9      /* what the friction springs dissipate if the couple lets go */
 #define HIST_HELD 10        /* work done on the damped normal force not yet dissipated */
 #define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
-// The stage's energy account, 64-bit fixed point (energy_scale units): cumulative
-// friction and contact-damping dissipation, and the stored energy summed on the last
-// energy row.
+// The stage's cumulative dissipation, 64-bit fixed point (energy_scale units): friction
+// and contact damping. (The stored energy of an energy row goes to couple_stored, summed
+// in couple order: a row's value needs more resolution than 2⁻³² J per couple.)
 #define ENERGY_FRICTION 0
 #define ENERGY_DAMPING 1
-#define ENERGY_STORED 2
 
 // Compare-exchange: a ≤ b afterwards.
 #define SORT2(a, b)           \
@@ -66,7 +65,14 @@
 // candidates (those outside (0, 1) moved to 1, where they only add pieces of zero width,
 // which add exact zeros) are ordered by a fixed sorting network, so everything stays in
 // registers; the trapezoid rule is then exact on each piece.
-inline void integrate_potential(const real l0[3], const real l1[3], real* I0, real* I1, real* inside) {
+// A piece counts as inside when the potential at its middle exceeds `round_off`, the
+// rounding of l itself: an edge lying on the other triangle's edge (two faces of an intact
+// CE4, which the split mesh puts on the same line) then counts on neither side, as it
+// does exactly, instead of on one side only by the sign of a rounding error. The area of
+// the overlap (couple_potential) is a sum over both triangles' inside pieces, and one
+// coincident edge counted alone adds a third of a triangle's area to it.
+inline void integrate_potential(const real l0[3], const real l1[3], const real round_off, real* I0, real* I1,
+                                real* inside) {
   real z[6];
   for (int m = 0; m < 3; ++m) {
     const real d = l1[m] - l0[m];
@@ -97,7 +103,7 @@ inline void integrate_potential(const real l0[3], const real l1[3], real* I0, re
     // inside the other triangle on this piece: the potential's minimum at its middle is ≥ 0
     const real mid = (real)0.5 * (prev_s + t);
     const real gm = fmin(l0[0] + mid * (l1[0] - l0[0]), fmin(l0[1] + mid * (l1[1] - l0[1]), l0[2] + mid * (l1[2] - l0[2])));
-    if (gm > (real)0) length += w;
+    if (gm > round_off) length += w;
     prev_s = t;
     prev_g = g;
   }
@@ -150,20 +156,50 @@ inline int find_key(__global const ulong* keys, uint n, ulong key) {
 // and (x − g)·n is constant along a straight edge, so each pass adds (a − g)·n L × I
 // (a: the edge's first vertex, I: its ∫φ ds / L). |Ω| = ½ ∮ (x − r)·n ds over the edge
 // parts inside the other triangle, again one constant per pass times the inside fraction.
+// Area of c ∩ t (triangles 0 and 1, counter-clockwise) by clipping triangle 0 against
+// triangle 1's three edges (Sutherland-Hodgman; at most six vertices). Unlike a sum over
+// the inside pieces of both triangles' edges, which counts an edge lying on the other's
+// edge (the faces of an intact CE4 are on one line) on one side or the other by the sign
+// of a rounding error, the clipped polygon's area goes to 0 continuously as a sliver thins.
+inline real overlap_area(real2 x[2][3]) {
+  real2 poly[9], next[9];
+  int n = 3;
+  for (int a = 0; a < 3; ++a) poly[a] = x[0][a] - x[1][0];  // relative to one vertex: fewer digits lost
+  for (int m = 0; m < 3; ++m) {
+    const real2 w = x[1][m] - x[1][0], edge = x[1][(m + 1) % 3] - x[1][m];
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+      const real2 p = poly[i], q = poly[(i + 1) % n];
+      const real sp = edge.x * (p.y - w.y) - edge.y * (p.x - w.x);
+      const real sq = edge.x * (q.y - w.y) - edge.y * (q.x - w.x);
+      if (sp >= (real)0) next[k++] = p;
+      if ((sp >= (real)0) != (sq >= (real)0)) next[k++] = p + (q - p) * (sp / (sp - sq));
+    }
+    n = k;
+    for (int i = 0; i < n; ++i) poly[i] = next[i];
+  }
+  real twice = (real)0;
+  for (int i = 1; i + 1 < n; ++i) {
+    const real2 u = poly[i] - poly[0], v = poly[i + 1] - poly[0];
+    twice += u.x * v.y - u.y * v.x;
+  }
+  return fmax((real)0.5 * twice, (real)0);
+}
+
 inline void couple_potential(real2 x[2][3], const real I0[6], const real I1[6], const real inside[6], real potential[2]) {
   real2 g[2];
   for (int k = 0; k < 2; ++k) g[k] = (x[k][0] + x[k][1] + x[k][2]) / (real)3;
-  real flux[2] = {0, 0}, twice_area = 0;
+  real flux[2] = {0, 0};
   for (int dir = 0; dir < 2; ++dir)
     for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
       const real2 pa = x[dir][e], edge = x[dir][(e + 1) % 3] - pa;
       const real2 nL = (real2)(edge.y, -edge.x);
       flux[1 - dir] += dot(pa - g[1 - dir], nL) * (I0[p] + I1[p]);  // A = dir's edges in φ of B = 1 − dir
-      twice_area += dot(pa - g[0], nL) * inside[p];
     }
+  const real area = overlap_area(x);
   // ∫_Ω φ_k dA for k = 0, 1.
-  for (int k = 0; k < 2; ++k) potential[k] = (flux[k] + (real)0.5 * twice_area) / (real)3;
+  for (int k = 0; k < 2; ++k) potential[k] = (flux[k] + area) / (real)3;
 }
 
 // The couple's two triangles (i, j from its key): node indices and positions.
@@ -332,7 +368,8 @@ __kernel void contact_forces(const uint n_couples,
                              const uint same_list,
                              __global const uint* restrict overlap_list,
                              __global uchar* restrict live,
-                             const uint energy_row) {
+                             const uint energy_row,
+                             __global real* restrict couple_stored) {
   const uint entry = get_global_id(0);
   if (entry >= n_couples || entry >= counters[1]) return;
   const uint c = overlap_list[entry];
@@ -354,6 +391,19 @@ __kernel void contact_forces(const uint n_couples,
   // lv[dir][e][(q + 1) % 3] and lv[dir][(e + 1) % 3][(q + 1) % 3].
   real I0[6], I1[6], inside[6];
   real normal_total = 0, contact_length = 0;
+  // Rounding of the barycentric values l: coordinates carry ε|x|, so the cross products
+  // behind l (3 A_m / A) are off by about ε |x| h / A ≈ 3 ε |x| / h; 64 times that.
+  real reach = (real)0, smallest = INFINITY;
+  for (int k = 0; k < 2; ++k) {
+    for (int a = 0; a < 3; ++a) reach = fmax(reach, fmax(fabs(x[k][a].x), fabs(x[k][a].y)));
+    const real2 u = x[k][1] - x[k][0], w = x[k][2] - x[k][0];
+    smallest = fmin(smallest, fabs(u.x * w.y - u.y * w.x));
+  }
+#ifdef FDEM_DOUBLE
+  const real round_off = (real)64 * DBL_EPSILON * reach / sqrt(smallest);
+#else
+  const real round_off = (real)64 * FLT_EPSILON * reach / sqrt(smallest);
+#endif
   for (int dir = 0; dir < 2; ++dir) {
       for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
@@ -363,7 +413,7 @@ __kernel void contact_forces(const uint n_couples,
         l0[m] = lv[dir][e][m];
         l1[m] = lv[dir][(e + 1) % 3][m];
       }
-      integrate_potential(l0, l1, &I0[p], &I1[p], &inside[p]);
+      integrate_potential(l0, l1, round_off, &I0[p], &I1[p], &inside[p]);
       const real L = length(pb - pa);
       normal_total += Pn * thickness * L * (I0[p] + I1[p]);
       contact_length += inside[p] * L;
@@ -526,7 +576,9 @@ __kernel void contact_forces(const uint n_couples,
 #endif
   // Signed increments: each is the exact balance of its step (see above), so the sums
   // close the account; they are ≥ 0 but for rounding and one-step reversals.
-  if (energy_row && stored != (real)0) atom_add(&energy[ENERGY_STORED], convert_long_rte(stored * energy_scale));
+  // Each couple writes its own slot (zeroed before the step), summed in couple order by
+  // contact_stored_partials: a double sum in a fixed order, not 2⁻³² J per couple.
+  if (energy_row) couple_stored[c] = stored;
   if (friction_lost != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(friction_lost * energy_scale));
   if (damping_lost != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(damping_lost * energy_scale));
 }
@@ -563,4 +615,17 @@ __kernel void clear_contact_forces(const uint n_nodes, __global long* restrict c
   if (i >= n_nodes) return;
   contact_acc[2 * i] = 0;
   contact_acc[2 * i + 1] = 0;
+}
+
+// One work-item per couple of the list (on energy rows, after contact_forces): the stored
+// energy of the couples, summed over the work-group in a fixed order (group_sum4) into the
+// group's slot; the host adds the slots in order. Couples that do not touch hold 0.
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
+__kernel void contact_stored_partials(const uint n_couples, __global const real* restrict couple_stored,
+                                      __global real* restrict group_slots) {
+  __local real4 scratch[GROUP_SIZE];
+  const uint c = get_global_id(0);
+  const real4 value = (real4)(c < n_couples ? couple_stored[c] : (real)0, 0, 0, 0);
+  const real4 sum = group_sum4(scratch, value);
+  if (get_local_id(0) == 0) group_slots[get_group_id(0)] = sum.x;
 }

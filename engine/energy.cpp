@@ -17,7 +17,8 @@ void EnergyBalance::start(const EnergyTotals& initial) {
 
 double EnergyBalance::error(const EnergyTotals& now) {
   peak_kinetic_ = std::max(peak_kinetic_, now.kinetic);
-  const double scale = std::max({std::fabs(now.supplied()), std::fabs(initial_stored_), peak_kinetic_});
+  const double scale =
+      std::max({std::fabs(now.supplied()), std::fabs(initial_stored_), peak_kinetic_, now.resolution});
   const double residual = now.stored() + now.dissipated() - now.supplied() - initial_stored_;
   return scale > 0 ? residual / scale : 0.0;
 }

@@ -103,6 +103,7 @@ class Solver {
   compute::buffer unread_monitor_;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;
+  double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;

@@ -1,5 +1,7 @@
 #include "engine/stages/contact_forces.hpp"
 
+#include "engine/energy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -31,16 +33,17 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
 
   std::map<std::string, std::string> defines;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
+  defines["GROUP_SIZE"] = std::to_string(cl.group_size());
   const auto program = cl.build("contact_forces", defines);
+  stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  // Friction dissipated, damping dissipated, stored at the last energy row
-  // (ENERGY_FRICTION, ENERGY_DAMPING, ENERGY_STORED in contact_forces.cl).
-  energy_ = cl.allocate(3 * sizeof(cl_long), "contact energy account");
+  // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING in contact_forces.cl).
+  energy_ = cl.allocate(2 * sizeof(cl_long), "contact energy account");
   counters_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
-  upload(cl, energy_, std::vector<cl_long>{0, 0, 0});
+  upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
   capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
   keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
@@ -48,6 +51,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   list_capacity_ = capacity_;
   overlap_list_ = cl.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
   live_ = cl.allocate(list_capacity_, "contact live flags");
+  allocate_stored(list_capacity_);
 
   const size_t n_materials = model.materials.size();
   std::vector<cl_uint> index(model.contact.pair_index.begin(), model.contact.pair_index.end());
@@ -85,10 +89,6 @@ void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(array
 void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row) {
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
-  if (energy_row) {  // the couples add their stored energy to a zeroed sum
-    const cl_long zero = 0;
-    cl_.queue().enqueue_fill_buffer(energy_, &zero, sizeof(zero), 2 * sizeof(cl_long), sizeof(cl_long));
-  }
   const int next = new_list ? 1 - current_ : current_;
   if (new_list && count > capacity_) {
     // Grow the write side now; the previous list and history stay readable for this call.
@@ -108,6 +108,11 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list_capacity_ = grown(count);
     overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
     live_ = cl_.allocate(list_capacity_, "contact live flags");  // a new list writes every flag
+    allocate_stored(list_capacity_);
+  }
+  if (energy_row && count > 0) {
+    const real zero = 0;
+    cl_.queue().enqueue_fill_buffer(couple_stored_, &zero, sizeof(zero), 0, count * sizeof(real));
   }
   // Same list as the last step: couple c's history is at c, in place (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
@@ -133,7 +138,17 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(21, overlap_list_);
   forces_.set_arg(22, live_);
   forces_.set_arg(23, static_cast<cl_uint>(energy_row ? 1 : 0));
+  forces_.set_arg(24, couple_stored_);
   cl_.enqueue(forces_, count);
+  if (energy_row) {
+    stored_groups_ = work_groups(cl_, count);
+    if (count > 0) {
+      stored_partials_.set_arg(0, static_cast<cl_uint>(count));
+      stored_partials_.set_arg(1, couple_stored_);
+      stored_partials_.set_arg(2, stored_slots_);
+      cl_.enqueue(stored_partials_, count);
+    }
+  }
   if (new_list) {
     if (count > capacity_) {
       capacity_ = grown(count);
@@ -152,9 +167,14 @@ size_t ContactForces::touching() {
   return static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
 }
 
-std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, 3); }
+std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, 2); }
 
-double ContactForces::stored_energy() { return static_cast<double>(energy_account()[2]) / energy_scale_; }
+double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }
+
+void ContactForces::allocate_stored(size_t couples) {
+  couple_stored_ = cl_.allocate(std::max<size_t>(1, couples) * sizeof(real), "contact couple_stored");
+  stored_slots_ = cl_.allocate(std::max<size_t>(1, work_groups(cl_, couples)) * sizeof(real), "contact stored slots");
+}
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[0]) / energy_scale_; }
 double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[1]) / energy_scale_; }
 
@@ -171,7 +191,7 @@ void ContactForces::save_state(StateWriter& out) const {
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
   out.buffer<real>("contact_history", history_[current_], count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
-  out.buffer<cl_long>("contact_energy", energy_, 3);
+  out.buffer<cl_long>("contact_energy", energy_, 2);
 }
 
 void ContactForces::load_state(StateReader& in) {
@@ -185,11 +205,12 @@ void ContactForces::load_state(StateReader& in) {
     list_capacity_ = grown(count_);
     overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
     live_ = cl_.allocate(list_capacity_, "contact live flags");
+    allocate_stored(list_capacity_);
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
   in.buffer<real>("contact_history", history_[current_], count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
-  in.buffer<cl_long>("contact_energy", energy_, 3);
+  in.buffer<cl_long>("contact_energy", energy_, 2);
 }
 
 }  // namespace fdem

@@ -56,7 +56,12 @@ class ContactForces {
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
   bool energy_row_requested_ = false;
-  std::vector<cl_long> energy_account();  // the three fixed-point sums (waits)
+  // The stored energy of each couple at the last energy row, and its per-work-group sums.
+  void allocate_stored(size_t couples);
+  compute::kernel stored_partials_;
+  compute::buffer couple_stored_, stored_slots_;
+  size_t stored_groups_ = 0;
+  std::vector<cl_long> energy_account();  // the two fixed-point dissipation sums (waits)
 };
 
 }  // namespace fdem
