@@ -3,7 +3,8 @@
 // the traction pairs' moment turns into work; compress-slip-release with the Mohr-Coulomb
 // friction); and the account of the stage: fracture dissipation never decreases, and work
 // done on the CE4s = stored energy + fracture dissipation, along random and cyclic
-// histories. Rig: tests/cohesive_rig.hpp.
+// histories, with totals that are the same bit for bit on a second run.
+// Rig: tests/cohesive_rig.hpp.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -92,7 +93,7 @@ TEST_CASE("a sheared, overlapping CE4 turned rigidly once round and back does no
     const double couple = L * thickness * (tau * o - sigma * 0.7 * law.s_p);
     MESSAGE("o = ", o, ": work over one turn ", turn, " J (2π M of the traction pairs alone ", 2 * M_PI * couple,
             " J), over the whole cycle ", d.work, " J; elastic energy at the turn ", loaded, " J");
-    CHECK(std::fabs(turn) < 1e-6 * std::fabs(2 * M_PI * couple));
+    CHECK(std::fabs(turn) < (kDoublePrecision ? 1e-6 : 1e-3) * std::fabs(2 * M_PI * couple));
     CHECK(std::fabs(d.work) < (kDoublePrecision ? 1e-6 : 1e-2) * loaded);
     CHECK(rig.stage->damage()[0] == 0);
   }
@@ -163,6 +164,7 @@ TEST_CASE("random and cyclic histories: fracture dissipation never decreases and
   }
   const double thickness = 0.4;
   Rig rig(edges, props, thickness);
+  Rig twin(edges, props, thickness);  // the same histories again: the totals must agree bitwise
   // Smooth random paths: end gaps (normal, tangential) as sums of a few sines of random
   // period, amplitude and phase (cycles of opening, overlap and slip of either sign), a
   // slow drift towards breaking for a third of them, and a rigid turn and shift.
@@ -203,6 +205,7 @@ TEST_CASE("random and cyclic histories: fracture dissipation never decreases and
       for (int q = 0; q < 4; ++q) x[4 * e + q] = {real(pts[q].x()), real(pts[q].y())};
     }
     rig.step(x, 1e-6 * k);
+    twin.step(x, 1e-6 * k);
     const auto work = rig.stage->work(), dissipated = rig.stage->dissipated(), stored = rig.stage->stored();
     double sum_d = 0, sum_s = 0;
     for (size_t e = 0; e < count; ++e) {
@@ -222,6 +225,8 @@ TEST_CASE("random and cyclic histories: fracture dissipation never decreases and
       worst_total = std::max({worst_total, std::fabs(total_d - sum_d) / (std::fabs(sum_d) + 1e-300),
                               std::fabs(total_s - sum_s) / (std::fabs(sum_s) + 1e-300)});
       CHECK(rig.stage->dissipated_total() == total_d);
+      CHECK(twin.stage->fracture_dissipation() == total_d);
+      CHECK(twin.stage->stored_energy() == total_s);
     }
   }
   broke = static_cast<int>(rig.stage->count_broken());
