@@ -5,14 +5,14 @@
 // j', i'; the node gather sums slots per node, no atomics) and the CE4's energy account.
 //
 // Integration: 3-point Gauss-Legendre on the edge, ξ = ½ ∓ √15/10 and ½ with weights
-// 5/18, 8/18, 5/18 of the current length. This is the paper's Gauss rule, not Y-Geo's
-// end-middle-end points with weights 1/6, 2/3, 1/6.
+// 5/18, 8/18, 5/18 of the initial length h (see Forces). This is the paper's Gauss rule,
+// not Y-Geo's end-middle-end points with weights 1/6, 2/3, 1/6.
 //
 // Frame: face 1 = i→j (triangle 1, counter-clockwise, so its interior is on the left of
 // i→j), face 2 = i'→j' (taken from the i side to the j side as well). δ(ξ) = x₂(ξ) - x₁(ξ);
 // t ∥ (x_j - x_i) + (x_j' - x_i'); n = t turned clockwise (the right normal), pointing
-// away from triangle 1's interior, so separation gives o = δ·n > 0; s = δ·t. The current
-// length is that of the mid-surface, |(x_j - x_i) + (x_j' - x_i')| / 2.
+// away from triangle 1's interior, so separation gives o = δ·n > 0; s = δ·t. The chord
+// c = (x_j - x_i) + (x_j' - x_i') is twice the mid-surface; |c| enters the frame's force.
 //
 // Law per Gauss point (all from the per-CE4 parameter row, see COH_* below):
 //   damage, Eq. 9: D = min(1, √(a² + b²)) with a = ⟨o-o_p⟩/o_t, b = ⟨|s|-s_p⟩/s_t
@@ -95,7 +95,7 @@
 #define COH_A 8        /* softening shape A, B, C (Eq. 10) */
 #define COH_B 9
 #define COH_CEXP 10
-#define COH_H 11       /* initial edge length h [m] (set-up only; kept for output/debug) */
+#define COH_H 11       /* initial edge length h [m]: the reference length of the tractions */
 
 // f(D) of Eq. 10.
 inline real coh_softening(real D, real A, real B, real C) {
