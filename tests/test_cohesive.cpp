@@ -201,6 +201,7 @@ struct EnergyRun {
   double worst_elastic = 0;        // largest |dissipated| before the elastic limit [J]
   double worst_softening = 0;      // largest |dissipated - analytic| while softening [J]
   bool frozen_after = true;        // dissipated unchanged after breaking
+  double total_dissipation = -1, total_stored = -1;  // the stage's totals at the end [J]
 };
 
 EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double peak, const FractureProperties& p,
@@ -243,6 +244,8 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double
     f_prev = f;
     x_prev = x;
   }
+  run.total_dissipation = rig.stage->fracture_dissipation();
+  run.total_stored = rig.stage->stored_energy();
   return run;
 }
 
@@ -257,6 +260,9 @@ void check_dissipated(const EnergyRun& run, double G_part, const std::string& na
   CHECK(run.worst_elastic < (kDoublePrecision ? 1e-6 : 1e-2) * G_part);
   CHECK(run.worst_softening < (kDoublePrecision ? 1e-5 : 2e-2) * G_part);
   CHECK(run.frozen_after);
+  // The stage's totals (the history's figures): all of it dissipated, nothing held.
+  CHECK(run.total_dissipation == run.dissipated_at_break);
+  CHECK(run.total_stored == 0.0);
 }
 
 TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small elastic pre-peak part)") {
