@@ -5,14 +5,14 @@
 // j', i'; the node gather sums slots per node, no atomics) and the CE4's energy account.
 //
 // Integration: 3-point Gauss-Legendre on the edge, ξ = ½ ∓ √15/10 and ½ with weights
-// 5/18, 8/18, 5/18 of the current length. This is the paper's Gauss rule, not Y-Geo's
-// end-middle-end points with weights 1/6, 2/3, 1/6.
+// 5/18, 8/18, 5/18 of the initial length h (see Forces). This is the paper's Gauss rule,
+// not Y-Geo's end-middle-end points with weights 1/6, 2/3, 1/6.
 //
 // Frame: face 1 = i→j (triangle 1, counter-clockwise, so its interior is on the left of
 // i→j), face 2 = i'→j' (taken from the i side to the j side as well). δ(ξ) = x₂(ξ) - x₁(ξ);
 // t ∥ (x_j - x_i) + (x_j' - x_i'); n = t turned clockwise (the right normal), pointing
-// away from triangle 1's interior, so separation gives o = δ·n > 0; s = δ·t. The current
-// length is that of the mid-surface, |(x_j - x_i) + (x_j' - x_i')| / 2.
+// away from triangle 1's interior, so separation gives o = δ·n > 0; s = δ·t. The chord
+// c = (x_j - x_i) + (x_j' - x_i') is twice the mid-surface; |c| enters the frame's force.
 //
 // Law per Gauss point (all from the per-CE4 parameter row, see COH_* below):
 //   damage, Eq. 9: D = min(1, √(a² + b²)) with a = ⟨o-o_p⟩/o_t, b = ⟨|s|-s_p⟩/s_t
@@ -22,10 +22,25 @@
 //   normal, Eqs. 4 and 13: o < 0: 2 o T_s / o_overlap (no f(D));
 //     o_max > o_p and o < o_max: f T_s o / o_max (unloading/reloading);
 //     o <= o_p: (2o/o_p - (o/o_p)²) f T_s;  else f T_s;
-//   shear, Eqs. 5 and 14, strength S = max(0, -σ tanφ + f c) (Mohr-Coulomb; only the
-//     cohesion is softened; the max(0, .) keeps a strongly tensile σ from reversing τ):
-//     s_max > s_p and |s| < s_max: S |s| / s_max;  |s| <= s_p: (2|s|/s_p - (|s|/s_p)²) S;
-//     else S;  τ takes the sign of s.
+//   shear = cohesive part + friction part:
+//     cohesive, Eqs. 5 and 14 with the strength f c: s_max > s_p and |s| < s_max:
+//       f c |s| / s_max;  |s| <= s_p: (2|s|/s_p - (|s|/s_p)²) f c;  else f c; sign of s;
+//     friction (the -σ tanφ of Eq. 5 under compression): a stick spring of stiffness
+//       k_f = 2c/s_p = P_tan/h on s - s_f, capped at tanφ max(0, -σ); past the cap the
+//       slip s_f of the element moves (Coulomb), so the cap is reached again after a
+//       reversal only by slipping back. Not softened by f(D).
+// Where this departs from Eq. 5 and why (docs: "CE4 energy" in the physics notes): the
+// paper scales the whole pre-peak parabola and the unloading secant by S = -σ tanφ + f c.
+// With S depending on σ, the held shear energy S s_p (q² - q³/3) or ½ S |s| changes when
+// σ changes at a fixed slip, without any work: slip at σ = 0, compress, slip back under
+// compression, release, and the CE4 has given back (q² - q³/3) s_p |σ| tanφ per unit area
+// more than it took, every cycle (tests/test_cohesive_energy.cpp); likewise a tensile σ
+// lowered S, so closing at a fixed slip made energy. Here the energy held in shear depends
+// on s and the state only, the friction is a true Coulomb element (its work past the cap
+// is dissipated, as W_res of Eq. 12 says), and tension no longer lowers the shear strength
+// (the tension cut-off is Eq. 4's T_s and the mixed damage of Eq. 9). On a monotonic slip
+// at constant σ the envelope is the paper's, -σ tanφ + f c, once the friction has slipped
+// (|s - s_f| = tanφ|σ|/k_f); before that the pre-peak curve differs.
 // Breaking: when D_max = 1 at two or more of the three points the CE4 breaks for good and
 // carries no force from that step on. The time passed to the step is recorded.
 // Failure mode: at the step a point's D first reaches 1 it records the opening share of
@@ -36,21 +51,37 @@
 // slip would make a 20 µm tensile crack "mixed" (all 40 broken CE4s of the coarse Brazilian
 // disc, mesh.size = 3e-3, came out mixed that way; by χ 37 are mode I and 3 mixed). χ
 // measures which term of Eq. 9 did the damaging instead.
-// Forces: p = (σ n + τ t) w L thickness at each point; face 1 gets +p, face 2 gets -p
-// (the traction pulls the faces together when open, pushes them apart when overlapping,
-// and opposes the slip), distributed with the linear shape functions (1-ξ, ξ).
-// Energy: W += Σ_g ½ (p_g,before + p_g,now)·(δ_g,now - δ_g,before), the work done on the
-// CE4 (trapezoid rule in time; the step that breaks it has p_now = 0). Because δ and the
-// forces are linear in the end gaps, that is ½ (f_i,before + f_i,now)·Δgap_i + the same at j,
-// so only the end gaps of the last step are kept and the forces before are the CE4's own
-// slots. The energy it dissipated = W minus the elastic energy it holds now, i.e. what it
-// would give back if unloaded to o = s = 0 with its state frozen: per unit area,
-//   normal  o < 0: T_s o² / o_overlap;  o_max > o_p: ½ σ o (secant, Eq. 13);
-//           else: f T_s o_p (q² - q³/3), q = o/o_p (the parabola of Eq. 4);
-//   shear   s_max > s_p: ½ |τ| |s| (secant, Eq. 14);  else: S s_p (q² - q³/3), q = |s|/s_p;
-// zero once broken. It includes the friction work on the Mohr-Coulomb residual (W_res of
-// Eq. 12). While intact and elastic with friction, σ changing under a fixed slip changes
-// the held shear energy without work, so the value can move by a small amount either way.
+// Forces: the gradient of the CE4's potential Π = h t Σ_g w_g ψ_g(o_g, s_g) with the state
+// frozen (ψ_g the energy per unit area held at point g, below; h the initial length, so
+// tractions are per unit reference area): p_g = (σ n + τ t) w_g h t at each point, +p_g to
+// face 1 and -p_g to face 2 with the linear shape functions (1-ξ, ξ), plus the frame's
+// term: n and t turn with the chord c, do = dδ·n - s (n·dc)/|c|, ds = dδ·t + o (n·dc)/|c|,
+// so Π also changes by M (n·dc)/|c| with M = h t Σ_g w_g (τ o - σ s): +m at i and i',
+// -m at j and j', m = (M/|c|) n. Without it (the paper's "equal and opposite tractions")
+// the two faces' forces act at points δ apart and form a couple -M: a CE4 turned once
+// round while sheared and open or overlapping took or gave 2π M (test_cohesive_energy).
+// With it the four forces have zero net force and zero net moment, and a rigid motion does
+// no work. The paper's current length L in place of h made Π depend on the stretch of the
+// faces as well (ψ dL of work from nowhere); h is what Eqs. 6-8 use.
+// Energy (per CE4, real4: work W, fracture dissipation, stored, 0):
+//   W += ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc, the work done on the CE4
+//     (trapezoid rule in time on its own four forces, A and B the traction shares of face 1
+//     at i and j; the step that breaks it has zero force now); the forces before are the
+//     CE4's own slots, so only the gaps and the chord of the last step are kept;
+//   stored = h t Σ_g w_g ψ_g, what it would give back if unloaded to o = s = 0 with its
+//     state frozen: per unit area
+//       normal  o < 0: T_s o² / o_overlap;  o_max > o_p: ½ σ o (secant, Eq. 13);
+//               else: f T_s o_p (q² - q³/3), q = o/o_p (the parabola of Eq. 4);
+//       shear   s_max > s_p: ½ |τ_c| |s| (secant, Eq. 14);  else f c s_p (q² - q³/3),
+//               q = |s|/s_p;  + τ_f² / (2 k_f) in the friction element;
+//     zero once broken;
+//   fracture dissipation = max over the steps so far of W - stored. With the state frozen
+//   the law is the gradient of Π, so W - stored changes only when the state moves: f(D)
+//   falls (ψ falls: energy released), the friction element slips (tanφ|σ| |Δs_f|), the
+//   CE4 breaks (what it held is released). All of these are ≥ 0, so W - stored never falls
+//   but for the trapezoid rule's O(Δ²) error on the curved elastic branches; the max keeps
+//   that noise from ever making the dissipation go down (test_cohesive_energy checks
+//   W = stored + dissipation to 1e-4 of the CE4's energy scale along random paths).
 
 #define COH_STRIDE 12
 #define COH_OP 0       /* o_p = 2 h T_s / P_f [m] (Eq. 6) */
@@ -64,7 +95,7 @@
 #define COH_A 8        /* softening shape A, B, C (Eq. 10) */
 #define COH_B 9
 #define COH_CEXP 10
-#define COH_H 11       /* initial edge length h [m] (set-up only; kept for output/debug) */
+#define COH_H 11       /* initial edge length h [m]: the reference length of the tractions */
 
 // f(D) of Eq. 10.
 inline real coh_softening(real D, real A, real B, real C) {
@@ -86,10 +117,13 @@ inline real coh_parabola_energy(real x, real xp, real peak) {
 // One work-item per CE4: kinematics, law and nodal forces of CE4 `e`; updates its three
 // Gauss-point states, its status (broken, mode), its output row and its energy account.
 // gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], opening share χ of Eq. 9
-// at the step its D reached 1). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). output:
-// real4 per CE4 (max D over the points, mean opening [m], mean slip [m], time it broke [s]).
-// last_gap: real4 per CE4, the end gaps (x_i' - x_i, x_j' - x_j) [m] at the last step.
-// energy: real2 per CE4, (work done on it so far, energy it dissipated so far) [J].
+// at the step its D reached 1). gp_slip: real4 per CE4, the slip s_f [m] of the friction
+// element at each of the three points (w unused). status: int2 per CE4 (broken 0/1, mode
+// 0/1/2/3). output: real4 per CE4 (max D over the points, mean opening [m], mean slip [m],
+// time it broke [s]). last_gap: real4 per CE4, the end gaps (x_i' - x_i, x_j' - x_j) [m] at
+// the last step; last_chord: real2 per CE4, the chord c at the last step [m].
+// energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
+// energy it holds now, 0) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
@@ -98,11 +132,13 @@ __kernel void cohesive_forces(const uint n_ce4,
                               const real thickness,
                               const real time,
                               __global real4* restrict gp_state,
+                              __global real4* restrict gp_slip,
                               __global int2* restrict status,
                               __global real4* restrict output,
                               __global real2* restrict slots,
                               __global real4* restrict last_gap,
-                              __global real2* restrict energy) {
+                              __global real2* restrict last_chord,
+                              __global real4* restrict energy) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   const uint4 nd = ce4_nodes[e];  // (i, j, j', i')
@@ -114,7 +150,6 @@ __kernel void cohesive_forces(const uint n_ce4,
   const real chord_length = length(chord);
   const real2 t = chord / chord_length;
   const real2 n = (real2)(t.y, -t.x);
-  const real scale = (real)0.5 * chord_length * thickness;  // L t
 
   const real r = (real)0.3872983346207417;  // √15 / 10
   const real gauss_xi[3] = {(real)0.5 - r, (real)0.5, (real)0.5 + r};
@@ -133,16 +168,22 @@ __kernel void cohesive_forces(const uint n_ce4,
   int2 st = status[e];
   real broken_time = output[e].w;
   real damage = 0;
-  real2 f_i = (real2)(0, 0), f_j = (real2)(0, 0);
+  real2 f_i = (real2)(0, 0), f_j = (real2)(0, 0), f_m = (real2)(0, 0);
 
   if (!st.x) {
     __global const real* p = params + COH_STRIDE * e;
     const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = p[COH_OT], stl = p[COH_ST];
     const real Ts = p[COH_TS], coh = p[COH_C], tanphi = p[COH_TANPHI];
     const real A = p[COH_A], B = p[COH_B], C = p[COH_CEXP];
+    // Reference area h t: tractions are per unit reference area (see the header).
+    const real scale = p[COH_H] * thickness;
+    const real k_fric = (real)2 * coh / sp;  // stiffness of the friction element = P_tan / h [Pa/m]
     int at_one = 0;
     real share_sum = 0;
-    real held = 0;  // elastic energy per unit length-thickness, Σ w_g e_g
+    real held = 0;    // elastic energy per unit reference area, Σ w_g ψ_g
+    real moment = 0;  // Σ w_g (τ o - σ s) per unit reference area [N/m]
+    real4 slip_f = gp_slip[e];
+    real sf[3] = {slip_f.x, slip_f.y, slip_f.z};
 
     for (int g = 0; g < 3; ++g) {
       real4 gs = gp_state[3 * e + g];
@@ -183,7 +224,8 @@ __kernel void cohesive_forces(const uint n_ce4,
         held_n = (real)0.5 * sigma * og;
       }
 
-      const real strength = fmax((real)0, -sigma * tanphi + f * coh);
+      // Cohesive part of the shear (Eqs. 5 and 14 with the strength f c).
+      const real strength = f * coh;
       real tau, held_s;
       if (gs.z > sp && sa < gs.z) {
         tau = strength * sa / gs.z;
@@ -196,52 +238,79 @@ __kernel void cohesive_forces(const uint n_ce4,
         tau = strength;
         held_s = (real)0.5 * tau * sa;
       }
-      held += gauss_w[g] * (held_n + held_s);
       if (s[g] < (real)0) tau = -tau;
 
+      // Friction part (the -σ tanφ of Eq. 5 under compression): an elastic stick spring of
+      // stiffness k_fric on s - s_f, capped at tanφ |σ| (return to the cap moves s_f).
+      const real cap = tanphi * fmax(-sigma, (real)0);
+      real tau_f = k_fric * (s[g] - sf[g]);
+      if (fabs(tau_f) > cap) {
+        tau_f = tau_f > (real)0 ? cap : -cap;
+        sf[g] = s[g] - tau_f / k_fric;
+      }
+      tau += tau_f;
+      held_s += (real)0.5 * tau_f * tau_f / k_fric;
+
+      held += gauss_w[g] * (held_n + held_s);
+      moment += gauss_w[g] * (tau * og - sigma * s[g]);
       const real2 pg = (sigma * n + tau * t) * (gauss_w[g] * scale);
       f_i += ((real)1 - gauss_xi[g]) * pg;
       f_j += gauss_xi[g] * pg;
     }
+    gp_slip[e] = (real4)(sf[0], sf[1], sf[2], (real)0);
+    // The frame's share of the potential's gradient: +m n at i and i', -m n at j and j'
+    // (m = M / |c|), which cancels the moment of the traction pairs exactly.
+    f_m = (moment * scale / chord_length) * n;
 
     if (at_one >= 2) {
       const real share = share_sum / (real)at_one;
       st = (int2)(1, share >= (real)0.9 ? 1 : (share <= (real)0.1 ? 2 : 3));
       status[e] = st;
       broken_time = time;
-      f_i = f_j = (real2)(0, 0);
+      f_i = f_j = f_m = (real2)(0, 0);
       held = 0;
     }
 
-    // Work of this step on the CE4 (trapezoid), then the dissipated part.
+    // Work of this step on the CE4 (trapezoid): with slot_i = A + m, slot_i' = -A + m,
+    // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
     const real4 before = last_gap[e];
-    const real2 fi_before = slots[4 * e], fj_before = slots[4 * e + 1];
-    real2 account = energy[e];
-    account.x += (real)0.5 * (dot(fi_before + f_i, gap_i - before.xy) + dot(fj_before + f_j, gap_j - before.zw));
-    account.y = account.x - held * scale;
+    const real2 chord_before = last_chord[e];
+    const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
+    const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
+    const real2 m_before = (real)0.5 * (s_i + s_i2);
+    real4 account = energy[e];
+    account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
+                              dot(m_before + f_m, chord - chord_before));
+    account.z = held * scale;
+    // Fracture dissipation: what the CE4 was given and does not hold. The law cannot
+    // create energy (header), so this only moves up, except by the trapezoid rule's error
+    // on the elastic curves; the max keeps it from ever moving down.
+    account.y = fmax(account.y, account.x - account.z);
     energy[e] = account;
     last_gap[e] = (real4)(gap_i, gap_j);
+    last_chord[e] = chord;
   } else {
     for (int g = 0; g < 3; ++g) damage = fmax(damage, gp_state[3 * e + g].x);
   }
 
-  slots[4 * e] = f_i;
-  slots[4 * e + 1] = f_j;
-  slots[4 * e + 2] = -f_j;
-  slots[4 * e + 3] = -f_i;
+  slots[4 * e] = f_i + f_m;
+  slots[4 * e + 1] = f_j - f_m;
+  slots[4 * e + 2] = -f_j - f_m;
+  slots[4 * e + 3] = -f_i + f_m;
   output[e] = (real4)(damage, mean_o, mean_s, broken_time);
 }
 
-// One work-item per partial sum k: the energy dissipated by CE4s k, k + P, k + 2P, ...
-// (P = the number of partials), added in that fixed order, so the total the host forms
-// from the partials (again in order) is the same on every run.
-__kernel void cohesive_dissipated_partials(const uint n_ce4,
-                                           const uint n_partials,
-                                           __global const real2* restrict energy,
-                                           __global real* restrict partial) {
+// One work-item per partial sum k: the fracture dissipation (x) and the stored elastic
+// energy (y) of CE4s k, k + P, k + 2P, ... (P = the number of partials), added in that
+// fixed order, so the totals the host forms from the partials (again in order) are the
+// same on every run.
+__kernel void cohesive_energy_partials(const uint n_ce4,
+                                       const uint n_partials,
+                                       __global const real4* restrict energy,
+                                       __global real2* restrict partial) {
   const uint k = get_global_id(0);
   if (k >= n_partials) return;
-  real sum = 0;
-  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].y;
+  real2 sum = (real2)(0, 0);
+  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].yz;
   partial[k] = sum;
 }

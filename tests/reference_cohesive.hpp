@@ -15,6 +15,7 @@ using Vec = Eigen::Vector2d;
 
 // Constants of one CE4, from its fracture properties and initial edge length h.
 struct Law {
+  double h;  // initial edge length: tractions act per unit reference area h t
   double o_p, s_p, o_overlap, o_t, s_t;
   double tensile, cohesion, tan_phi;
   double A, B, C;
@@ -23,6 +24,7 @@ struct Law {
 inline Law make_law(const FractureProperties& p, double h) {
   const double I_f = softening_integral(p.a, p.b, p.c);
   Law law;
+  law.h = h;
   law.o_p = 2.0 * h * p.tensile_strength / p.penalty_opening;        // Eq. 6
   law.s_p = 2.0 * h * p.cohesion / p.penalty_sliding;                // Eq. 7
   law.o_overlap = 2.0 * h * p.tensile_strength / p.penalty_overlap;  // Eq. 8
@@ -52,7 +54,7 @@ struct PointState {
   double D_max = 0, o_max = 0, s_max = 0;
   int branch_at_break = kNone;   // Eq. 9's branch (by o > o_p, |s| > s_p) when D reached 1
   double opening_share = 0;      // a² / (a² + b²) of Eq. 9 when D reached 1
-  Vec delta_before = Vec::Zero(), push_before = Vec::Zero();  // δ and the face-1 force of the last step
+  double slip_f = 0;             // slip of the friction element (stick spring + Coulomb cap)
 };
 
 struct Ce4State {
@@ -61,7 +63,11 @@ struct Ce4State {
   int mode = kNone;
   double time = -1.0;
   double work = 0;        // work done on the CE4 so far [J]
-  double dissipated = 0;  // work minus the elastic energy it holds [J]
+  double dissipated = 0;  // fracture dissipation: max over time of (work - held) [J]
+  double held = 0;        // elastic energy it holds now [J]
+  std::array<Vec, 4> x_before{Vec::Zero(), Vec::Zero(), Vec::Zero(), Vec::Zero()};  // positions and forces
+  std::array<Vec, 4> force_before{Vec::Zero(), Vec::Zero(), Vec::Zero(), Vec::Zero()};  // of the last step
+  bool started = false;
 };
 
 // Failure mode of a CE4 from the mean opening share of its points at D = 1: the term of
@@ -71,6 +77,7 @@ inline int mode_of_share(double share) { return share >= 0.9 ? kModeI : share <=
 // What the branches did at one point (tests use it for coverage and bounds).
 struct PointResult {
   double o = 0, s = 0, sigma = 0, tau = 0, weight = 0;
+  double tau_c = 0, tau_f = 0;  // cohesive and friction parts of tau
   bool compressed = false, normal_unloading = false, shear_unloading = false, softening = false;
   Vec delta = Vec::Zero();
 };
@@ -98,8 +105,10 @@ inline Trial trial_damage(const Law& law, double o, double s) {
 
 // Elastic energy per unit area a point holds (what unloading to o = s = 0 along its
 // current branches, state frozen, gives back). Eq. 4's parabola integrates to
-// peak (x²/x_p - x³/(3 x_p²)); the secants of Eqs. 13-14 hold half traction × opening.
-inline double held_energy(const Law& law, const PointState& st, double o, double s, double sigma, double tau) {
+// peak (x²/x_p - x³/(3 x_p²)); the secants of Eqs. 13-14 hold half traction × opening;
+// the friction element holds τ_f² / (2 k_f).
+inline double held_energy(const Law& law, const PointState& st, double o, double s, double sigma, double tau_c,
+                          double tau_f) {
   const double f = f_of(st.D_max, law);
   double normal;
   if (o < 0) {
@@ -112,16 +121,18 @@ inline double held_energy(const Law& law, const PointState& st, double o, double
   const double a = std::fabs(s);
   double shear;
   if (st.s_max > law.s_p) {
-    shear = 0.5 * std::fabs(tau) * a;
+    shear = 0.5 * std::fabs(tau_c) * a;
   } else {
-    const double strength = std::max(0.0, law.cohesion * f - law.tan_phi * sigma);
-    shear = strength * (a * a / law.s_p - a * a * a / (3.0 * law.s_p * law.s_p));
+    shear = law.cohesion * f * (a * a / law.s_p - a * a * a / (3.0 * law.s_p * law.s_p));
   }
-  return normal + shear;
+  const double k_f = 2.0 * law.cohesion / law.s_p;
+  return normal + shear + 0.5 * tau_f * tau_f / k_f;
 }
 
-// Tractions at one point given its (already updated) state.
-inline void tractions(const Law& law, const PointState& st, double o, double s, PointResult& r) {
+// Tractions at one point given its (already updated) damage state; updates the friction
+// element's slip. Shear = cohesive part (Eqs. 5 and 14 with strength f c) + friction part
+// (stick spring k_f = P_tan / h on s - s_f, capped at tanφ max(0, -σ)).
+inline void tractions(const Law& law, PointState& st, double o, double s, PointResult& r) {
   const double f = f_of(st.D_max, law);
   r.softening = st.D_max > 0;
   if (o < 0) {
@@ -136,7 +147,7 @@ inline void tractions(const Law& law, const PointState& st, double o, double s, 
     const double q = o / law.o_p;
     r.sigma = law.tensile * f * q * (2.0 - q);
   }
-  const double strength = std::max(0.0, law.cohesion * f - law.tan_phi * r.sigma);
+  const double strength = law.cohesion * f;
   const double a = std::fabs(s);
   double magnitude;
   if (st.s_max > law.s_p && a < st.s_max) {
@@ -148,7 +159,16 @@ inline void tractions(const Law& law, const PointState& st, double o, double s, 
     const double q = a / law.s_p;
     magnitude = strength * q * (2.0 - q);
   }
-  r.tau = s < 0 ? -magnitude : magnitude;
+  r.tau_c = s < 0 ? -magnitude : magnitude;
+  const double k_f = 2.0 * law.cohesion / law.s_p;
+  const double cap = law.tan_phi * std::max(0.0, -r.sigma);
+  double tf = k_f * (s - st.slip_f);
+  if (std::fabs(tf) > cap) {
+    tf = tf > 0 ? cap : -cap;
+    st.slip_f = s - tf / k_f;
+  }
+  r.tau_f = tf;
+  r.tau = r.tau_c + tf;
 }
 
 // One step of one CE4 at nodal positions x (order i, j, j', i').
@@ -159,7 +179,6 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
 
   const Vec face1 = x[1] - x[0], face2 = x[2] - x[3];  // both from the i side to the j side
   const Vec sum = face1 + face2;
-  const double length = 0.5 * sum.norm();
   const Vec t = sum.normalized();
   const Vec n(t.y(), -t.x());  // right of t: away from triangle 1 (counter-clockwise, interior left)
   const Vec gap_i = x[3] - x[0], gap_j = x[2] - x[1];
@@ -198,26 +217,41 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
     for (int k = 0; k < at_one; ++k) mean += share_of[k] / at_one;
     state.mode = mode_of_share(mean);
   }
-  // Forces (none from the breaking step on) and the energy account: trapezoid of the
-  // face-1 force against the change of δ at each point; held energy at the Gauss weights.
-  double held = 0;
+  // Forces (none from the breaking step on): the gradient of the potential
+  // h t Σ_g w_g ψ_g(o_g, s_g) with the state frozen: the traction pairs at the points
+  // plus the frame's term ±(M / |c|) n (M = h t Σ w (τ o - σ s)), which cancels the
+  // traction pairs' moment.
+  double held = 0, moment = 0;
+  const double area = law.h * thickness;
   for (int g = 0; g < 3; ++g) {
     PointResult& p = res.point[g];
     PointState& st = state.point[g];
-    const Vec traction = p.sigma * n + p.tau * t;   // on face 1, towards face 2 when open
+    const Vec traction = p.sigma * n + p.tau * t;  // on face 1, towards face 2 when open
     Vec push = Vec::Zero();
-    if (!breaks) push = traction * (p.weight * length * thickness);
-    state.work += 0.5 * (st.push_before + push).dot(p.delta - st.delta_before);
-    st.push_before = push;
-    st.delta_before = p.delta;
-    if (!breaks) held += p.weight * held_energy(law, st, p.o, p.s, p.sigma, p.tau) * length * thickness;
+    if (!breaks) push = traction * (p.weight * area);
+    if (!breaks) held += p.weight * held_energy(law, st, p.o, p.s, p.sigma, p.tau_c, p.tau_f) * area;
+    moment += p.weight * area * (p.tau * p.o - p.sigma * p.s);
     const double N_i = 1.0 - xi[g], N_j = xi[g];
     res.force[0] += N_i * push;
     res.force[1] += N_j * push;
     res.force[2] -= N_j * push;
     res.force[3] -= N_i * push;
   }
-  state.dissipated = state.work - held;
+  if (!breaks) {
+    const Vec m = moment / sum.norm() * n;
+    res.force[0] += m;
+    res.force[1] -= m;
+    res.force[2] -= m;
+    res.force[3] += m;
+  }
+  // Work done on the CE4 by whatever moves its nodes: -Σ_a ½ (F_a,before + F_a) · Δx_a.
+  if (state.started)
+    for (int a = 0; a < 4; ++a) state.work -= 0.5 * (state.force_before[a] + res.force[a]).dot(x[a] - state.x_before[a]);
+  state.started = true;
+  state.x_before = x;
+  state.force_before = res.force;
+  state.held = held;
+  state.dissipated = std::max(state.dissipated, state.work - held);
   return res;
 }
 

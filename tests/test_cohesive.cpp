@@ -99,6 +99,10 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
     if (u(rng) < 0.25) w.drift_s = 0;  // pure opening/closing: slip only from noise
   }
   std::vector<rc::Ce4State> state(count);
+  for (size_t e = 0; e < count; ++e) {  // the kernel's account starts from the reference positions
+    state[e].x_before = nodes_of(rig.ref, e);
+    state[e].started = true;
+  }
   std::vector<real2> x(rig.ref.size());
   double worst_force = 0, worst_damage = 0, worst_kin = 0, worst_energy = 0, largest_dissipated = 0;
   int mismatched_status = 0;
@@ -169,7 +173,9 @@ TEST_CASE("kernel equals the reference on random CE4s over random opening/slidin
   CHECK(worst_force < kRel);
   CHECK(worst_damage < kRel);
   CHECK(worst_kin < kRel);
-  CHECK(worst_energy < kRel);
+  // The kernel sums the work from the end gaps and the chord, the reference from the four
+  // positions: the same sum in a different order, so a looser bound than the forces'.
+  CHECK(worst_energy < (kDoublePrecision ? 1e-11 : kRel));
   CHECK(largest_dissipated > 0.1);  // the comparison covered CE4s that dissipated energy
   CHECK(mismatched_status == 0);
   // The histories must have exercised every branch.
@@ -195,6 +201,7 @@ struct EnergyRun {
   double worst_elastic = 0;        // largest |dissipated| before the elastic limit [J]
   double worst_softening = 0;      // largest |dissipated - analytic| while softening [J]
   bool frozen_after = true;        // dissipated unchanged after breaking
+  double total_dissipation = -1, total_stored = -1;  // the stage's totals at the end [J]
 };
 
 EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double peak, const FractureProperties& p,
@@ -237,6 +244,8 @@ EnergyRun pull_apart(bool opening, double elastic_limit, double critical, double
     f_prev = f;
     x_prev = x;
   }
+  run.total_dissipation = rig.stage->fracture_dissipation();
+  run.total_stored = rig.stage->stored_energy();
   return run;
 }
 
@@ -251,6 +260,9 @@ void check_dissipated(const EnergyRun& run, double G_part, const std::string& na
   CHECK(run.worst_elastic < (kDoublePrecision ? 1e-6 : 1e-2) * G_part);
   CHECK(run.worst_softening < (kDoublePrecision ? 1e-5 : 2e-2) * G_part);
   CHECK(run.frozen_after);
+  // The stage's totals (the history's figures): all of it dissipated, nothing held.
+  CHECK(run.total_dissipation == run.dissipated_at_break);
+  CHECK(run.total_stored == 0.0);
 }
 
 TEST_CASE("pure mode I: the work to break one CE4 is G_fI L t (plus the small elastic pre-peak part)") {
@@ -329,11 +341,13 @@ TEST_CASE("irreversibility: unloading and reloading follow Eqs. 13-14 and f neve
     CHECK(traction_at(law.o_p + 0.5 * law.o_t).first == doctest::Approx(f_of(0.5) * p.tensile_strength).epsilon(tol));
     CHECK(traction_at(0.5 * o1).first ==
           doctest::Approx(f_of(0.5) * p.tensile_strength * 0.5 * o1 / (law.o_p + 0.5 * law.o_t)).epsilon(tol));
-    // Unloaded, the shear strength also keeps the lower f: below s_p the parabola × f(0.5) c
-    // minus the friction of the (tensile) normal traction.
+    // Unloaded, the shear strength also keeps the lower f: below s_p the parabola × f(0.5) c.
+    // A tensile σ no longer lowers it (the paper's -σ tanφ > 0 would): that coupling made the
+    // held shear energy grow for free when the CE4 closed at a fixed slip (cl_kernels/cohesive.cl).
     const double q = 0.5, o_small = 0.1 * law.o_p;
     const auto [sg, tau] = traction_at(o_small, q * law.s_p);
-    CHECK(tau == doctest::Approx(q * (2 - q) * (f_of(0.5) * p.cohesion - law.tan_phi * sg)).epsilon(tol));
+    CHECK(sg > 0);
+    CHECK(tau == doctest::Approx(q * (2 - q) * f_of(0.5) * p.cohesion).epsilon(tol));
     CHECK(rig.stage->broken()[0] == 0);
   }
 
@@ -375,12 +389,15 @@ TEST_CASE("compression: overlap penalty without f(D), no damage, shear strength 
   CHECK(at(-3.0 * law.o_overlap, 0).first == doctest::Approx(-6.0 * p.tensile_strength).epsilon(tol));
   CHECK(rig.stage->damage()[0] == 0);
   CHECK(rig.stage->broken()[0] == 0);
-  // Shear strength under σ = -4 T_s: at |s| = 0.9 s_p the parabola × (c + 4 T_s tanφ).
+  // Shear under σ = -4 T_s at |s| = 0.9 s_p: the cohesive parabola × c plus the friction
+  // element, k_f s = (2c / s_p) 0.9 s_p capped at 4 T_s tanφ (here the cap). The paper's
+  // parabola × (c + 4 T_s tanφ) made the held energy depend on σ (energy from
+  // compress-slip-release cycles, tests/test_cohesive_energy.cpp).
   const double sigma = -4.0 * p.tensile_strength;
   const double q = 0.9;
   auto [sg, tau] = at(-2.0 * law.o_overlap, q * law.s_p);
   CHECK(sg == doctest::Approx(sigma).epsilon(tol));
-  CHECK(tau == doctest::Approx(q * (2 - q) * (p.cohesion - sigma * law.tan_phi)).epsilon(tol));
+  CHECK(tau == doctest::Approx(q * (2 - q) * p.cohesion + std::min(2.0 * p.cohesion * q, -sigma * law.tan_phi)).epsilon(tol));
   CHECK(rig.stage->damage()[0] == 0);
   // Softening: D = 0.5 in shear; only the cohesion is softened, the normal traction is not.
   std::tie(sg, tau) = at(-2.0 * law.o_overlap, law.s_p + 0.5 * law.s_t);
@@ -396,7 +413,7 @@ TEST_CASE("compression: overlap penalty without f(D), no damage, shear strength 
   CHECK(rig.stage->mode()[0] == 2);
 }
 
-TEST_CASE("the four nodal forces have zero net force; zero moment when the forces act along the gap") {
+TEST_CASE("the four nodal forces have zero net force and zero net moment") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const size_t count = 300;
@@ -423,7 +440,7 @@ TEST_CASE("the four nodal forces have zero net force; zero moment when the force
             Vec((1.5 * u(rng) - 0.5) * law.o_p, (2 * u(rng) - 1) * (law.s_p + law.s_t)));
   }
   const auto f = rig.step(x, 0);
-  double worst_force = 0, worst_moment_aligned = 0, worst_moment_bound = 0;
+  double worst_force = 0, worst_moment_aligned = 0, worst_moment_general = 0;
   int nonzero = 0;
   for (size_t e = 0; e < count; ++e) {
     Vec net = Vec::Zero();
@@ -440,26 +457,17 @@ TEST_CASE("the four nodal forces have zero net force; zero moment when the force
     ++nonzero;
     const double L = (edges[e].second - edges[e].first).norm();
     worst_force = std::max(worst_force, net.norm() / magnitude);
-    if (e % 3 != 2) {
-      worst_moment_aligned = std::max(worst_moment_aligned, std::fabs(moment) / (magnitude * L));
-    } else {
-      // General case: the two faces' forces form couples of arm |δ| (they are equal and
-      // opposite but act at points a gap apart), so |M| <= Σ_g |δ_g| |p_g|.
-      rc::Ce4State st;
-      const auto r = rc::step(rig.laws[e], st, pos, 0.5, 0);
-      const Vec sum = (pos[1] - pos[0]) + (pos[2] - pos[3]);
-      double bound = 0;
-      for (const auto& pt : r.point)
-        bound += pt.delta.norm() * std::hypot(pt.sigma, pt.tau) * pt.weight * 0.5 * sum.norm() * 0.5;
-      worst_moment_bound = std::max(worst_moment_bound, std::fabs(moment) / (bound * (1 + 1e-6) + 1e-300));
-    }
+    if (e % 3 != 2) worst_moment_aligned = std::max(worst_moment_aligned, std::fabs(moment) / (magnitude * L));
+    else worst_moment_general = std::max(worst_moment_general, std::fabs(moment) / (magnitude * L));
   }
   MESSAGE("net force / Σ|f| ", worst_force, "; aligned |M| / (Σ|f| L) ", worst_moment_aligned,
-          "; general |M| / (Σ|δ||p|) ", worst_moment_bound);
+          "; general |M| / (Σ|f| L) ", worst_moment_general);
   CHECK(nonzero > static_cast<int>(count / 2));
   CHECK(worst_force < (kDoublePrecision ? 1e-14 : 1e-6));
   CHECK(worst_moment_aligned < (kDoublePrecision ? 1e-11 : 2e-3));
-  CHECK(worst_moment_bound <= 1.0 + (kDoublePrecision ? 1e-9 : 1e-3));
+  // The frame's term ±(M/|c|) n cancels the couple of the traction pairs (they act at
+  // points δ apart), so the moment is zero in general too (it used to be up to Σ|δ||p|).
+  CHECK(worst_moment_general < (kDoublePrecision ? 1e-11 : 2e-3));
 }
 
 TEST_CASE("breaking needs D = 1 at two Gauss points; a broken CE4 carries no force; mode and time kept") {

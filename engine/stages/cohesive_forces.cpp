@@ -49,7 +49,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   const size_t num_nodes = ref_position.size() / sizeof(real2);
   const auto ref = download<real2>(cl, ref_position, num_nodes);
   std::vector<cl_uint> nodes(4 * count_);
-  std::vector<real4> gaps(count_);  // end gaps at the start (zero for CE4s from a split mesh)
+  std::vector<real4> gaps(count_);   // end gaps at the start (zero for CE4s from a split mesh)
+  std::vector<real2> chords(count_); // chords (x_j - x_i) + (x_j' - x_i') at the start
   params_.assign(kStride * count_, real(0));
   const double deg = std::acos(-1.0) / 180.0;
   for (size_t e = 0; e < count_; ++e) {
@@ -68,6 +69,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     if (!(h > 0.0)) throw InputError("CE4 " + std::to_string(e) + " has a zero-length edge");
     const real2 ip = ref[model.ce4[e][3]], jp = ref[model.ce4[e][2]];
     gaps[e] = real4{ip.x - a.x, ip.y - a.y, jp.x - b.x, jp.y - b.y};
+    chords[e] = real2{(b.x - a.x) + (jp.x - ip.x), (b.y - a.y) + (jp.y - ip.y)};
     real* row = &params_[kStride * e];
     row[kOp] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
     row[kSp] = real(2.0 * h * f.cohesion / f.penalty_sliding);
@@ -86,20 +88,24 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   nodes_ = cl.allocate(nodes.size() * sizeof(cl_uint), "ce4_nodes");
   params_buffer_ = cl.allocate(params_.size() * sizeof(real), "ce4_params");
   gp_state_ = cl.allocate(3 * count_ * sizeof(real4), "ce4_gauss_state");
+  gp_slip_ = cl.allocate(count_ * sizeof(real4), "ce4_friction_slip");
   status_ = cl.allocate(2 * count_ * sizeof(cl_int), "ce4_status");
   output_ = cl.allocate(count_ * sizeof(real4), "ce4_output");
   slots_ = cl.allocate(4 * count_ * sizeof(real2), "ce4_force");
   last_gap_ = cl.allocate(count_ * sizeof(real4), "ce4_last_gap");
-  energy_ = cl.allocate(count_ * sizeof(real2), "ce4_energy");
-  partial_ = cl.allocate(partials_ * sizeof(real), "ce4_dissipated_partials");
+  last_chord_ = cl.allocate(count_ * sizeof(real2), "ce4_last_chord");
+  energy_ = cl.allocate(count_ * sizeof(real4), "ce4_energy");
+  partial_ = cl.allocate(partials_ * sizeof(real2), "ce4_energy_partials");
   upload(cl, nodes_, nodes);
   upload(cl, params_buffer_, params_);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
+  upload(cl, gp_slip_, std::vector<real4>(count_));
   upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
   upload(cl, output_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));
   upload(cl, slots_, std::vector<real2>(4 * count_));
   upload(cl, last_gap_, gaps);
-  upload(cl, energy_, std::vector<real2>(count_));
+  upload(cl, last_chord_, chords);
+  upload(cl, energy_, std::vector<real4>(count_));
 
   const auto program = cl.build("cohesive");
   kernel_ = compute::kernel(program, "cohesive_forces");
@@ -110,12 +116,14 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   kernel_.set_arg(4, static_cast<real>(model.thickness));
   kernel_.set_arg(5, real(0));
   kernel_.set_arg(6, gp_state_);
-  kernel_.set_arg(7, status_);
-  kernel_.set_arg(8, output_);
-  kernel_.set_arg(9, slots_);
-  kernel_.set_arg(10, last_gap_);
-  kernel_.set_arg(11, energy_);
-  partials_kernel_ = compute::kernel(program, "cohesive_dissipated_partials");
+  kernel_.set_arg(7, gp_slip_);
+  kernel_.set_arg(8, status_);
+  kernel_.set_arg(9, output_);
+  kernel_.set_arg(10, slots_);
+  kernel_.set_arg(11, last_gap_);
+  kernel_.set_arg(12, last_chord_);
+  kernel_.set_arg(13, energy_);
+  partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   partials_kernel_.set_arg(0, static_cast<cl_uint>(count_));
   partials_kernel_.set_arg(1, static_cast<cl_uint>(partials_));
   partials_kernel_.set_arg(2, energy_);
@@ -172,22 +180,27 @@ std::vector<int> CohesiveForces::mode() {
 }
 
 std::vector<real> CohesiveForces::energy_column(int k) {
-  const auto rows = download<real2>(cl_, energy_, count_);
+  const auto rows = download<real4>(cl_, energy_, count_);
   std::vector<real> column(count_);
-  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : rows[e].y;
+  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : rows[e].z;
   return column;
 }
 
 std::vector<real> CohesiveForces::work() { return energy_column(0); }
 std::vector<real> CohesiveForces::dissipated() { return energy_column(1); }
+std::vector<real> CohesiveForces::stored() { return energy_column(2); }
 
-double CohesiveForces::dissipated_total() {
-  if (count_ == 0) return 0.0;
+std::pair<double, double> CohesiveForces::energy_totals() {
+  if (count_ == 0) return {0.0, 0.0};
   cl_.enqueue(partials_kernel_, partials_);
-  double total = 0;
-  for (real v : download<real>(cl_, partial_, partials_)) total += double(v);
-  return total;
+  double dissipation = 0, stored = 0;
+  for (const real2& v : download<real2>(cl_, partial_, partials_)) dissipation += double(v.x), stored += double(v.y);
+  return {dissipation, stored};
 }
+
+double CohesiveForces::fracture_dissipation() { return energy_totals().first; }
+double CohesiveForces::stored_energy() { return energy_totals().second; }
+double CohesiveForces::dissipated_total() { return fracture_dissipation(); }
 
 size_t CohesiveForces::count_broken() {
   size_t n = 0;

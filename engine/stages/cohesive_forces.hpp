@@ -1,5 +1,6 @@
 // Stage: cohesive-element (CE4) forces (cl_kernels/cohesive.cl).
 #pragma once
+#include <utility>
 #include <vector>
 
 #include "engine/checkpoint.hpp"
@@ -40,11 +41,21 @@ class CohesiveForces {
   std::vector<real> broken_time();  // [s]; -1 while intact
   size_t count_broken();
   std::vector<real> work();         // work done on each CE4 so far [J]
-  std::vector<real> dissipated();   // energy each CE4 dissipated so far [J] (cl_kernels/cohesive.cl)
-  // Σ dissipated over all CE4s [J]: a device pass into a fixed number of partial sums,
-  // each over a fixed stride of CE4s, then the partials summed in order on the host, so
-  // the total is reproducible; reads back the partials only.
+  std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive.cl)
+  std::vector<real> stored();       // elastic energy each CE4 holds now [J]
+
+  // Totals over all CE4s [J]: a device pass into a fixed number of partial sums, each over
+  // a fixed stride of CE4s, then the partials summed in order on the host, so the totals
+  // are reproducible; reads back the partials only (waits).
+  // Recoverable elastic energy held by the intact CE4s at the positions of the last step.
+  double stored_energy();
+  // Energy dissipated by softening, breaking and the friction of the CE4s, cumulative;
+  // never decreases. Work done on the CE4s = stored_energy() + fracture_dissipation().
+  double fracture_dissipation();
+  // Alias of fracture_dissipation() (older callers).
   double dissipated_total();
+  // Both in one device pass: (fracture dissipation, stored energy).
+  std::pair<double, double> energy_totals();
 
   // Every CE4's state (Gauss points, status, outputs, last forces and gaps, energy), for checkpoints.
   void save_state(StateWriter& out) const;
@@ -58,8 +69,8 @@ class CohesiveForces {
   size_t partials_;
   std::vector<real> params_;
   compute::kernel kernel_, partials_kernel_;
-  compute::buffer nodes_, params_buffer_, gp_state_, status_, output_, slots_;
-  compute::buffer last_gap_, energy_, partial_;  // real4, real2 per CE4; real per partial
+  compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
+  compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
 };
 
 }  // namespace fdem
