@@ -61,14 +61,15 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   const double bandwidth = cl.info().is_gpu ? 4.3e12 : 0.0;  // H200 figure; no CPU bound printed
   std::ostringstream csv;
   csv << "h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,"
-         "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction\n";
+         "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account\n";
   out << "fdem bench on " << cl.description() << ": " << o.warmup << " warm-up + " << o.steps
       << " timed steps, dt 0.5 ns, activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
       << "ms/step on a plain queue, the stage times below it from a second run on a profiling queue\n";
   out << std::setw(6) << "h_ave" << std::setw(10) << "TRI3" << std::setw(10) << "CE4" << std::setw(10) << "nodes"
       << std::setw(11) << "couples" << std::setw(9) << "touch" << std::setw(6) << "rebd" << std::setw(11)
       << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(7)
-      << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << "\n";
+      << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << std::setw(13) << "no-account"
+      << std::setw(9) << "account" << "\n";
   for (double h : o.sizes) {
     const std::string dir = (std::filesystem::temp_directory_path() / "fdem-bench").string();
     std::ostringstream size, steps, skin;
@@ -78,16 +79,21 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const PreparedCase p = prepare_case(o.case_path, {size.str(), "time.dt=0.5e-9", "output.dir=\"" + dir + "\"",
                                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
                                                       skin.str()});
-    double seconds = 0;
-    {
-      Solver solver(timed, p.model, 0.5e-9);
-      for (long s = 0; s < o.warmup; ++s) solver.step();
+    // The step time with the energy account and without it, in the same process: the
+    // account's per-step sums (reactions, damping, viscous work) are what it costs, with
+    // an energy row every steps/1000 steps as a run has.
+    auto time_steps = [&](bool account) {
+      Solver solver(timed, p.model, 0.5e-9, account);
+      const long row = std::max(1L, (o.warmup + o.steps) / 1000);
+      for (long s = 0; s < o.warmup; ++s) solver.step(account && (s + 1) % row == 0);
       timed.finish();
       const auto start = std::chrono::steady_clock::now();
-      for (long s = 0; s < o.steps; ++s) solver.step();
+      for (long s = 0; s < o.steps; ++s) solver.step(account && (o.warmup + s + 1) % row == 0);
       timed.finish();
-      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    const double seconds = time_steps(true);
+    const double seconds_without = time_steps(false);
     const size_t before_bytes = cl.device_bytes_in_use();
     Solver solver(cl, p.model, 0.5e-9);
     for (long s = 0; s < o.warmup; ++s) solver.step();
@@ -97,6 +103,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     for (long s = 0; s < o.steps; ++s) solver.step();
     cl.collect_profile();
     const double ms = 1e3 * seconds / o.steps;
+    const double ms_without = 1e3 * seconds_without / o.steps;
     const size_t couples = solver.contact_candidates(), touching = solver.contact_touching();
     const long rebuilds = solver.contact_rebuilds() - rebuilds_before;
     const double bytes = bytes_per_step(p.model, couples, touching);
@@ -112,7 +119,8 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
         << std::setw(9) << std::setprecision(2) << paper_ms << std::setw(9) << std::setprecision(1)
         << (paper_ms > 0 ? paper_ms / ms : 0) << std::setw(8) << std::setprecision(0) << mib << std::setw(7)
         << per_tri << std::setw(10) << std::setprecision(3) << roofline << std::setw(7) << std::setprecision(3)
-        << (roofline > 0 ? roofline / ms : 0) << std::defaultfloat << "\n";
+        << (roofline > 0 ? roofline / ms : 0) << std::setw(13) << ms_without << std::setw(8) << std::setprecision(1)
+        << 100.0 * (ms - ms_without) / ms_without << "%" << std::defaultfloat << "\n";
     for (const auto& [name, t] : cl.profile()) {
       const auto it = before.find(name);
       const double spent = t.seconds - (it == before.end() ? 0 : it->second.seconds);
@@ -124,7 +132,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     csv << h << "," << p.model.num_triangles() << "," << p.model.ce4.size() << "," << p.model.num_nodes() << ","
         << couples << "," << touching << "," << rebuilds << "," << ms << "," << paper_ms << ","
         << (paper_ms > 0 ? paper_ms / ms : 0) << "," << mib << "," << per_tri << "," << roofline << ","
-        << (roofline > 0 ? roofline / ms : 0) << "\n";
+        << (roofline > 0 ? roofline / ms : 0) << "," << ms_without << "\n";
   }
   if (!o.csv.empty()) {
     std::ofstream file(o.csv);

@@ -17,8 +17,9 @@ void EnergyBalance::start(const EnergyTotals& initial) {
 
 double EnergyBalance::error(const EnergyTotals& now) {
   peak_kinetic_ = std::max(peak_kinetic_, now.kinetic);
-  const double scale =
-      std::max({std::fabs(now.supplied()), std::fabs(initial_stored_), peak_kinetic_, now.resolution});
+  // Gravity's work so far is minus its potential: LS-DYNA books it as external work.
+  const double scale = std::max({std::fabs(now.supplied()), std::fabs(initial_stored_), peak_kinetic_,
+                                 std::fabs(now.gravity_potential), now.resolution});
   const double residual = now.stored() + now.dissipated() - now.supplied() - initial_stored_;
   return scale > 0 ? residual / scale : 0.0;
 }

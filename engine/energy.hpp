@@ -33,7 +33,8 @@ class EnergyBalance {
   void start(const EnergyTotals& initial);
   bool started() const { return started_; }
   // (stored + dissipated - supplied - initial stored) / the largest of |supplied|, initial
-  // stored energy, the peak kinetic energy so far (updated by this call) and the account's
+  // stored energy, the peak kinetic energy so far (updated by this call), |gravity
+  // potential| (the work gravity has done, which LS-DYNA counts as supplied) and the account's
   // round-off bound (so that the first steps, when every energy is at the round-off of
   // the positions, do not count as errors; the bound is generous: in a coarse Brazilian
   // disc the contact potentials' actual noise was about 1/500 of it).

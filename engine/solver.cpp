@@ -10,16 +10,16 @@
 
 namespace fdem {
 
-Solver::Solver(ClContext& cl, const Model& model, double dt)
+Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     : cl_(cl),
       dt_(dt),
       arrays_(cl, model),
       triangle_forces_(cl, arrays_, model.thickness, dt,
-                       std::any_of(model.materials.begin(), model.materials.end(),
-                                   [](const MaterialConstants& m) { return m.viscosity != 0; })),
+                       account && std::any_of(model.materials.begin(), model.materials.end(),
+                                              [](const MaterialConstants& m) { return m.viscosity != 0; })),
       gather_(cl, arrays_),
       boundary_loads_(cl, arrays_, model.thickness, dt),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1) {
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1, account) {
   if (!model.ce4.empty()) {
     CohesiveModel ce4{model.ce4, model.ce4_properties, model.fracture, model.thickness};
     cohesive_ = std::make_unique<CohesiveForces>(cl, ce4, arrays_.position, arrays_.ref_position);
@@ -112,9 +112,8 @@ EnergyTotals Solver::energy() {
   triangle_forces_.add_energy(e);
   boundary_loads_.add_energy(e);
   if (cohesive_) {
-    e.fracture += cohesive_->dissipated_total();
-    const auto work = cohesive_->work(), lost = cohesive_->dissipated();
-    for (size_t k = 0; k < work.size(); ++k) e.cohesive_stored += double(work[k]) - double(lost[k]);
+    e.fracture += cohesive_->fracture_dissipation();
+    e.cohesive_stored += cohesive_->stored_energy();
   }
   if (contact_) {
     // Each touching couple's potential is P_n t times areas whose vertices are known to

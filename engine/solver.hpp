@@ -31,7 +31,10 @@ struct Conditions {
 class Solver {
  public:
   // Uploads the model, compiles every stage and computes the lumped masses.
-  Solver(ClContext& cl, const Model& model, double dt);
+  // `account` false leaves out the per-step energy sums that only the account needs (the
+  // reactions' and local damping's work, the viscous work): for `fdem bench` to measure
+  // what the account costs. Runs always keep it.
+  Solver(ClContext& cl, const Model& model, double dt, bool account = true);
 
   // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose
   // energy account (read once) starts the balance. With `energy_row` the step also

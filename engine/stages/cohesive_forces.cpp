@@ -148,7 +148,9 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_output", output_, count_, 4);
   out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
-  out.buffer<real>("ce4_energy", energy_, count_, 2);
+  out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
+  out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
+  out.buffer<real>("ce4_energy", energy_, count_, 4);
 }
 
 void CohesiveForces::load_state(StateReader& in) {
@@ -157,7 +159,9 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_output", output_, count_, 4);
   in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
-  in.buffer<real>("ce4_energy", energy_, count_, 2);
+  in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
+  in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
+  in.buffer<real>("ce4_energy", energy_, count_, 4);
 }
 
 std::vector<real> CohesiveForces::damage() { return output_column(0); }

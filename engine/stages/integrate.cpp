@@ -6,9 +6,9 @@
 namespace fdem {
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity,
-                     double local_damping, double dt, bool prescribed)
+                     double local_damping, double dt, bool prescribed, bool account)
     : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
-      account_work_(prescribed || local_damping != 0) {
+      account_work_(account && (prescribed || local_damping != 0)) {
   kernel_ = compute::kernel(cl.build("integrate", {{"GROUP_SIZE", std::to_string(cl.group_size())}}), "integrate");
   group_work_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "integrate group_work");
   group_row_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real4), "integrate group_row");

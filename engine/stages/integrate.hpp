@@ -12,9 +12,10 @@ namespace fdem {
 class Integrate {
  public:
   // `prescribed`: some node has a prescribed velocity component (then the reactions'
-  // work is accounted every step, as is the local damping's when local_damping > 0).
+  // work is accounted every step, as is the local damping's when local_damping > 0);
+  // `account` false leaves both out (Solver's switch for measuring the account's cost).
   Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity,
-            double local_damping, double dt, bool prescribed);
+            double local_damping, double dt, bool prescribed, bool account = true);
   // Advances every node from t to time_after = t + Δt. With energy_row, the step also
   // evaluates the kinetic energy and gravity potential at t (positions before the
   // update) for energy(). Never waits.
