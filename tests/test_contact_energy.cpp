@@ -213,17 +213,19 @@ TEST_CASE("block creeping on an incline: friction books the gravity work it take
   // the nearest unit lost 1.1% of the work (the account was 1.1% short at every row).
   const double friction_angle = std::atan(0.4) * 180 / M_PI;
   EnergyRun run(test::source_path("cases/sliding/incline.toml"), {incline_gravity(0.9 * friction_angle)});
+  // Allowed: 0.1% of the gravity work, + 1e-9 J for what the couples carry unbooked at a
+  // row (under half a unit each, 9 couples at most).
   const auto rows = run.run(0.05, 500);
   double worst = 0;
   size_t at = 1;
   for (size_t k = 1; k < rows.size(); ++k) {
-    const double relative = std::fabs(rows[k].total() - rows[0].total()) / std::fabs(rows[k].gravity);
-    if (relative > worst) worst = relative, at = k;
+    const double share = std::fabs(rows[k].total() - rows[0].total()) / (1e-3 * std::fabs(rows[k].gravity) + 1e-9);
+    if (share > worst) worst = share, at = k;
   }
-  MESSAGE("largest imbalance " << worst << " of the gravity work at " << rows[at] << "; last row " << rows.back());
+  MESSAGE("largest imbalance " << worst << " of the allowance at " << rows[at] << "; last row " << rows.back());
   CHECK(std::fabs(rows.back().gravity) > 3e-5);  // it crept: the friction did work
   CHECK(rows.back().friction > 0.95 * std::fabs(rows.back().gravity));
-  CHECK(worst < 1e-3);
+  CHECK(worst < 1);
 }
 
 TEST_CASE("disc impact: b = 1 conserves kinetic + strain + contact stored energy within 1% at every step; b = 2 loses what contact_damping_dissipation says") {
