@@ -10,7 +10,7 @@
 namespace fdem {
 
 namespace {
-constexpr int kHistory = 11;  // CONTACT_HISTORY in contact_forces.cl
+constexpr int kHistory = 12;  // CONTACT_HISTORY in contact_forces.cl
 
 // Room for a grown couple list: an eighth more (the lists are the largest arrays, about
 // 170 bytes a couple; couples grow slowly once the first detection has run).

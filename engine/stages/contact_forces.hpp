@@ -40,7 +40,7 @@ class ContactForces {
   double damping_dissipation();
   // friction_dissipation() + damping_dissipation() (one read).
   double dissipated_energy();
-  std::vector<real> history();   // per couple, 11 reals (waits; for tests)
+  std::vector<real> history();   // per couple, 12 reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
 
   // The couple list with each couple's history and live flag, and the energy sums (checkpoints).
