@@ -22,8 +22,8 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
                         model.materials.size() * kMaterialStride * r + 64;
   // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
   // per candidate couple its detection key and, with room for an eighth more, the
-  // force stage's key, two history lists (11 reals each), overlap-list entry and live
-  // flag. About 8 couples per candidate triangle (7 measured on the UCS mesh, all
+  // force stage's key, two history lists (12 reals each), overlap-list entry, live flag
+  // and the stored energy of an energy row (a real). About 8 couples per candidate triangle (7 measured on the UCS mesh, all
   // triangles candidates).
   size_t candidates = t;
   if (!model.contact_active.empty())
@@ -31,12 +31,18 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
                                                    [](uint32_t a) { return a != 0; }));
   const size_t couples = 8 * std::max<size_t>(candidates, 1);
   const size_t contact_bytes =
-      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 11 * r + u + 1) : 0;
-  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), status, output row,
-  // 4 force slots, last gaps (real4) and energy account (real2), 4 CSR entries.
-  const size_t ce4 =
-      model.ce4.size() * (4 * u + 12 * r + 3 * 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * r + 2 * r + 4 * u);
-  return nodes + tris + edges + tables + contact_bytes + ce4;
+      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 12 * r + u + 1 + r) : 0;
+  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), friction slips
+  // (real4), status, output row, 4 force slots, last gaps (real4), last chord (real2) and
+  // energy account (real4), 4 CSR entries.
+  const size_t ce4 = model.ce4.size() *
+                     (4 * u + 12 * r + 3 * 4 * r + 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * r + 2 * r + 4 * r + 4 * u);
+  // Energy account: A t σ_viscous of the last step per triangle (real4) when a material is
+  // viscous; per-work-group sums are negligible.
+  const bool viscous = std::any_of(model.materials.begin(), model.materials.end(),
+                                   [](const MaterialConstants& m) { return m.viscosity != 0; });
+  const size_t energy = viscous ? t * 4 * r : 0;
+  return nodes + tris + edges + tables + contact_bytes + ce4 + energy;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)

@@ -30,7 +30,9 @@ std::string disc_case(const test::TempDir& dir, const std::string& out, double e
   std::ostringstream text;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind("frames", 0) == 0 || line.rfind("history_every", 0) == 0 || line.rfind("dir", 0) == 0) continue;
+    if (line.rfind("frames", 0) == 0 || line.rfind("history_every", 0) == 0 || line.rfind("dir", 0) == 0 ||
+        line.rfind("energy_limit", 0) == 0)
+      continue;
     if (line.rfind("geo", 0) == 0) line = "geo = \"" + test::source_path("cases/brazilian/brazilian.geo") + "\"";
     if (line.rfind("size", 0) == 0) line = "size = 4e-3";
     if (line.rfind("end", 0) == 0) line = "end = " + std::to_string(end);
