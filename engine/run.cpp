@@ -329,6 +329,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
 
   const std::string ckpt_path = checkpoint_path(p);
   auto write_checkpoint = [&]() {
+    const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
     StateWriter out(cl, data);
     solver.save_state(out);
@@ -346,6 +347,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     data.integers["broken_ce4"] = solver.cohesive() ? static_cast<std::int64_t>(solver.cohesive()->count_broken()) : 0;
     io::write_checkpoint_file(ckpt_path, data);
     summary.checkpoint = ckpt_path;
+    summary.checkpoint_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   };
   const double checkpoint_every = config.output.checkpoint_every;
   double next_checkpoint = checkpoint_every > 0 ? (std::floor(solver.time() / checkpoint_every + 1e-9) + 1) * checkpoint_every : 0;

@@ -43,6 +43,7 @@ struct RunSummary {
   bool interrupted = false;  // stopped by a signal or --max-wall (a checkpoint was written)
   std::string stop_reason;   // "SIGTERM", "--max-wall", ...
   std::string checkpoint;    // the last checkpoint written
+  double checkpoint_seconds = 0;  // wall time the last checkpoint took (device read, file, sync)
 };
 
 struct RunOptions {
