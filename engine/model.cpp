@@ -552,10 +552,12 @@ StableStep stable_time_step(const Model& model) {
                                                         model.contact.max_tangential_penalty * h})
                                            : m.wave_modulus;
     // Intact CE4s: the traction slope at the origin is P/h on an element of size h, a
-    // modulus of about P (the largest of the opening, sliding and overlap penalties).
+    // modulus of about P (the largest of the opening, sliding and overlap penalties). In
+    // shear under compression the cohesive part and the friction element's stick spring
+    // (cl_kernels/cohesive.cl) act together: 2 P_tan.
     if (!model.triangle_fracturable.empty() && model.triangle_fracturable[t])
       for (const auto& f : model.fracture)
-        modulus = std::max({modulus, f.penalty_opening, f.penalty_sliding, f.penalty_overlap});
+        modulus = std::max({modulus, f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap});
     const double c = std::sqrt(modulus / m.density);
     const double omega = 2.0 * c / h;
     double xi = m.viscosity * omega / (2.0 * modulus);

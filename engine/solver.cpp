@@ -55,11 +55,13 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
   if (!model.ce4.empty()) {
     // An intact CE4 of penalty P on an edge of length L (= its h) is a spring of at most
     // (P/h) L t between its faces; the absolute row sums of its stiffness at a node are
-    // below √2 P t (∫N = ½ per node, two faces, the normal/tangent mix of x and y).
+    // below √2 P t (∫N = ½ per node, two faces, the normal/tangent mix of x and y). In
+    // shear the cohesive part and the friction element's stick spring add: 2 P_tan.
     std::vector<real> extra(model.num_nodes(), 0);
     for (size_t e = 0; e < model.ce4.size(); ++e) {
       const auto& f = model.fracture[model.ce4_properties[e]];
-      const double k = std::sqrt(2.0) * std::max({f.penalty_opening, f.penalty_sliding, f.penalty_overlap}) * model.thickness;
+      const double k =
+          std::sqrt(2.0) * std::max({f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap}) * model.thickness;
       for (int n : model.ce4[e]) extra[n] += static_cast<real>(k);
     }
     mass.set_extra_stiffness(extra);

@@ -147,9 +147,9 @@ TEST_CASE("a bar pulled apart breaks in mode I near the tensile strength; the cr
   // damaged but not broken. The halves vibrate after the split; intact CE4s' elastic
   // cycles then move the total by round-off of the trapezoid rule and the Mohr-Coulomb
   // coupling only (0.2 % seen), never by a loss.
-  const auto dissipated = test::read_variable(hist, "cohesive_energy_dissipated");
+  const auto dissipated = test::read_variable(hist, "fracture_dissipation");
   const double crack = test::read_variable(hist, "crack_length").back(), G_crack = 20.0 * crack;
-  MESSAGE("bar: cohesive_energy_dissipated first row " << dissipated.front() << " J, last " << dissipated.back()
+  MESSAGE("bar: fracture_dissipation first row " << dissipated.front() << " J, last " << dissipated.back()
           << " J = " << dissipated.back() / G_crack << " G_fI × crack_length × t");
   CHECK(std::fabs(dissipated.front()) < 1e-4 * G_crack);
   for (size_t k = 1; k < dissipated.size(); ++k) CHECK(dissipated[k] >= dissipated[k - 1] - 0.01 * G_crack);
