@@ -16,6 +16,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "base/hash.hpp"
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "io/exodus_writer.hpp"
@@ -129,17 +130,13 @@ std::string describe_failure(const Model& model, const Conditions& c) {
 // A hash of the mesh the run computes on (coordinates, triangles, CE4s): a checkpoint of
 // another mesh is refused.
 std::string model_hash(const Model& m) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](const void* p, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    for (size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 1099511628211ull;
-  };
-  mix(m.x.data(), m.x.size() * sizeof(double));
-  mix(m.y.data(), m.y.size() * sizeof(double));
-  for (const auto& t : m.triangles) mix(t.data(), sizeof(t));
-  for (const auto& c : m.ce4) mix(c.data(), sizeof(c));
+  Fnv1a h;
+  h.add(m.x.data(), m.x.size() * sizeof(double));
+  h.add(m.y.data(), m.y.size() * sizeof(double));
+  for (const auto& t : m.triangles) h.add(t.data(), sizeof(t));
+  for (const auto& c : m.ce4) h.add(c.data(), sizeof(c));
   std::ostringstream s;
-  s << std::hex << h << std::dec << " (" << m.num_nodes() << " nodes, " << m.num_triangles() << " TRI3, " << m.ce4.size() << " CE4)";
+  s << std::hex << h.value() << std::dec << " (" << m.num_nodes() << " nodes, " << m.num_triangles() << " TRI3, " << m.ce4.size() << " CE4)";
   return s.str();
 }
 

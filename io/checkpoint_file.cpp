@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "base/errors.hpp"
+#include "base/hash.hpp"
 
 namespace fdem::io {
 
@@ -52,18 +53,15 @@ struct Handle {
 
 // FNV-1a over every array's name and bytes: a damaged or truncated file fails it.
 std::uint64_t checksum(const std::vector<CheckpointArray>& arrays) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](const unsigned char* p, size_t n) {
-    for (size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ull;
-  };
+  Fnv1a h;
   std::vector<const CheckpointArray*> sorted;  // by name: the order they are stored in does not matter
   for (const auto& a : arrays) sorted.push_back(&a);
   std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->name < b->name; });
   for (const auto* a : sorted) {
-    mix(reinterpret_cast<const unsigned char*>(a->name.data()), a->name.size());
-    mix(a->bytes.data(), a->bytes.size());
+    h.add(a->name);
+    h.add(a->bytes.data(), a->bytes.size());
   }
-  return h;
+  return h.value();
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Meshing of .geo files through the gmsh CLI, into a cache named by a hash of the .geo
 // text and the element size.
+#include "base/hash.hpp"
 #include "io/gmsh_reader.hpp"
 
 #include <sys/wait.h>
@@ -35,15 +36,6 @@ std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
-}
-
-uint64_t fnv1a(const std::string& data) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : data) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
 }
 
 std::string last_lines(const std::string& text, int count) {
