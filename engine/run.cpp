@@ -369,9 +369,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     solver.step(history_due);
     const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
     const bool checkpoint_due = checkpoint_every > 0 && solver.time() >= next_checkpoint - 1e-6 * p.dt;
-    const double elapsed_now = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const bool stop_signal = options.stop && *options.stop;
-    const bool out_of_time = options.max_wall > 0 && elapsed_now > options.max_wall;
+    const bool out_of_time = options.max_wall > 0 &&
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > options.max_wall;
     const bool stopping = (stop_signal || out_of_time) && s < p.steps;
     if (frame_due || history_due || checkpoint_due || stopping || s % check_stride == 0) {
       const Conditions cond = solver.conditions();
