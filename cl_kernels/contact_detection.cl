@@ -187,8 +187,13 @@ __kernel void cell_range(const uint n_triangles,
 }
 
 // One work-item per triangle i: scans the 3x3 cells around the cell of its box centre;
-// for every triangle j > i listed there that is active, whose box overlaps i's and that
-// shares no node with i, it appends the key (ulong(i) << 32 | j). The slot comes from a
+// for every triangle j > i listed there that is a candidate with i, whose box overlaps i's
+// and that shares no node with i, it appends the key (ulong(i) << 32 | j). Candidates:
+// i and j both active, or (with BONDED_PAIRS, activation "fractured") j is one of the up
+// to three triangles a CE4 joins to i (bond_partners[3i..3i+2], NO_PARTNER where none).
+// Bonded couples take part from the start, active or not: their faces touch along the
+// CE4 and may overlap under compression; a couple switched on only when its CE4 breaks
+// would start with that overlap's contact energy, which no force supplied (issue 11). The slot comes from a
 // 32-bit atomic counter; past `capacity` nothing is written but the counter still counts,
 // so the host learns the exact size needed and reruns.
 // Inputs: tri_nodes, boxes [m], active (nonzero = takes part), the grid, cell ranges,
@@ -204,9 +209,17 @@ __kernel void find_couples(const uint n_triangles,
                            __global const uint* restrict sorted_tri,
                            const uint capacity,
                            volatile __global uint* count,
-                           __global ulong* restrict keys) {
+                           __global ulong* restrict keys,
+                           __global const uint* restrict bond_partners) {
   const uint i = get_global_id(0);
-  if (i >= n_triangles || active[i] == 0) return;
+  if (i >= n_triangles) return;
+#ifdef BONDED_PAIRS
+  const uint p0 = bond_partners[3 * i], p1 = bond_partners[3 * i + 1], p2 = bond_partners[3 * i + 2];
+  const bool i_active = active[i] != 0;
+  if (!i_active && p0 == NO_PARTNER && p1 == NO_PARTNER && p2 == NO_PARTNER) return;
+#else
+  if (active[i] == 0) return;
+#endif
   const uint4 d = dims[0];
   const real4 box = boxes[i];
   const int2 c = cell_of(box, grid[0], d);
@@ -221,7 +234,11 @@ __kernel void find_couples(const uint n_triangles,
       const uint last = cell_last[h];
       for (uint k = first; k <= last; ++k) {
         const uint j = sorted_tri[k];
+#ifdef BONDED_PAIRS
+        if (j <= i || !((i_active && active[j] != 0) || j == p0 || j == p1 || j == p2)) continue;
+#else
         if (j <= i || active[j] == 0) continue;
+#endif
         if (!boxes_overlap(box, boxes[j])) continue;
         const uint b0 = tri_nodes[3 * j], b1 = tri_nodes[3 * j + 1], b2 = tri_nodes[3 * j + 2];
         if (a0 == b0 || a0 == b1 || a0 == b2 || a1 == b0 || a1 == b1 || a1 == b2 ||

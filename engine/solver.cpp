@@ -26,7 +26,12 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     gather_.add_cohesive(cohesive_->slots());
   }
   if (model.contact.enabled) {
-    detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin);
+    // Activation "fractured": the two triangles of every CE4 are a couple from the start
+    // (see ContactDetection); the mask then adds the others as CE4s break.
+    detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin, 0,
+                                                    model.contact_active.empty()
+                                                        ? std::vector<std::array<int, 2>>{}
+                                                        : model.ce4_triangles);
     if (model.contact.rebuild_skin) {
       skin_ = std::make_unique<ContactSkin>(cl, arrays_, model.contact.skin, dt);
       integrate_.add_skin_test(skin_->position_at_build(), skin_->monitor(), &ContactSkin::slot_of);

@@ -1,6 +1,7 @@
 #include "engine/stages/contact_detection.hpp"
 
 #include <algorithm>
+#include <map>
 #include <boost/compute/algorithm/detail/radix_sort.hpp>
 #include <boost/compute/algorithm/sort.hpp>
 #include <boost/compute/algorithm/sort_by_key.hpp>
@@ -21,7 +22,8 @@ compute::buffer_iterator<T> at(const compute::buffer& b, size_t i) {
 
 }  // namespace
 
-ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, size_t initial_capacity)
+ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, size_t initial_capacity,
+                                   const std::vector<std::array<int, 2>>& bonds)
     : cl_(cl), count_(a.num_triangles) {
   const size_t group = cl.group_size();
   if (group == 0 || (group & (group - 1)) != 0)
@@ -45,11 +47,31 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   counter_ = cl.allocate(sizeof(cl_uint), "contact couple counter");
   keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact couples");
   upload(cl, active_, std::vector<cl_uint>(count_, 1u));
+  if (!bonds.empty()) {
+    std::vector<cl_uint> partners(3 * n, kNoPartner);
+    for (const auto& b : bonds)
+      for (int side = 0; side < 2; ++side) {
+        const size_t t = static_cast<size_t>(b[side]);
+        cl_uint* slot = &partners[3 * t];
+        int k = 0;
+        while (k < 3 && slot[k] != kNoPartner) ++k;
+        if (t >= count_ || k == 3)
+          throw InputError("contact detection: triangle " + std::to_string(t) + " is not in the mesh or has more than three CE4s");
+        slot[k] = static_cast<cl_uint>(b[1 - side]);
+      }
+    bond_partners_ = cl.allocate(partners.size() * sizeof(cl_uint), "contact bond partners");
+    upload(cl, bond_partners_, partners);
+  } else {
+    bond_partners_ = cl.allocate(sizeof(cl_uint), "contact bond partners (none)");
+  }
   // A defined grid before the first run (origin 0, unit cell, one cell).
   upload(cl, grid_, std::vector<real4>{real4{0, 0, 1, 0}});
   upload(cl, dims_, std::vector<cl_uint>{1, 1, 1, 0});
 
-  const auto program = cl.build("contact_detection", {{"GROUP_SIZE", std::to_string(group)}});
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(group)},
+                                                            {"NO_PARTNER", std::to_string(kNoPartner) + "u"}};
+  if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
+  const auto program = cl.build("contact_detection", defines);
   const cl_uint nt = static_cast<cl_uint>(count_);
 
   boxes_kernel_ = compute::kernel(program, "triangle_boxes");
@@ -101,6 +123,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   couples_kernel_.set_arg(9, static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
   couples_kernel_.set_arg(10, counter_);
   couples_kernel_.set_arg(11, keys_);
+  couples_kernel_.set_arg(12, bond_partners_);
 }
 
 void ContactDetection::grow(size_t needed) {

@@ -1,5 +1,6 @@
 // Stage: contact detection (cl_kernels/contact_detection.cl).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -12,7 +13,12 @@ class ContactDetection {
  public:
   // skin: margin [m] added around every triangle's bounding box (0 = touching boxes only).
   // initial_capacity: couples the output can hold before growing (0 = 8 per triangle).
-  ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0);
+  // bonds: pairs of triangles (each joined by a CE4) that are candidates whatever the
+  // active mask says (activation "fractured"; see find_couples in the kernel file). A
+  // triangle has at most three (one per edge).
+  ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
+                   const std::vector<std::array<int, 2>>& bonds = {});
+  static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
   // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
   // every side, overlap, and that share no node. Writes them to couple_keys() as
   // cl_ulong keys (ulong(i) << 32 | j), sorted ascending, unique; returns their count.
@@ -52,6 +58,7 @@ class ContactDetection {
 
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
   compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_;
+  compute::buffer bond_partners_;  // 3 cl_uint per triangle (bonds given), else one unused word
   compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
 };
 
