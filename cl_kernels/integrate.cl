@@ -21,10 +21,12 @@
 //   free:        the local damping force (f_d - f) works (f_d - f)·v̄ Δt (dissipated: minus it);
 //   prescribed:  the reaction R = m (v⁺ - v⁻)/Δt - f that keeps the path works R·v̄ Δt
 //                (boundary work, supplied).
-// Every step the work-group sums both (group_sum4, a fixed order) and work-item 0 adds
-// them to the group's own slot of group_work (cumulative). The very first step counts
-// only its forward half (F·v⁺/2 Δt), so the sums are the trapezoid rule in time from t = 0.
-// On an energy row (energy_row = 1) the group also writes to group_row: Σ ½ m v⁻·v⁺
+// Each node adds both to its own total in node_work (only nodes where they are not zero
+// write: free nodes without local damping cost nothing, and there is no per-step
+// reduction). The very first step counts only its forward half (F·v⁺/2 Δt), so the totals
+// are the trapezoid rule in time from t = 0. On an energy row (energy_row = 1) the
+// work-group sums the totals into group_work (group_sum4, a fixed order) and writes to
+// group_row: Σ ½ m v⁻·v⁺
 // (kinetic, inertia masses), Σ -m g·(x - X) (gravity potential, true masses, relative to
 // the reference positions X), and the forward halves F·v⁺/2 Δt of this step's damping and
 // reaction work, which the host subtracts so that the row's works run to t exactly.
@@ -51,7 +53,8 @@ __kernel void integrate(const uint n_nodes,
                         const int account_work,
                         const int energy_row,
                         __global real2* restrict group_work,
-                        __global real4* restrict group_row) {
+                        __global real4* restrict group_row,
+                        __global real2* restrict node_work) {
   __local uint moved[GROUP_SIZE], speed[GROUP_SIZE];
   __local real4 energy_scratch[GROUP_SIZE];
   const uint i = get_global_id(0), lid = get_local_id(0);
@@ -94,6 +97,8 @@ __kernel void integrate(const uint n_nodes,
       work.w = dot(pr, fwd);
       work.x = work.z + (step > 0 ? dot(pd, back) : (real)0);
       work.y = work.w + (step > 0 ? dot(pr, back) : (real)0);
+      if (work.x != (real)0 || work.y != (real)0) node_work[i] += work.xy;
+      if (energy_row) work.xy = node_work[i];  // the totals so far, for this row's sums
     }
     if (energy_row) {
       row.x = (real)0.5 * mass.y * dot(v_before, v);
@@ -112,15 +117,13 @@ __kernel void integrate(const uint n_nodes,
     }
   }
   // Energy sums: the flags are the same for every work-item, so no barrier is skipped by some only.
-  if (account_work || energy_row) {
+  if (energy_row) {
     const uint g = get_group_id(0);
     const real4 w = group_sum4(energy_scratch, work);
-    if (lid == 0 && account_work) group_work[g] += w.xy;
-    if (energy_row) {
-      barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the last sum
-      const real4 r = group_sum4(energy_scratch, row);
-      if (lid == 0) group_row[g] = (real4)(r.x, r.y, w.z, w.w);
-    }
+    if (lid == 0 && account_work) group_work[g] = w.xy;
+    barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the last sum
+    const real4 r = group_sum4(energy_scratch, row);
+    if (lid == 0) group_row[g] = (real4)(r.x, r.y, w.z, w.w);
   }
   if (!skin_monitor) return;  // the same for every work-item: no barrier is skipped by some only
   if (i == 0) {

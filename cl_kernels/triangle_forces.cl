@@ -11,8 +11,9 @@
 //     per node, x_now - x_before = v Δt with v the velocity the step's forces use. The
 //     triangle keeps A t σ_viscous of the step before (viscous_stress, 3 reals) and takes
 //     the positions before as x - v Δt, so f_before·v = -A t σ:L(v) there; f_now·v is
-//     -η D:D A t. Minus that work is the viscous dissipation, summed over the work-group
-//     into the group's slot .y. (Only f_now·v, as a first version did, misses half of the
+//     -η D:D A t. Minus that work is the viscous dissipation, added to the triangle's own
+//     total (viscous_stress .w: no per-step reduction, so it costs no barrier); on energy
+//     rows the work-group sums the totals into the group's slot .y. (Only f_now·v, as a first version did, misses half of the
 //     change of the viscous force over the step: with critical damping of split
 //     fracturable triangles, whose relative modes are near the stable limit, that was
 //     the largest term of the balance.) The first step has no "before".
@@ -83,8 +84,8 @@ inline real4 hyperelastic_stress(real4 F, real J, __global const real* m) {
   return sigma / J;
 }
 
-// Triangle t's corner forces; returns (strain energy on energy rows, viscous dissipation
-// of this step, 0, 0).
+// Triangle t's corner forces; returns (strain energy on energy rows, the triangle's viscous
+// dissipation so far, 0, 0).
 inline real4 triangle(const uint t,
                         __global const uint* restrict tri_nodes,
                         __global const real4* restrict ref_inverse,
@@ -143,7 +144,7 @@ inline real4 triangle(const uint t,
       const real now = eta * (lxx * lxx + lyy * lyy + (real)2 * dxy * dxy) * area_t;  // -f_now·v
       real before = (real)0;                                                          // -f_before·v
       if (step > 0) {
-        const real4 s = viscous_stress[t];  // (A t σxx, A t σyy, A t σxy) of the step before
+        const real4 s = viscous_stress[t];  // (A t σxx, A t σyy, A t σxy) of the step before, total
         const real2 p0 = x0 - v0 * dt, p1 = x1 - v1 * dt, p2 = x2 - v2 * dt;
         const real4 Pinv = inverse2((real4)(p1.x - p0.x, p2.x - p0.x, p1.y - p0.y, p2.y - p0.y));
         const real2 h1 = (real2)(Pinv.x, Pinv.y), h2 = (real2)(Pinv.z, Pinv.w), h0 = -(h1 + h2);
@@ -154,7 +155,9 @@ inline real4 triangle(const uint t,
         before = s.x * kxx + s.y * kyy + s.z * (kxy + kyx);
         energy.y = (real)0.5 * (before + now) * dt;
       }
-      viscous_stress[t] = area_t * eta * (real4)(lxx, lyy, dxy, (real)0);
+      const real total = viscous_stress[t].w + energy.y;  // this triangle's dissipation so far
+      viscous_stress[t] = (real4)(area_t * eta * lxx, area_t * eta * lyy, area_t * eta * dxy, total);
+      energy.y = total;
     }
   }
 
@@ -191,12 +194,12 @@ __kernel void triangle_forces(const uint n_triangles,
   if (t < n_triangles)
     energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
                       step, corner_force, stress, conditions, energy_mode, dt, viscous_stress);
-  if (energy_mode) {  // the same for every work-item: no barrier is skipped by some only
+  if (energy_mode & 2) {  // the same for every work-item: no barrier is skipped by some only
     const real4 sum = group_sum4(energy_scratch, energy);
     if (get_local_id(0) == 0) {
       real2 slot = group_energy[get_group_id(0)];
-      if (energy_mode & 2) slot.x = sum.x;
-      if (energy_mode & 1) slot.y += sum.y;
+      slot.x = sum.x;
+      if (energy_mode & 1) slot.y = sum.y;
       group_energy[get_group_id(0)] = slot;
     }
   }

@@ -168,9 +168,9 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
     const auto it = data.text.find(key);
     return it == data.text.end() ? std::string() : it->second;
   };
-  if (text("format_version") != "1")
+  if (text("format_version") != "2")
     throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") +
-                     "'; this fdem reads version 1");
+                     "'; this fdem reads version 2");
   const std::string precision = kDoublePrecision ? "double" : "float";
   if (text("precision") != precision)
     throw InputError("checkpoint '" + path + "' was written by a " + text("precision") + "-precision build; this is a " +
@@ -330,7 +330,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     io::CheckpointData data;
     StateWriter out(cl, data);
     solver.save_state(out);
-    data.text["format_version"] = "1";
+    data.text["format_version"] = "2";
     data.text["precision"] = kDoublePrecision ? "double" : "float";
     data.text["device"] = cl.description();
     data.text["case_path"] = config.path;

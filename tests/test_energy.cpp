@@ -109,7 +109,7 @@ TEST_CASE("viscous dissipation is the work the viscous forces absorb: -Σ f_visc
   stage.add_energy(before);
   upload(cl, arrays.velocity, vel);
   stage.enqueue(0);  // the first step: nothing before it to pair with
-  stage.enqueue(1);  // the same state again: the trapezoid of two equal forces
+  stage.enqueue(1, true);  // the same state again: the trapezoid of two equal forces; a row sums the totals
   const auto total = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
   EnergyTotals after;
   stage.add_energy(after);

@@ -14,6 +14,9 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   group_row_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real4), "integrate group_row");
   upload(cl, group_work_, std::vector<real2>(std::max<size_t>(1, groups_)));
   upload(cl, group_row_, std::vector<real4>(std::max<size_t>(1, groups_)));
+  const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
+  node_work_ = cl.allocate(work_items * sizeof(real2), "integrate node_work");
+  upload(cl, node_work_, std::vector<real2>(work_items));
   kernel_.set_arg(0, static_cast<cl_uint>(count_));
   kernel_.set_arg(1, a.position);
   kernel_.set_arg(2, a.velocity);
@@ -39,6 +42,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   kernel_.set_arg(21, cl_int(0));
   kernel_.set_arg(22, group_work_);
   kernel_.set_arg(23, group_row_);
+  kernel_.set_arg(24, node_work_);
 }
 
 void Integrate::add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor,

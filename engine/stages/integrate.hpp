@@ -29,15 +29,22 @@ class Integrate {
   void add_energy(EnergyTotals& totals);
 
   // The cumulative energy sums, for checkpoints.
-  void save_state(StateWriter& out) const { out.group_slots("integrate_work", group_work_, groups_, 2); }
-  void load_state(StateReader& in) { in.group_slots("integrate_work", group_work_, groups_, 2); }
+  void save_state(StateWriter& out) const {
+    out.group_slots("integrate_work", group_work_, groups_, 2);
+    if (account_work_) out.buffer<real>("integrate_node_work", node_work_, count_, 2);
+  }
+  void load_state(StateReader& in) {
+    in.group_slots("integrate_work", group_work_, groups_, 2);
+    if (account_work_) in.buffer<real>("integrate_node_work", node_work_, count_, 2);
+  }
 
  private:
   ClContext& cl_;
   size_t count_, groups_;
   bool account_work_;
   compute::kernel kernel_;
-  compute::buffer group_work_, group_row_;  // real2, real4 per work-group
+  compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
+  compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
   unsigned (*slot_of_)(long) = nullptr;
 };
 

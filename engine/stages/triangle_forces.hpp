@@ -20,7 +20,8 @@ class TriangleForces {
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
   void add_energy(EnergyTotals& totals);
 
-  // The cumulative energy sums, for checkpoints.
+  // The energy state, for checkpoints: the last row's sums and, per triangle, the viscous
+  // stress of the last step and its dissipation so far.
   void save_state(StateWriter& out) const {
     out.group_slots("triangle_energy", group_energy_, groups_, 2);
     if (viscous_) out.buffer<real>("triangle_viscous_stress", viscous_stress_, count_, 4);
@@ -35,8 +36,9 @@ class TriangleForces {
   size_t count_, groups_;
   bool viscous_;
   compute::kernel kernel_;
-  compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation)
-  compute::buffer viscous_stress_;  // real4 per triangle when viscous: A t σ_viscous of the last step
+  compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation) at the last row
+  // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
+  compute::buffer viscous_stress_;
 };
 
 }  // namespace fdem
