@@ -185,6 +185,7 @@ double ContactForces::dissipated_energy() {
 
 std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }
 std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
+std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, couple_stored_, count_); }
 
 void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));

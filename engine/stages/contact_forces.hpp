@@ -42,6 +42,7 @@ class ContactForces {
   double dissipated_energy();
   std::vector<real> history();   // per couple, 12 reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
+  std::vector<real> couple_stored();  // per couple, the stored energy of the last energy row [J] (waits; for tests)
 
   // The couple list with each couple's history and live flag, and the energy sums (checkpoints).
   void save_state(StateWriter& out) const;
