@@ -17,7 +17,8 @@ constexpr int kHistory = 12;  // CONTACT_HISTORY in contact_forces.cl
 size_t grown(size_t count) { return count + count / 8 + 1024; }
 }
 
-ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
+    : cl_(cl), arrays_(a), skin_(model.contact.rebuild_skin) {
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -139,6 +140,12 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(22, live_);
   forces_.set_arg(23, static_cast<cl_uint>(energy_row ? 1 : 0));
   forces_.set_arg(24, couple_stored_);
+  // The first list is the model as built: its overlaps push apart (their energy is in the
+  // balance's start). With a skin, a later list's new couple can overlap only when its
+  // triangles joined contact ("fractured"): it waits until they part. Without a skin a
+  // couple is found only once the boxes touch, and a fast approach may overlap by then.
+  forces_.set_arg(25, static_cast<cl_uint>(!skin_ || (new_list && lists_ == 0) ? 1 : 0));
+  if (new_list) ++lists_;
   cl_.enqueue(forces_, count);
   if (energy_row) {
     stored_groups_ = work_groups(cl_, count);
@@ -189,6 +196,7 @@ std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, co
 
 void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));
+  out.integer("contact_lists", static_cast<std::int64_t>(lists_));
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
   out.buffer<real>("contact_history", history_[current_], count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
@@ -197,6 +205,7 @@ void ContactForces::save_state(StateWriter& out) const {
 
 void ContactForces::load_state(StateReader& in) {
   count_ = static_cast<size_t>(in.integer("contact_couples"));
+  lists_ = static_cast<long>(in.integer("contact_lists"));
   if (count_ > capacity_) {
     capacity_ = grown(count_);
     keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");

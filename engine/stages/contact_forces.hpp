@@ -56,6 +56,8 @@ class ContactForces {
   compute::buffer keys_, history_[2], energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
+  bool skin_;       // detection with a skin (rebuild = "skin")
+  long lists_ = 0;  // couple lists taken so far (new_list calls)
   bool energy_row_requested_ = false;
   // The stored energy of each couple at the last energy row, and its per-work-group sums.
   void allocate_stored(size_t couples);
