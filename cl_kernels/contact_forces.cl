@@ -323,7 +323,8 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
 // idling beside separated neighbours. The list's order depends on scheduling, but what
 // contact_forces does per couple does not, and its sums are integer: the result does not.
 // counters[1]: entries in overlap_list (cleared by clear_contact_forces).
-// live[c]: 1 when couple c touched in the last step (written by both kernels; read in
+// live[c]: 1 when couple c touched in the last step, 2 when it overlaps but waits (see
+// contact_forces), 0 otherwise (written by both kernels; read in
 // place, to skip the history of couples that are apart and already forgotten; the host
 // counts them for the number of touching couples).
 // On GPUs the list grows by one global atomic per work-group (a local count first: one
@@ -481,7 +482,7 @@ __kernel void contact_forces(const uint n_couples,
   // clears the history); then it is an ordinary couple (docs/energy-notes.md).
   if ((found < 0 && !same_list && !keep_new_overlaps) || hist[HIST_OVERLAP_MAX] < (real)0) {
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
-    live[c] = 0;
+    live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
     return;
   }
   real2 v[2][3];
