@@ -416,7 +416,8 @@ __kernel void contact_forces(const uint n_couples,
                              __global uchar* restrict live,
                              const uint energy_row,
                              __global real* restrict couple_stored,
-                             const uint keep_new_overlaps) {
+                             __global const uint* restrict active,
+                             const uint joined_since) {
   const uint entry = get_global_id(0);
   if (entry >= n_couples || entry >= counters[1]) return;
   const uint c = overlap_list[entry];
@@ -474,13 +475,15 @@ __kernel void contact_forces(const uint n_couples,
   }
   real hist[CONTACT_HISTORY];
   for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
-  // A couple that a detection finds already overlapping (past the first detection, which
-  // finds the model as it was built): with a skin that only happens when triangles join
-  // contact under activation "fractured" next to one they already overlap at a corner.
-  // Its potential was never paid for by any work, so it stays without force or energy,
-  // marked by HIST_OVERLAP_MAX < 0, until its triangles part (normal_total ≤ 0 above
-  // clears the history); then it is an ordinary couple (docs/energy-notes.md).
-  if ((found < 0 && !same_list && !keep_new_overlaps) || hist[HIST_OVERLAP_MAX] < (real)0) {
+  // A new couple found overlapping because one of its triangles joined contact since the
+  // last detection (activation "fractured": its mask value, the join's stamp, is at least
+  // `joined_since`), next to a triangle it already overlapped at a corner: its potential was
+  // never paid for by any work, so it stays without force or energy, marked by
+  // HIST_OVERLAP_MAX < 0, until its triangles part (the separation test or normal_total ≤ 0
+  // clears the history); then it is an ordinary couple (docs/energy-notes.md). Couples that
+  // approached (both triangles in contact before) push at once as always.
+  const bool joined = active[tri[0]] >= joined_since || active[tri[1]] >= joined_since;
+  if ((found < 0 && !same_list && joined) || hist[HIST_OVERLAP_MAX] < (real)0) {
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
     live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
     return;

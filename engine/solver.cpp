@@ -47,6 +47,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       }
     }
     contact_ = std::make_unique<ContactForces>(cl, arrays_, model);
+    contact_->use_active_mask(detection_->active_mask());
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
     for (const auto& tri : model.triangles)
@@ -88,7 +89,7 @@ void Solver::step(bool energy_row) {
     // Detection every step, or with a skin once some node may have moved more than half
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
-    if (activation_) activation_->enqueue(ContactSkin::slot_of(steps_));
+    if (activation_) activation_->enqueue(ContactSkin::slot_of(steps_), steps_);
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
@@ -96,11 +97,11 @@ void Solver::step(bool energy_row) {
       if (cl_.profiling())
         cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      contact_->enqueue(detection_->couple_keys(), count, true, dt_, energy_row);
+      contact_->enqueue(detection_->couple_keys(), count, true, dt_, energy_row, steps_);
       if (skin_) skin_->mark();
       ++rebuilds_;
     } else {
-      contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row);
+      contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
   }
   boundary_loads_.enqueue(t, static_cast<int>(steps_));

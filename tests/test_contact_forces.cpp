@@ -1,6 +1,7 @@
 // Contact forces of one couple against independent references.
 #include <doctest/doctest.h>
 
+#include "engine/stages/contact_activation.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include "fixture.hpp"
 #include "reference.hpp"
@@ -136,20 +137,26 @@ struct TwoTriangles {
 
 class CoupleRunner {
  public:
+  // The candidate mask (activation "fractured": ContactActivation::join_stamp of the step a triangle joined).
+  void mask(const std::vector<cl_uint>& values) {
+    mask_ = test::context().allocate(values.size() * sizeof(cl_uint), "mask");
+    upload(test::context(), mask_, values);
+    forces_.use_active_mask(mask_);
+  }
   explicit CoupleRunner(const Model& m) : arrays_(test::context(), m), forces_(test::context(), arrays_, m) {
     keys_ = test::context().allocate(sizeof(cl_ulong), "keys");
     upload(test::context(), keys_, std::vector<cl_ulong>{(cl_ulong(0) << 32) | 1u});
   }
   // `couples`: 1 for the couple (0: an empty list, as a detection that found nothing).
   CoupleResult step(const std::array<Vector2d, 6>& x, const std::array<Vector2d, 6>& v, double dt, bool first,
-                    size_t couples = 1) {
+                    size_t couples = 1, long at_step = 0) {
     auto& cl = test::context();
     std::vector<real2> pos(6), vel(6);
     for (int k = 0; k < 6; ++k) pos[k] = {real(x[k].x()), real(x[k].y())}, vel[k] = {real(v[k].x()), real(v[k].y())};
     upload(cl, arrays_.position, pos);
     upload(cl, arrays_.velocity, vel);
     forces_.enqueue_clear();
-    forces_.enqueue(keys_, couples, first, dt, true);
+    forces_.enqueue(keys_, couples, first, dt, true, at_step);
     const auto acc = download<cl_long>(cl, arrays_.contact_acc, 12);
     CoupleResult r;
     for (int k = 0; k < 6; ++k) r.force[k] = Vector2d(double(acc[2 * k]), double(acc[2 * k + 1])) / forces_.force_scale();
@@ -165,7 +172,7 @@ class CoupleRunner {
  private:
   DeviceArrays arrays_;
   ContactForces forces_;
-  compute::buffer keys_;
+  compute::buffer keys_, mask_;
 };
 
 std::array<Vector2d, 6> still() {
@@ -453,11 +460,11 @@ TEST_CASE("An–Tannant damping: b = 1 and T = ∞ is elastic; b > 1 returns les
   CHECK(unload_ratio(1.0, 1e3) < 1.0);  // a low transition stress caps the loading force
 }
 
-TEST_CASE("a couple that a later skin detection finds already overlapping has no force until its triangles part") {
-  // With a skin, a detection finds every couple before it touches, but for triangles that
-  // join contact ("fractured") next to one they already overlap: that overlap's energy was
-  // never supplied, so the couple waits (docs/energy-notes.md). The first detection (the
-  // model as built) and detection without a skin are unchanged.
+TEST_CASE("a couple found overlapping because a triangle just joined contact waits until its triangles part") {
+  // Activation "fractured": a triangle that joins next to one it already overlaps at a
+  // corner brings an overlap whose energy was never supplied, so that couple waits
+  // (docs/energy-notes.md). Couples that approached, or whose triangle joined before the
+  // last detection, push at once.
   const double pn = 1e9, thick = 0.5, size = 1e-2;
   const Vector2d o(0.1, 0.2);
   const std::array<Vector2d, 3> c{o, o + Vector2d(size, 0), o + Vector2d(0, size)};
@@ -471,39 +478,47 @@ TEST_CASE("a couple that a later skin detection finds already overlapping has no
   const double expected = reference_energy({overlapping[0], overlapping[1], overlapping[2]},
                                            {overlapping[3], overlapping[4], overlapping[5]}, pn, thick);
   REQUIRE(expected > 0);
+  const double tol = kDoublePrecision ? 1e-9 : 1e-4;
   auto net_force = [](const CoupleResult& r) { return (r.force[0] + r.force[1] + r.force[2]).norm(); };
-  for (const bool skin : {true, false}) {
-    CAPTURE(skin);
+  auto runner_with = [&](const std::vector<cl_uint>& mask) {
     TwoTriangles two(pn, 0.0, 0.0, std::numeric_limits<double>::max(), 1.0, size);
     two.model.thickness = thick;
-    two.model.contact.rebuild_skin = skin;
-    two.model.contact.skin = skin ? 0.1 * size : 0.0;
-    CoupleRunner runner(two.model);
-    runner.step(apart, still(), 1e-9, true, 0);           // the first list: nothing found
-    const auto met = runner.step(overlapping, still(), 1e-9, true);  // a later list finds it overlapping
-    if (skin) {
-      CHECK(net_force(met) == 0);
-      CHECK(met.stored == 0);
-      CHECK(met.touching == 0);
-      const auto still_waiting = runner.step(overlapping, still(), 1e-9, false);
-      CHECK(net_force(still_waiting) == 0);
-      runner.step(apart, still(), 1e-9, false);  // they part: an ordinary couple from now on
-      const auto again = runner.step(overlapping, still(), 1e-9, false);
-      CHECK(net_force(again) > 0);
-      CHECK(again.stored == doctest::Approx(expected).epsilon(kDoublePrecision ? 1e-9 : 1e-4));
-    } else {
-      CHECK(net_force(met) > 0);
-      CHECK(met.stored == doctest::Approx(expected).epsilon(kDoublePrecision ? 1e-9 : 1e-4));
-    }
+    auto runner = std::make_unique<CoupleRunner>(two.model);
+    runner->mask(mask);
+    return runner;
+  };
+  SUBCASE("joined since the last detection: no force, no energy, not touching, until they part") {
+    auto r = runner_with({1u, ContactActivation::join_stamp(5)});
+    r->step(apart, still(), 1e-9, true, 0, 0);                    // step 0: a list without the couple
+    const auto met = r->step(overlapping, still(), 1e-9, true, 1, 5);  // step 5: the join's detection
+    CHECK(net_force(met) == 0);
+    CHECK(met.stored == 0);
+    CHECK(met.touching == 0);
+    CHECK(net_force(r->step(overlapping, still(), 1e-9, false, 1, 6)) == 0);  // still waiting
+    r->step(apart, still(), 1e-9, false, 1, 7);                               // they part
+    const auto again = r->step(overlapping, still(), 1e-9, false, 1, 8);      // an ordinary couple
+    CHECK(net_force(again) > 0);
+    CHECK(again.stored == doctest::Approx(expected).epsilon(tol));
+    CHECK(again.touching == 1);
   }
-  // The model as built: a first list's overlap pushes apart at once, skin or not.
-  TwoTriangles two(pn, 0.0, 0.0, std::numeric_limits<double>::max(), 1.0, size);
-  two.model.thickness = thick;
-  two.model.contact.rebuild_skin = true;
-  two.model.contact.skin = 0.1 * size;
-  CoupleRunner runner(two.model);
-  const auto built = runner.step(overlapping, still(), 1e-9, true);
-  CHECK(net_force(built) > 0);
+  SUBCASE("approached (both in contact from the start): pushes at once") {
+    auto r = runner_with({1u, 1u});
+    r->step(apart, still(), 1e-9, true, 0, 0);
+    const auto met = r->step(overlapping, still(), 1e-9, true, 1, 5);
+    CHECK(net_force(met) > 0);
+    CHECK(met.stored == doctest::Approx(expected).epsilon(tol));
+  }
+  SUBCASE("joined before the last detection: pushes at once") {
+    auto r = runner_with({1u, ContactActivation::join_stamp(2)});
+    r->step(apart, still(), 1e-9, true, 0, 0);
+    r->step(apart, still(), 1e-9, true, 0, 3);  // a detection after the join
+    const auto met = r->step(overlapping, still(), 1e-9, true, 1, 5);
+    CHECK(net_force(met) > 0);
+  }
+  SUBCASE("the model as built: the first list's overlap pushes at once") {
+    auto r = runner_with({1u, 1u});
+    CHECK(net_force(r->step(overlapping, still(), 1e-9, true, 1, 0)) > 0);
+  }
 }
 
 }  // TEST_SUITE

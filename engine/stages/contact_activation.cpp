@@ -17,9 +17,10 @@ ContactActivation::ContactActivation(ClContext& cl, const std::vector<std::array
   kernel_.set_arg(4, monitor);
 }
 
-void ContactActivation::enqueue(unsigned slot) {
+void ContactActivation::enqueue(unsigned slot, long step) {
   if (count_ == 0) return;
   kernel_.set_arg(5, static_cast<cl_uint>(slot));
+  kernel_.set_arg(6, join_stamp(step));
   cl_.enqueue(kernel_, count_);
 }
 

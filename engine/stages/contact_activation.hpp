@@ -15,9 +15,11 @@ class ContactActivation {
   // (ContactSkin::monitor()), where a join is flagged for the host to read later.
   ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
                     compute::buffer& active, compute::buffer& monitor);
-  // Marks the triangles of broken CE4s as candidates and flags a join in the ring's
-  // slot `slot`. Never waits.
-  void enqueue(unsigned slot);
+  // Marks the triangles of broken CE4s as candidates (mask value join_stamp(step)) and
+  // flags a join in the ring's slot `slot`. Never waits.
+  void enqueue(unsigned slot, long step);
+  // The mask value of a triangle that joins in step `step` (1 means "from the start").
+  static cl_uint join_stamp(long step) { return static_cast<cl_uint>(step + 2); }
 
  private:
   ClContext& cl_;

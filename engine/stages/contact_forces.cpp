@@ -1,5 +1,7 @@
 #include "engine/stages/contact_forces.hpp"
 
+#include "engine/stages/contact_activation.hpp"
+
 #include "engine/energy.hpp"
 
 #include <algorithm>
@@ -17,8 +19,7 @@ constexpr int kHistory = 12;  // CONTACT_HISTORY in contact_forces.cl
 size_t grown(size_t count) { return count + count / 8 + 1024; }
 }
 
-ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
-    : cl_(cl), arrays_(a), skin_(model.contact.rebuild_skin) {
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -75,6 +76,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   forces_.set_arg(17, a.contact_acc);
   forces_.set_arg(18, energy_);
   forces_.set_arg(19, counters_);
+  ones_ = cl.allocate(std::max<size_t>(1, a.num_triangles) * sizeof(cl_uint), "contact default candidate mask");
+  upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
+  forces_.set_arg(25, ones_);
   classify_.set_arg(6, a.tri_nodes);
   classify_.set_arg(7, a.position);
   classify_.set_arg(8, static_cast<real>(energy_scale_));
@@ -87,7 +91,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
 
 void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
 
-void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row) {
+void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row,
+                            long step) {
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
   const int next = new_list ? 1 - current_ : current_;
@@ -140,12 +145,10 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_.set_arg(22, live_);
   forces_.set_arg(23, static_cast<cl_uint>(energy_row ? 1 : 0));
   forces_.set_arg(24, couple_stored_);
-  // The first list is the model as built: its overlaps push apart (their energy is in the
-  // balance's start). With a skin, a later list's new couple can overlap only when its
-  // triangles joined contact ("fractured"): it waits until they part. Without a skin a
-  // couple is found only once the boxes touch, and a fast approach may overlap by then.
-  forces_.set_arg(25, static_cast<cl_uint>(!skin_ || (new_list && lists_ == 0) ? 1 : 0));
-  if (new_list) ++lists_;
+  // Joins since the last list (activation runs before detection in a step, so a join in
+  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
+  forces_.set_arg(26, static_cast<cl_uint>(ContactActivation::join_stamp(last_list_step_ + 1)));
+  if (new_list) last_list_step_ = step;
   cl_.enqueue(forces_, count);
   if (energy_row) {
     stored_groups_ = work_groups(cl_, count);
@@ -196,7 +199,7 @@ std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, co
 
 void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));
-  out.integer("contact_lists", static_cast<std::int64_t>(lists_));
+  out.integer("contact_last_list_step", static_cast<std::int64_t>(last_list_step_));
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
   out.buffer<real>("contact_history", history_[current_], count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
@@ -205,7 +208,7 @@ void ContactForces::save_state(StateWriter& out) const {
 
 void ContactForces::load_state(StateReader& in) {
   count_ = static_cast<size_t>(in.integer("contact_couples"));
-  lists_ = static_cast<long>(in.integer("contact_lists"));
+  last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
   if (count_ > capacity_) {
     capacity_ = grown(count_);
     keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");

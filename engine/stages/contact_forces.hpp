@@ -21,7 +21,12 @@ class ContactForces {
   // energy_row the step also sums the stored energy of all couples (stored_energy()),
   // at the positions and slips this step's forces use; that costs a little in the force
   // kernel, so ask for it on history rows only. Never waits.
-  void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row = false);
+  void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row = false,
+               long step = 0);
+  // The detection's candidate mask (cl_uint per triangle; join stamps under "fractured",
+  // ContactActivation): a new couple found overlapping because a triangle joined waits.
+  // Until set, a mask of ones (nobody ever joins).
+  void use_active_mask(const compute::buffer& active) { forces_.set_arg(25, active); }
   // Makes the next enqueue an energy row whatever its argument says (for callers that
   // do not make the enqueue call themselves, e.g. tests stepping a Solver).
   void request_energy_row() { energy_row_requested_ = true; }
@@ -56,8 +61,8 @@ class ContactForces {
   compute::buffer keys_, history_[2], energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
-  bool skin_;       // detection with a skin (rebuild = "skin")
-  long lists_ = 0;  // couple lists taken so far (new_list calls)
+  long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
+  compute::buffer ones_;      // the default candidate mask
   bool energy_row_requested_ = false;
   // The stored energy of each couple at the last energy row, and its per-work-group sums.
   void allocate_stored(size_t couples);
