@@ -32,13 +32,17 @@ std::string bar(const test::TempDir& dir, const std::string& material_extra, con
                                    material_extra + extra);
 }
 
-const char* kPull = R"(
+// The bar's supports: its left edge held in x, its bottom edge in y.
+const std::string kHeld = R"(
 [[boundary]]
 region = "left"
 fix = ["x"]
 [[boundary]]
 region = "bottom"
 fix = ["y"]
+)";
+
+const std::string kPull = kHeld + R"(
 [[boundary]]
 region = "right"
 velocity = [0.5, 0.0]
@@ -51,12 +55,7 @@ const std::string kBarTension = R"(
 [damping]
 local = 0.8
 mass_scaling = true
-[[boundary]]
-region = "left"
-fix = ["x"]
-[[boundary]]
-region = "bottom"
-fix = ["y"]
+)" + kHeld + R"(
 [[boundary]]
 region = "right"
 traction = [0.5e6, 0.0]
