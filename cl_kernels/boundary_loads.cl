@@ -22,11 +22,7 @@
 // work; the work-group sums both (fixed order) into its own slot of group_energy. The
 // first step has no "before" and adds nothing.
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
-#define LOAD_TRACTION 0
-#define LOAD_PRESSURE 1
-#define LOAD_BLAST 2
-#define LOAD_TABLE 3
-#define LOAD_ABSORBING 4
+// The kinds' values (LOAD_*) are defined in engine/layouts.hpp.
 
 // Pressure at `time` from the table's points [first, first + count).
 inline real table_pressure(__global const real2* points, uint first, uint count, real time) {

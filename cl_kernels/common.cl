@@ -1,5 +1,5 @@
-// Shared by every stage: precision typedefs, small 2x2 matrix helpers, the layout of
-// the material table and of the condition flags. Prepended to each stage's source.
+// Shared by every stage: precision typedefs, small 2x2 matrix helpers, the work-group
+// sum. Prepended to each stage's source.
 #ifdef FDEM_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double real;
@@ -25,28 +25,9 @@ inline real4 inverse2(real4 m) {
   return (real4)(m.w * inv, -m.y * inv, -m.z * inv, m.x * inv);
 }
 
-// Material table: MATERIAL_STRIDE reals per material (engine/materials.hpp fills it).
-#define MATERIAL_STRIDE 12
-#define MAT_MODEL 0        /* 0 Neo-Hookean (Eq. 1), 1 hyperelastic (Eqs. 2-3) */
-#define MAT_LAMBDA 1       /* Lamé λ of the 2D model [Pa] (plane stress: 2λμ/(λ+2μ)) */
-#define MAT_MU 2           /* shear modulus μ [Pa] */
-#define MAT_C11 3          /* Voigt stiffness, global frame, on (xx, yy, 2xy) [Pa] */
-#define MAT_C12 4
-#define MAT_C16 5
-#define MAT_C22 6
-#define MAT_C26 7
-#define MAT_C66 8
-#define MAT_VISCOSITY 9    /* η of the viscous stress η D [Pa s] */
-#define MAT_DENSITY 10     /* ρ [kg/m³] */
-#define MAT_RESERVED 11     /* unused */
-
-// Condition flags: the first (lowest-index) offender of each kind and the step.
-// The host initialises every word to INT_MAX and reads them at checks.
-#define COND_BAD_NODE 0       /* node whose position or velocity became NaN/inf */
-#define COND_BAD_NODE_STEP 1
-#define COND_INVERTED_TRI 2   /* triangle whose Jacobian became <= 0 */
-#define COND_INVERTED_STEP 3
-#define CONDITION_WORDS 4
+// The layouts of the material table (MAT_*, MATERIAL_STRIDE), the condition words
+// (COND_*, CONDITION_WORDS) and the other arrays shared with the host are #defines that
+// ClContext::build prepends from engine/layouts.hpp, where each is written once.
 
 // Work-group sum of one real4 per work-item by a fixed pairwise tree, so the sum and its
 // rounding are the same on every run; the result is valid in work-item 0. Every
@@ -59,6 +40,32 @@ inline real4 group_sum4(__local real4* scratch, real4 value) {
   barrier(CLK_LOCAL_MEM_FENCE);
   for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
     if (lid < s) scratch[lid] += scratch[lid + s];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  return scratch[0];
+}
+
+// Work-group maxima by the same fixed tree: of one real4 per work-item (componentwise
+// fmax; for a minimum pass the negated value) and of one uint2 (integer max: float bits
+// of non-negative values order as the values, and NaN bits above +inf, so a NaN is never
+// lost). Valid in work-item 0; every work-item must call them (barriers).
+inline real4 group_max4(__local real4* scratch, real4 value) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
+    if (lid < s) scratch[lid] = fmax(scratch[lid], scratch[lid + s]);
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  return scratch[0];
+}
+
+inline uint2 group_max_uint2(__local uint2* scratch, uint2 value) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
+    if (lid < s) scratch[lid] = max(scratch[lid], scratch[lid + s]);
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   return scratch[0];

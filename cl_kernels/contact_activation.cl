@@ -3,8 +3,8 @@
 // A joining triangle's mask entry becomes `stamp` (step + 2; 1 is "from the start"), so
 // the contact stage can tell the couples it meets over an overlap because a triangle
 // joined (contact_forces.cl) from those that approached.
-// When a triangle joins, word 2 of this step's slot of the skin monitor ring
-// (engine/stages/contact_skin.hpp) is set, so the host runs a new detection when it reads that slot.
+// When a triangle joins, word RING_JOINED of this step's slot of the monitor ring
+// (engine/stages/monitor_ring.hpp) is set, so the host runs a new detection when it reads that slot.
 // Every writer writes the same value (the step's stamp), so the result does not depend on the order.
 __kernel void activate_broken(const uint n_ce4,
                               __global const int2* restrict status,
@@ -19,6 +19,6 @@ __kernel void activate_broken(const uint n_ce4,
   if (active[t.x] == 0u || active[t.y] == 0u) {
     if (active[t.x] == 0u) active[t.x] = stamp;
     if (active[t.y] == 0u) active[t.y] = stamp;
-    monitor[4 * slot + 2] = 1u;
+    monitor[RING_WORDS * slot + RING_JOINED] = 1u;
   }
 }

@@ -49,8 +49,7 @@ __kernel void triangle_boxes(const uint n_triangles,
                              __global real4* restrict boxes,
                              __global real4* restrict partial_bounds,
                              __global real* restrict partial_side) {
-  __local real4 bounds[GROUP_SIZE];
-  __local real side[GROUP_SIZE];
+  __local real4 scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
   const uint lid = get_local_id(0);
   real4 mine = (real4)((real)INFINITY, (real)INFINITY, -(real)INFINITY, -(real)INFINITY);
@@ -64,21 +63,13 @@ __kernel void triangle_boxes(const uint n_triangles,
     boxes[t] = mine;
     my_side = fmax(mine.z - mine.x, mine.w - mine.y);
   }
-  bounds[lid] = mine;
-  side[lid] = my_side;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint s = GROUP_SIZE / 2; s > 0; s >>= 1) {
-    if (lid < s) {
-      const real4 o = bounds[lid + s];
-      const real4 m = bounds[lid];
-      bounds[lid] = (real4)(fmin(m.x, o.x), fmin(m.y, o.y), fmax(m.z, o.z), fmax(m.w, o.w));
-      side[lid] = fmax(side[lid], side[lid + s]);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  // Lowest corner as the maximum of the negated one.
+  const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
+  barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
+  const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
   if (lid == 0) {
-    partial_bounds[get_group_id(0)] = bounds[0];
-    partial_side[get_group_id(0)] = side[0];
+    partial_bounds[get_group_id(0)] = (real4)(-folded.x, -folded.y, folded.z, folded.w);
+    partial_side[get_group_id(0)] = largest;
   }
 }
 
@@ -96,8 +87,7 @@ __kernel void grid_setup(const uint n_groups,
                          const uint max_cells,
                          __global real4* restrict grid,
                          __global uint4* restrict dims) {
-  __local real4 bounds[GROUP_SIZE];
-  __local real side[GROUP_SIZE];
+  __local real4 scratch[GROUP_SIZE];
   const uint lid = get_local_id(0);
   real4 mine = (real4)((real)INFINITY, (real)INFINITY, -(real)INFINITY, -(real)INFINITY);
   real my_side = 0;
@@ -106,22 +96,12 @@ __kernel void grid_setup(const uint n_groups,
     mine = (real4)(fmin(mine.x, o.x), fmin(mine.y, o.y), fmax(mine.z, o.z), fmax(mine.w, o.w));
     my_side = fmax(my_side, partial_side[g]);
   }
-  bounds[lid] = mine;
-  side[lid] = my_side;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint s = GROUP_SIZE / 2; s > 0; s >>= 1) {
-    if (lid < s) {
-      const real4 o = bounds[lid + s];
-      const real4 m = bounds[lid];
-      bounds[lid] = (real4)(fmin(m.x, o.x), fmin(m.y, o.y), fmax(m.z, o.z), fmax(m.w, o.w));
-      side[lid] = fmax(side[lid], side[lid + s]);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
+  barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
+  const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
   if (lid != 0) return;
 
-  const real4 b = bounds[0];
-  const real largest = side[0];
+  const real4 b = (real4)(-folded.x, -folded.y, folded.z, folded.w);
   const real width = b.z - b.x, height = b.w - b.y;
   const real magnitude = fmax(fmax(fabs(b.x), fabs(b.y)), fmax(fabs(b.z), fabs(b.w)));
   real cell = largest * (real)1.015625 + (real)16 * REAL_EPS * magnitude;
@@ -209,8 +189,11 @@ __kernel void find_couples(const uint n_triangles,
                            __global const uint* restrict sorted_tri,
                            const uint capacity,
                            volatile __global uint* count,
-                           __global ulong* restrict keys,
-                           __global const uint* restrict bond_partners) {
+                           __global ulong* restrict keys
+#ifdef BONDED_PAIRS
+                           , __global const uint* restrict bond_partners
+#endif
+                           ) {
   const uint i = get_global_id(0);
   if (i >= n_triangles) return;
 #ifdef BONDED_PAIRS

@@ -43,24 +43,16 @@
 // previous couple list by binary search on the key.
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#define CONTACT_HISTORY 12
-// History slots: 0–5 slip of each edge pass; then
-#define HIST_OVERLAP_MAX 6  /* o_n_max (damped couples; σ there is min(P_n o_n_max, T)) */
-#define HIST_RATIO 7        /* σ/σ_try of the last step (damped couples) */
-#define HIST_ENERGY 8       /* E of the last step (damped couples) */
-#define HIST_PENDING 9      /* what the friction springs dissipate if the couple lets go */
-#define HIST_HELD 10        /* work done on the damped normal force not yet dissipated */
-#define HIST_REST 11        /* friction dissipated but not yet booked: below the accumulator's unit */
-#define CONTACT_PROPS 8   /* per material pair: P_n, P_tan, μ, T, b, damped (0/1) */
+// The history slots (HIST_*, CONTACT_HISTORY; 0-5 the slip of each edge pass) and the
+// material-pair row (PAIR_*, CONTACT_PROPS) are defined in engine/layouts.hpp.
 // The stage's cumulative dissipation, 64-bit fixed point (energy_scale units): friction
 // and contact damping. Each couple books whole units only and carries the rest to its next
 // step (friction: HIST_REST; damping: back into HIST_HELD), so nothing is lost to the
 // rounding: each couple's increments of a step are often below the unit (2⁻³² J), and
 // rounding every one of them to the nearest unit lost 1.1% of the friction work of a block
 // creeping on an incline (5 couples, 3e-10 J a step each). (The stored energy of an energy row goes to couple_stored, summed
-// in couple order: a row's value needs more resolution than 2⁻³² J per couple.)
-#define ENERGY_FRICTION 0
-#define ENERGY_DAMPING 1
+// in couple order: a row's value needs more resolution than 2⁻³² J per couple.) The
+// words' indices (ENERGY_FRICTION, ENERGY_DAMPING) are in engine/layouts.hpp.
 
 // Compare-exchange: a ≤ b afterwards.
 #define SORT2(a, b)           \
@@ -429,8 +421,9 @@ __kernel void contact_forces(const uint n_couples,
   barycentric_values(x, lv);
   __global const real* props =
       pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
-  const real Pn = props[0], Ptan = props[1], mu = props[2], T = props[3], b = props[4];
-  const int damped = props[5] != (real)0;
+  const real Pn = props[PAIR_NORMAL_PENALTY], Ptan = props[PAIR_TANGENTIAL_PENALTY], mu = props[PAIR_FRICTION],
+             T = props[PAIR_TENSILE], b = props[PAIR_DAMPING];
+  const int damped = props[PAIR_DAMPED] != (real)0;
 
   const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
 

@@ -8,11 +8,12 @@
 // reads for history (max unbalanced force, reactions on constrained regions).
 // bc_table per group: (mask, vx, vy, rise); mask bit 0 = x prescribed, bit 1 = y.
 //
-// With a contact skin (skin_monitor != 0) the step also takes the skin test of the next
-// step's contact stage (engine/stages/contact_skin.hpp explains the ring): the node's move since the
-// last detection and its speed, the work-group's largest of each folded into slot
-// `slot` with integer atomic_max on float bits, and global work-item 0 clears slot
-// `next_slot`. Doing it here saves a launch and a pass over the nodes.
+// With a contact skin (SKIN_TEST 1, a define from the host) the step also takes the skin
+// test of the next step's contact stage (engine/stages/contact_skin.hpp explains it): the
+// node's move since the last detection and its speed, the work-group's largest of each
+// folded into words RING_MOVED and RING_SPEED of slot `slot` of the monitor ring with
+// integer atomic_max on float bits, and global work-item 0 clears slot `next_slot`.
+// Doing it here saves a launch and a pass over the nodes.
 // Energy account (docs/case-format.md defines every term). The step's velocities before
 // (v⁻ = v at t - Δt/2) and after (v⁺ = v at t + Δt/2) are both here, so the account is
 // exact for the leapfrog: with the total nodal force F = m (v⁺ - v⁻)/Δt, Σ_steps F·v̄ Δt
@@ -30,7 +31,7 @@
 // (kinetic, inertia masses), Σ -m g·(x - X) (gravity potential, true masses, relative to
 // the reference positions X), and the forward halves F·v⁺/2 Δt of this step's damping and
 // reaction work, which the host subtracts so that the row's works run to t exactly.
-// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST.
 __kernel void integrate(const uint n_nodes,
                         __global real2* restrict position,
                         __global real2* restrict velocity,
@@ -44,21 +45,26 @@ __kernel void integrate(const uint n_nodes,
                         const real time_after,
                         const int step,
                         __global int* restrict conditions,
-                        const int skin_monitor,
+#if SKIN_TEST
                         __global const real2* restrict position_at_build,
                         __global uint* restrict monitor,
                         const uint slot,
                         const uint next_slot,
+#endif
                         __global const real2* restrict ref_position,
                         const int account_work,
                         const int energy_row,
                         __global real2* restrict group_work,
                         __global real4* restrict group_row,
                         __global real2* restrict node_work) {
-  __local uint moved[GROUP_SIZE], speed[GROUP_SIZE];
+#if SKIN_TEST
+  __local uint2 skin_scratch[GROUP_SIZE];
+#endif
   __local real4 energy_scratch[GROUP_SIZE];
   const uint i = get_global_id(0), lid = get_local_id(0);
+#if SKIN_TEST
   uint my_moved = 0u, my_speed = 0u;
+#endif
   real4 work = (real4)(0, 0, 0, 0);  // (damping work, reaction work) this step; forward halves
   real4 row = (real4)(0, 0, 0, 0);   // (kinetic, gravity potential) on energy rows
   if (i < n_nodes) {
@@ -110,11 +116,11 @@ __kernel void integrate(const uint n_nodes,
     }
     velocity[i] = v;
     position[i] = x;
-    if (skin_monitor) {
-      // NaN bits compare above +inf as uint: a NaN node forces a rebuild (and the run's NaN check stops it).
-      my_moved = as_uint((float)length(x - position_at_build[i]));
-      my_speed = as_uint((float)length(v));
-    }
+#if SKIN_TEST
+    // NaN bits compare above +inf as uint: a NaN node forces a rebuild (and the run's NaN check stops it).
+    my_moved = as_uint((float)length(x - position_at_build[i]));
+    my_speed = as_uint((float)length(v));
+#endif
   }
   // Energy sums: the flags are the same for every work-item, so no barrier is skipped by some only.
   if (energy_row) {
@@ -125,24 +131,16 @@ __kernel void integrate(const uint n_nodes,
     const real4 r = group_sum4(energy_scratch, row);
     if (lid == 0) group_row[g] = (real4)(r.x, r.y, w.z, w.w);
   }
-  if (!skin_monitor) return;  // the same for every work-item: no barrier is skipped by some only
+#if SKIN_TEST
   if (i == 0) {
-    monitor[4 * next_slot] = 0u;
-    monitor[4 * next_slot + 1] = 0u;
-    monitor[4 * next_slot + 2] = 0u;
+    monitor[RING_WORDS * next_slot + RING_MOVED] = 0u;
+    monitor[RING_WORDS * next_slot + RING_SPEED] = 0u;
+    monitor[RING_WORDS * next_slot + RING_JOINED] = 0u;
   }
-  moved[lid] = my_moved;
-  speed[lid] = my_speed;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint s = GROUP_SIZE / 2; s > 0; s >>= 1) {
-    if (lid < s) {
-      moved[lid] = max(moved[lid], moved[lid + s]);
-      speed[lid] = max(speed[lid], speed[lid + s]);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
+  const uint2 largest = group_max_uint2(skin_scratch, (uint2)(my_moved, my_speed));
   if (lid == 0) {
-    atomic_max(&monitor[4 * slot], moved[0]);
-    atomic_max(&monitor[4 * slot + 1], speed[0]);
+    atomic_max(&monitor[RING_WORDS * slot + RING_MOVED], largest.x);
+    atomic_max(&monitor[RING_WORDS * slot + RING_SPEED], largest.y);
   }
+#endif
 }

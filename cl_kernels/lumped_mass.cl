@@ -52,14 +52,22 @@ __kernel void triangle_mass(const uint n_triangles,
   }
 }
 
-// node_mass in: (mass, Σk); out: (mass, inertia). extra_stiffness (when use_extra):
-// the CE4s' share of Σk, computed on the host.
+// node_mass in: (mass, Σk); out: (mass, inertia). One work-item per node. With
+// CE4_STIFFNESS (a define from the host, 0 or 1), extra_stiffness is the CE4s' share of
+// Σk, computed on the host (LumpedMass).
 __kernel void node_inertia(const uint n_nodes, const int mass_scaling, const real dt,
-                           __global real2* restrict node_mass, const int use_extra,
-                           __global const real* restrict extra_stiffness) {
+                           __global real2* restrict node_mass
+#if CE4_STIFFNESS
+                           , __global const real* restrict extra_stiffness
+#endif
+                           ) {
   const uint i = get_global_id(0);
   if (i >= n_nodes) return;
   const real2 mk = node_mass[i];
-  const real k = mk.y + (use_extra ? extra_stiffness[i] : (real)0);
+#if CE4_STIFFNESS
+  const real k = mk.y + extra_stiffness[i];
+#else
+  const real k = mk.y;
+#endif
   node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.3 * dt * dt * k : mk.x);
 }

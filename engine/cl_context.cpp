@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "engine/layouts.hpp"
 #include "engine/real.hpp"
 
 namespace fdem {
@@ -128,36 +129,32 @@ std::string ClContext::description() const {
   return out.str();
 }
 
-compute::program ClContext::build(const std::string& stage,
+compute::program ClContext::build(const KernelSource& stage,
                                   const std::map<std::string, std::string>& defines) const {
-  const auto& sources = embedded_kernel_sources();
-  auto common = sources.find("common");
-  auto own = sources.find(stage);
-  if (own == sources.end() || common == sources.end())
-    throw BuildError(stage, "no embedded source cl_kernels/" + stage + ".cl");
-
   std::ostringstream text;
-  text << "// stage: " << stage << "\n";
+  text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
-  text << common->second << "\n";
+  for (const auto& [name, value] : layout::defines()) text << "#define " << name << " " << value << "\n";
+  text << kernel_source::common.text << "\n";
   for (const auto& [name, value] : defines) text << "#define " << name << " " << value << "\n";
-  text << "#line 1\n" << own->second;
+  text << "#line 1\n" << stage.text;
 
   compute::program program;
   try {
     program = compute::program::create_with_source(text.str(), context_);
   } catch (const compute::opencl_error& e) {
-    throw BuildError(stage, e.what());
+    throw BuildError(stage.stage, e.what());
   }
   try {
-    program.build("-cl-std=CL1.2");
+    // Argument names are kept so that KernelArgs can check each binding by name.
+    program.build("-cl-std=CL1.2 -cl-kernel-arg-info");
   } catch (const compute::opencl_error& e) {
     std::string log;
     try {
       log = program.build_log();
     } catch (...) {
     }
-    throw BuildError(stage, std::string(e.what()) + "\n" + log);
+    throw BuildError(stage.stage, std::string(e.what()) + "\n" + log);
   }
   return program;
 }

@@ -1,6 +1,6 @@
 // Plain host data of the cohesive elements (CE4s): connectivity, fracture properties per
 // material or interface, and the softening function of Eq. 10 with its integral.
-// The device stage is engine/stages/cohesive_forces.*; the law is in cl_kernels/cohesive.cl.
+// The device stage is engine/stages/cohesive_forces.*; the law is in cl_kernels/cohesive_forces.cl.
 #pragma once
 #include <array>
 #include <vector>

@@ -19,7 +19,7 @@ size_t DeviceArrays::bytes_needed(const Model& model) {
   const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
   const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
   const size_t tables = (model.groups.size() + model.loads.size()) * 8 * r +
-                        model.materials.size() * kMaterialStride * r + 64;
+                        model.materials.size() * layout::MATERIAL_STRIDE * r + 64;
   // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
   // per candidate couple its detection key and, with room for an eighth more, the
   // force stage's key, two history lists (12 reals each), overlap-list entry, live flag
@@ -66,7 +66,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   tri_nodes = cl.allocate(3 * t * sizeof(uint32_t), "tri_nodes");
   ref_inverse = cl.allocate(t * sizeof(real4), "ref_inverse");
   tri_material = cl.allocate(t * sizeof(uint32_t), "tri_material");
-  materials = cl.allocate(model.materials.size() * kMaterialStride * sizeof(real), "materials");
+  materials = cl.allocate(model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real), "materials");
   corner_force = cl.allocate(3 * t * sizeof(real2), "corner_force");
   stress = cl.allocate(t * sizeof(real4), "stress");
   corner_start = cl.allocate((n + 1) * sizeof(uint32_t), "corner_start");
@@ -83,7 +83,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   upload(cl, ce4_start, ce4.start);
   upload(cl, ce4_slot, ce4.slot);
   contact_acc = cl.allocate((model.contact.enabled ? n : 1) * 2 * sizeof(cl_long), "contact_acc");
-  conditions = cl.allocate(4 * sizeof(int), "conditions");
+  conditions = cl.allocate(layout::CONDITION_WORDS * sizeof(int), "conditions");
 
   std::vector<real2> pos(n), vel(n);
   for (size_t i = 0; i < n; ++i) {
@@ -158,7 +158,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   upload(cl, edge_slot, edges.slot);
 
   upload(cl, contact_acc, std::vector<cl_long>((model.contact.enabled ? n : 1) * 2, 0));
-  upload(cl, conditions, std::vector<int>(4, INT_MAX));
+  upload(cl, conditions, std::vector<int>(layout::CONDITION_WORDS, INT_MAX));
   cl.finish();
 }
 

@@ -1,7 +1,7 @@
 // The energy account of a run: every term of the balance at one time, and the error of
 // the balance. docs/case-format.md defines each term by its formula; the kernels that
 // compute them say how (cl_kernels/integrate.cl, triangle_forces.cl, boundary_loads.cl,
-// cohesive.cl, contact_forces.cl).
+// cohesive_forces.cl, contact_forces.cl).
 #pragma once
 #include <array>
 #include <cstddef>

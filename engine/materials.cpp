@@ -83,9 +83,16 @@ MaterialConstants make_material(const io::MaterialConfig& config, double mean_ed
 std::vector<double> material_table(const std::vector<MaterialConstants>& materials) {
   std::vector<double> table;
   for (const auto& m : materials) {
-    const double row[kMaterialStride] = {double(m.model), m.lambda, m.mu, m.c[0], m.c[1], m.c[2],
-                                         m.c[3], m.c[4], m.c[5], m.viscosity, m.density, 0.0};
-    table.insert(table.end(), row, row + kMaterialStride);
+    double row[layout::MATERIAL_STRIDE] = {};
+    row[layout::MAT_MODEL] = m.model;
+    row[layout::MAT_LAMBDA] = m.lambda;
+    row[layout::MAT_MU] = m.mu;
+    const int voigt[6] = {layout::MAT_C11, layout::MAT_C12, layout::MAT_C16,
+                          layout::MAT_C22, layout::MAT_C26, layout::MAT_C66};
+    for (int k = 0; k < 6; ++k) row[voigt[k]] = m.c[k];
+    row[layout::MAT_VISCOSITY] = m.viscosity;
+    row[layout::MAT_DENSITY] = m.density;
+    table.insert(table.end(), row, row + layout::MATERIAL_STRIDE);
   }
   return table;
 }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/layouts.hpp"
 #include "io/case_config.hpp"
 
 namespace fdem {
@@ -41,8 +42,7 @@ double largest_wave_modulus(const Voigt& c);
 // viscosity = "critical" (η = 2 h √(ρE)).
 MaterialConstants make_material(const io::MaterialConfig& config, double mean_edge);
 
-// The rows of the device's material table (MATERIAL_STRIDE reals each).
+// The rows of the device's material table (layout::MATERIAL_STRIDE reals each, MAT_*).
 std::vector<double> material_table(const std::vector<MaterialConstants>& materials);
-constexpr int kMaterialStride = 12;
 
 }  // namespace fdem

@@ -60,12 +60,17 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
     const double T = d ? d->transition : std::numeric_limits<double>::infinity();
     const double b = d ? d->exponent : 1.0;
     const bool damped = d && (std::isfinite(T) || b != 1.0);
-    contact.pair_props.insert(contact.pair_props.end(),
-                              {pn, ptan, mu, std::isfinite(T) ? T : std::numeric_limits<double>::max(), b,
-                               damped ? 1.0 : 0.0, 0.0, 0.0});
+    std::array<double, layout::CONTACT_PROPS> props{};
+    props[layout::PAIR_NORMAL_PENALTY] = pn;
+    props[layout::PAIR_TANGENTIAL_PENALTY] = ptan;
+    props[layout::PAIR_FRICTION] = mu;
+    props[layout::PAIR_TENSILE] = std::isfinite(T) ? T : std::numeric_limits<double>::max();
+    props[layout::PAIR_DAMPING] = b;
+    props[layout::PAIR_DAMPED] = damped ? 1.0 : 0.0;
+    contact.pair_props.insert(contact.pair_props.end(), props.begin(), props.end());
     contact.max_normal_penalty = std::max(contact.max_normal_penalty, pn);
     contact.max_tangential_penalty = std::max(contact.max_tangential_penalty, ptan);
-    return static_cast<uint32_t>(contact.pair_props.size() / kContactProps - 1);
+    return static_cast<uint32_t>(contact.pair_props.size() / layout::CONTACT_PROPS - 1);
   };
   const uint32_t defaults = row(c.normal_penalty, c.tangential_penalty, c.friction, c.damping);
   contact.pair_index.assign(n * n, defaults);
@@ -554,7 +559,7 @@ StableStep stable_time_step(const Model& model) {
     // Intact CE4s: the traction slope at the origin is P/h on an element of size h, a
     // modulus of about P (the largest of the opening, sliding and overlap penalties). In
     // shear under compression the cohesive part and the friction element's stick spring
-    // (cl_kernels/cohesive.cl) act together: 2 P_tan.
+    // (cl_kernels/cohesive_forces.cl) act together: 2 P_tan.
     if (!model.triangle_fracturable.empty() && model.triangle_fracturable[t])
       for (const auto& f : model.fracture)
         modulus = std::max({modulus, f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap});

@@ -31,7 +31,14 @@ struct BoundaryGroup {
 };
 
 // What a load does to its edges (the kinds of cl_kernels/boundary_loads.cl).
-enum class LoadKind { Traction = 0, Pressure = 1, Blast = 2, Table = 3, Absorbing = 4 };
+// The values are the kernels' LOAD_* (engine/layouts.hpp).
+enum class LoadKind {
+  Traction = layout::LOAD_TRACTION,
+  Pressure = layout::LOAD_PRESSURE,
+  Blast = layout::LOAD_BLAST,
+  Table = layout::LOAD_TABLE,
+  Absorbing = layout::LOAD_ABSORBING
+};
 
 struct EdgeLoad {
   LoadKind kind = LoadKind::Traction;
@@ -69,8 +76,8 @@ struct Region {
 };
 
 // Contact between triangles (cl_kernels/contact_forces.cl). Properties per unordered
-// material pair: rows of kContactProps reals (P_n [Pa], P_tan [Pa/m], μ, T [Pa], b,
-// damped 0/1), row index pair_index[m1 * n_materials + m2].
+// material pair: rows of layout::CONTACT_PROPS reals (PAIR_*: P_n [Pa], P_tan [Pa/m],
+// μ, T [Pa], b, damped 0/1), row index pair_index[m1 * n_materials + m2].
 struct ContactModel {
   bool enabled = false;
   bool rebuild_skin = false;  // rebuild only when a node moved more than skin/2
@@ -79,7 +86,6 @@ struct ContactModel {
   std::vector<uint32_t> pair_index;
   double max_normal_penalty = 0.0, max_tangential_penalty = 0.0;
 };
-constexpr int kContactProps = 8;
 
 struct Model {
   std::string mesh_path;

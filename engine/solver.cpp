@@ -10,44 +10,63 @@
 
 namespace fdem {
 
+namespace {
+
+template <class Stage, class... Args>
+std::unique_ptr<Stage> build_if(bool wanted, Args&&... args) {
+  return wanted ? std::make_unique<Stage>(std::forward<Args>(args)...) : nullptr;
+}
+
+bool any_viscous(const Model& model) {
+  return std::any_of(model.materials.begin(), model.materials.end(),
+                     [](const MaterialConstants& m) { return m.viscosity != 0; });
+}
+
+// Activation "fractured": the two triangles of every CE4 are a couple from the start (see
+// ContactDetection); the mask then adds the others as CE4s break.
+std::unique_ptr<ContactDetection> build_detection(ClContext& cl, DeviceArrays& arrays, const Model& model) {
+  if (!model.contact.enabled) return nullptr;
+  auto detection = std::make_unique<ContactDetection>(
+      cl, arrays, model.contact.skin, 0,
+      model.contact_active.empty() ? std::vector<std::array<int, 2>>{} : model.ce4_triangles);
+  if (!model.contact_active.empty()) detection->set_active(model.contact_active);
+  return detection;
+}
+
+std::unique_ptr<ContactSkin> build_skin(ClContext& cl, DeviceArrays& arrays, const Model& model, MonitorRing* ring,
+                                        double dt) {
+  if (!ring || !model.contact.rebuild_skin) return nullptr;
+  return std::make_unique<ContactSkin>(cl, arrays, *ring, model.contact.skin, dt);
+}
+
+// Without a skin detection runs every step and nobody reads the join flags in the ring.
+std::unique_ptr<ContactActivation> build_activation(ClContext& cl, const Model& model, CohesiveForces* cohesive,
+                                                    ContactDetection* detection, MonitorRing* ring) {
+  if (!detection || !cohesive || model.contact_active.empty()) return nullptr;
+  return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive->status(), detection->active_mask(),
+                                             *ring);
+}
+
+}  // namespace
+
 Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     : cl_(cl),
       dt_(dt),
       arrays_(cl, model),
-      triangle_forces_(cl, arrays_, model.thickness, dt,
-                       account && std::any_of(model.materials.begin(), model.materials.end(),
-                                              [](const MaterialConstants& m) { return m.viscosity != 0; })),
-      gather_(cl, arrays_),
+      cohesive_(build_if<CohesiveForces>(!model.ce4.empty(), cl,
+                                         CohesiveModel{model.ce4, model.ce4_properties, model.fracture, model.thickness},
+                                         arrays_.position, arrays_.ref_position)),
+      ring_(build_if<MonitorRing>(model.contact.enabled, cl)),
+      detection_(build_detection(cl, arrays_, model)),
+      skin_(build_skin(cl, arrays_, model, ring_.get(), dt)),
+      activation_(build_activation(cl, model, cohesive_.get(), detection_.get(), ring_.get())),
+      contact_(build_if<ContactForces>(model.contact.enabled, cl, arrays_, model,
+                                       detection_ ? &detection_->active_mask() : nullptr)),
+      triangle_forces_(cl, arrays_, model.thickness, dt, account && any_viscous(model)),
+      gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1, account) {
-  if (!model.ce4.empty()) {
-    CohesiveModel ce4{model.ce4, model.ce4_properties, model.fracture, model.thickness};
-    cohesive_ = std::make_unique<CohesiveForces>(cl, ce4, arrays_.position, arrays_.ref_position);
-    gather_.add_cohesive(cohesive_->slots());
-  }
-  if (model.contact.enabled) {
-    // Activation "fractured": the two triangles of every CE4 are a couple from the start
-    // (see ContactDetection); the mask then adds the others as CE4s break.
-    detection_ = std::make_unique<ContactDetection>(cl, arrays_, model.contact.skin, 0,
-                                                    model.contact_active.empty()
-                                                        ? std::vector<std::array<int, 2>>{}
-                                                        : model.ce4_triangles);
-    if (model.contact.rebuild_skin) {
-      skin_ = std::make_unique<ContactSkin>(cl, arrays_, model.contact.skin, dt);
-      integrate_.add_skin_test(skin_->position_at_build(), skin_->monitor(), &ContactSkin::slot_of);
-    }
-    if (!model.contact_active.empty()) {
-      detection_->set_active(model.contact_active);
-      if (cohesive_) {
-        // Without a skin detection runs every step and nobody reads the join flags.
-        if (!skin_) unread_monitor_ = cl.allocate(4 * ContactSkin::kSlots * sizeof(cl_uint), "unread join flags");
-        activation_ = std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
-                                                          detection_->active_mask(),
-                                                          skin_ ? skin_->monitor() : unread_monitor_);
-      }
-    }
-    contact_ = std::make_unique<ContactForces>(cl, arrays_, model);
-    contact_->use_active_mask(detection_->active_mask());
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1, account, skin_.get()) {
+  if (contact_) {
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
     for (const auto& tri : model.triangles)
@@ -55,24 +74,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
         longest = std::max(longest, std::hypot(model.x[tri[(k + 1) % 3]] - model.x[tri[k]], model.y[tri[(k + 1) % 3]] - model.y[tri[k]]));
     contact_round_off_ = model.contact.max_normal_penalty * model.thickness * std::numeric_limits<real>::epsilon() * reach *
                          3 * longest;
-    gather_.add_contact(contact_->force_scale());
   }
-  LumpedMass mass(cl, arrays_, model.thickness);
-  if (!model.ce4.empty()) {
-    // An intact CE4 of penalty P on an edge of length L (= its h) is a spring of at most
-    // (P/h) L t between its faces; the absolute row sums of its stiffness at a node are
-    // below √2 P t (∫N = ½ per node, two faces, the normal/tangent mix of x and y). In
-    // shear the cohesive part and the friction element's stick spring add: 2 P_tan.
-    std::vector<real> extra(model.num_nodes(), 0);
-    for (size_t e = 0; e < model.ce4.size(); ++e) {
-      const auto& f = model.fracture[model.ce4_properties[e]];
-      const double k =
-          std::sqrt(2.0) * std::max({f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap}) * model.thickness;
-      for (int n : model.ce4[e]) extra[n] += static_cast<real>(k);
-    }
-    mass.set_extra_stiffness(extra);
-  }
-  mass.enqueue(gather_, model.mass_scaling, dt);
+  LumpedMass(cl, arrays_, model, dt).enqueue(gather_);
   saved_position_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_position");
   saved_velocity_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_velocity");
   cl.finish();
@@ -89,7 +92,7 @@ void Solver::step(bool energy_row) {
     // Detection every step, or with a skin once some node may have moved more than half
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
-    if (activation_) activation_->enqueue(ContactSkin::slot_of(steps_), steps_);
+    if (activation_) activation_->enqueue(steps_);
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
@@ -198,9 +201,10 @@ std::vector<real2> Solver::masses() { return download<real2>(cl_, arrays_.node_m
 std::vector<real4> Solver::stresses() { return download<real4>(cl_, arrays_.stress, arrays_.num_triangles); }
 
 Conditions Solver::conditions() {
-  const auto words = download<int>(cl_, arrays_.conditions, 4);
+  const auto words = download<int>(cl_, arrays_.conditions, layout::CONDITION_WORDS);
   auto value = [](int w) { return w == INT_MAX ? -1 : w; };
-  return {value(words[0]), value(words[1]), value(words[2]), value(words[3])};
+  return {value(words[layout::COND_BAD_NODE]), value(words[layout::COND_BAD_NODE_STEP]),
+          value(words[layout::COND_INVERTED_TRI]), value(words[layout::COND_INVERTED_STEP])};
 }
 
 void Solver::save_checkpoint() {

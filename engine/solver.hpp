@@ -16,6 +16,7 @@
 #include "engine/stages/contact_skin.hpp"
 #include "engine/stages/integrate.hpp"
 #include "engine/stages/lumped_mass.hpp"
+#include "engine/stages/monitor_ring.hpp"
 #include "engine/stages/node_gather.hpp"
 #include "engine/stages/triangle_forces.hpp"
 
@@ -94,16 +95,18 @@ class Solver {
   double dt_;
   long steps_ = 0;
   DeviceArrays arrays_;
+  // The stages, each built once from what the model has, in this order: a stage is
+  // handed the ones built before it that it reads or writes (engine/solver.cpp).
+  std::unique_ptr<CohesiveForces> cohesive_;     // the model has CE4s
+  std::unique_ptr<MonitorRing> ring_;            // contact: the skin test's and the joins' ring
+  std::unique_ptr<ContactDetection> detection_;  // contact
+  std::unique_ptr<ContactSkin> skin_;            // contact with rebuild = "skin"
+  std::unique_ptr<ContactActivation> activation_;  // contact with activation "fractured" and CE4s
+  std::unique_ptr<ContactForces> contact_;       // contact
   TriangleForces triangle_forces_;
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
-  std::unique_ptr<CohesiveForces> cohesive_;
-  std::unique_ptr<ContactActivation> activation_;
-  std::unique_ptr<ContactDetection> detection_;
-  std::unique_ptr<ContactForces> contact_;
-  std::unique_ptr<ContactSkin> skin_;
-  compute::buffer unread_monitor_;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)

@@ -1,6 +1,6 @@
 // Plain C++ reference of the CE4 law (Eqs. 4-14 with the conventions of
 // docs/physics-notes.md), written from the equations and independently of
-// cl_kernels/cohesive.cl. Double precision, Eigen vectors.
+// cl_kernels/cohesive_forces.cl. Double precision, Eigen vectors.
 #pragma once
 #include <Eigen/Dense>
 #include <algorithm>

@@ -343,7 +343,7 @@ TEST_CASE("irreversibility: unloading and reloading follow Eqs. 13-14 and f neve
           doctest::Approx(f_of(0.5) * p.tensile_strength * 0.5 * o1 / (law.o_p + 0.5 * law.o_t)).epsilon(tol));
     // Unloaded, the shear strength also keeps the lower f: below s_p the parabola × f(0.5) c.
     // A tensile σ no longer lowers it (the paper's -σ tanφ > 0 would): that coupling made the
-    // held shear energy grow for free when the CE4 closed at a fixed slip (cl_kernels/cohesive.cl).
+    // held shear energy grow for free when the CE4 closed at a fixed slip (cl_kernels/cohesive_forces.cl).
     const double q = 0.5, o_small = 0.1 * law.o_p;
     const auto [sg, tau] = traction_at(o_small, q * law.s_p);
     CHECK(sg > 0);

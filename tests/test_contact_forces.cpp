@@ -137,13 +137,10 @@ struct TwoTriangles {
 
 class CoupleRunner {
  public:
-  // The candidate mask (activation "fractured": ContactActivation::join_stamp of the step a triangle joined).
-  void mask(const std::vector<cl_uint>& values) {
-    mask_ = test::context().allocate(values.size() * sizeof(cl_uint), "mask");
-    upload(test::context(), mask_, values);
-    forces_.use_active_mask(mask_);
-  }
-  explicit CoupleRunner(const Model& m) : arrays_(test::context(), m), forces_(test::context(), arrays_, m) {
+  // `mask`: the candidate mask (activation "fractured": ContactActivation::join_stamp of
+  // the step a triangle joined); empty: none (every triangle a candidate from the start).
+  explicit CoupleRunner(const Model& m, const std::vector<cl_uint>& mask = {})
+      : arrays_(test::context(), m), mask_(make_mask(mask)), forces_(test::context(), arrays_, m, mask.empty() ? nullptr : &mask_) {
     keys_ = test::context().allocate(sizeof(cl_ulong), "keys");
     upload(test::context(), keys_, std::vector<cl_ulong>{(cl_ulong(0) << 32) | 1u});
   }
@@ -170,9 +167,16 @@ class CoupleRunner {
   }
 
  private:
+  static compute::buffer make_mask(const std::vector<cl_uint>& values) {
+    if (values.empty()) return {};
+    auto buffer = test::context().allocate(values.size() * sizeof(cl_uint), "mask");
+    upload(test::context(), buffer, values);
+    return buffer;
+  }
   DeviceArrays arrays_;
+  compute::buffer mask_;
   ContactForces forces_;
-  compute::buffer keys_, mask_;
+  compute::buffer keys_;
 };
 
 std::array<Vector2d, 6> still() {
@@ -483,9 +487,7 @@ TEST_CASE("a couple found overlapping because a triangle just joined contact wai
   auto runner_with = [&](const std::vector<cl_uint>& mask) {
     TwoTriangles two(pn, 0.0, 0.0, std::numeric_limits<double>::max(), 1.0, size);
     two.model.thickness = thick;
-    auto runner = std::make_unique<CoupleRunner>(two.model);
-    runner->mask(mask);
-    return runner;
+    return std::make_unique<CoupleRunner>(two.model, mask);
   };
   SUBCASE("joined since the last detection: no force, no energy, not touching, until they part") {
     auto r = runner_with({1u, ContactActivation::join_stamp(5)});

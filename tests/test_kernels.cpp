@@ -61,8 +61,8 @@ void check_triangle_forces(const Model& m, const std::vector<real2>& pos, const 
   stage.enqueue_stress(0);
   const auto force = download<real2>(cl, arrays.corner_force, 3 * m.num_triangles());
   const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
-  const auto cond = download<int>(cl, arrays.conditions, 4);
-  CHECK(cond[2] == INT_MAX);
+  const auto cond = download<int>(cl, arrays.conditions, layout::CONDITION_WORDS);
+  CHECK(cond[layout::COND_INVERTED_TRI] == INT_MAX);
 
   double worst = 0;
   for (size_t t = 0; t < m.num_triangles(); ++t) {
@@ -147,7 +147,7 @@ TEST_CASE("patch test: a linear displacement field gives the exact uniform stres
     upload(cl, arrays.position, pos);
     upload(cl, arrays.velocity, vel);
     TriangleForces forces(cl, arrays, m.thickness, 1e-6, false);
-    NodeGather gather(cl, arrays);
+    NodeGather gather(cl, arrays, nullptr, 0.0);
     forces.enqueue_stress(0);
     gather.enqueue_forces();
     const auto stress = download<real4>(cl, arrays.stress, m.num_triangles());
@@ -185,7 +185,7 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
   for (auto& e : edge) e = {real(1e3 * u(rng)), real(1e3 * u(rng))};
   upload(cl, arrays.corner_force, corner);
   upload(cl, arrays.edge_force, edge);
-  NodeGather gather(cl, arrays);
+  NodeGather gather(cl, arrays, nullptr, 0.0);
   gather.enqueue_forces();
   const auto first = download<real2>(cl, arrays.node_force, m.num_nodes());
   gather.enqueue_forces();
@@ -205,15 +205,15 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
 
 TEST_CASE("lumped mass: ρA₀t/3 per corner, and mass scaling gives 0.3 Δt²Σk") {
   std::mt19937 rng(5);
-  const Model m = test::triangle_soup(300, test::all_material_variants(), rng);
+  Model m = test::triangle_soup(300, test::all_material_variants(), rng);
   auto& cl = test::context();
   for (bool scaling : {false, true}) {
     CAPTURE(scaling);
+    m.mass_scaling = scaling;
     DeviceArrays arrays(cl, m);
-    NodeGather gather(cl, arrays);
-    LumpedMass mass(cl, arrays, m.thickness);
+    NodeGather gather(cl, arrays, nullptr, 0.0);
     const double dt = 0.7;
-    mass.enqueue(gather, scaling, dt);
+    LumpedMass(cl, arrays, m, dt).enqueue(gather);
     const auto got = download<real2>(cl, arrays.node_mass, m.num_nodes());
     for (size_t t = 0; t < m.num_triangles(); ++t) {
       const auto X = reference_corners(m, m.triangles[t]);
@@ -249,12 +249,13 @@ TEST_CASE("mass scaling makes the chosen step stable: ω_max Δt < 2 on an assem
     }
     std::vector<std::array<int, 3>> tris;
     for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
-    const Model m = test::make_model(x, y, tris, {variant});
+    Model m = test::make_model(x, y, tris, {variant});
+    m.mass_scaling = true;
     auto& cl = test::context();
     DeviceArrays arrays(cl, m);
-    NodeGather gather(cl, arrays);
+    NodeGather gather(cl, arrays, nullptr, 0.0);
     const double dt = 2.5;
-    LumpedMass(cl, arrays, m.thickness).enqueue(gather, true, dt);
+    LumpedMass(cl, arrays, m, dt).enqueue(gather);
     const auto inertia = download<real2>(cl, arrays.node_mass, m.num_nodes());
     const int n = static_cast<int>(2 * m.num_nodes());
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
@@ -324,9 +325,8 @@ TEST_CASE("integration: gravity, local damping and ramped prescribed velocities 
   const std::array<double, 2> g{0.3, -9.8};
   auto& cl = test::context();
   DeviceArrays arrays(cl, m);
-  NodeGather gather(cl, arrays);
-  LumpedMass mass(cl, arrays, m.thickness);
-  mass.enqueue(gather, false, dt);
+  NodeGather gather(cl, arrays, nullptr, 0.0);
+  LumpedMass(cl, arrays, m, dt).enqueue(gather);
   std::vector<real2> pos(m.num_nodes()), vel(m.num_nodes()), force(m.num_nodes());
   for (size_t i = 0; i < m.num_nodes(); ++i) {
     pos[i] = {real(m.x[i]), real(m.y[i])};
@@ -358,7 +358,7 @@ TEST_CASE("integration: gravity, local damping and ramped prescribed velocities 
     CHECK(std::fabs(x[i].x - (pos[i].x + vx * dt)) <= kRel * 10);
     CHECK(std::fabs(x[i].y - (pos[i].y + vy * dt)) <= kRel * 10);
   }
-  CHECK(download<int>(cl, arrays.conditions, 4)[0] == INT_MAX);
+  CHECK(download<int>(cl, arrays.conditions, layout::CONDITION_WORDS)[layout::COND_BAD_NODE] == INT_MAX);
 }
 
 TEST_CASE("condition flags name the first inverted triangle and the first non-finite node") {
@@ -374,20 +374,20 @@ TEST_CASE("condition flags name the first inverted triangle and the first non-fi
   upload(cl, arrays.position, pos);
   TriangleForces forces(cl, arrays, m.thickness, 1e-6, false);
   forces.enqueue(33);
-  auto cond = download<int>(cl, arrays.conditions, 4);
-  CHECK(cond[2] == 7);
-  CHECK(cond[3] == 33);
+  auto cond = download<int>(cl, arrays.conditions, layout::CONDITION_WORDS);
+  CHECK(cond[layout::COND_INVERTED_TRI] == 7);
+  CHECK(cond[layout::COND_INVERTED_STEP] == 33);
   std::vector<real2> force(m.num_nodes());
   force[5].x = std::numeric_limits<real>::quiet_NaN();
   force[9].y = std::numeric_limits<real>::infinity();
   upload(cl, arrays.node_force, force);
-  NodeGather gather(cl, arrays);
-  LumpedMass(cl, arrays, m.thickness).enqueue(gather, false, 1e-6);
+  NodeGather gather(cl, arrays, nullptr, 0.0);
+  LumpedMass(cl, arrays, m, 1e-6).enqueue(gather);
   upload(cl, arrays.node_force, force);
   Integrate(cl, arrays, {0, 0}, 0, 1e-6, false).enqueue(1e-6, 40);
-  cond = download<int>(cl, arrays.conditions, 4);
-  CHECK(cond[0] == 5);
-  CHECK(cond[1] == 40);
+  cond = download<int>(cl, arrays.conditions, layout::CONDITION_WORDS);
+  CHECK(cond[layout::COND_BAD_NODE] == 5);
+  CHECK(cond[layout::COND_BAD_NODE_STEP] == 40);
 }
 
 TEST_CASE("stiffness rotation: isotropic is invariant, 90 degrees swaps the axes") {

@@ -2,6 +2,7 @@
 // boundary edges (cl_kernels/boundary_loads.cl), with their work for the energy account.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
 #include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
 
@@ -25,6 +26,8 @@ class BoundaryLoads {
   ClContext& cl_;
   size_t count_, groups_;
   compute::kernel kernel_;
+  KernelArg<real> time_;
+  KernelArg<cl_int> step_;
   compute::buffer group_energy_;  // real2 per work-group: (load work, absorbed energy)
 };
 

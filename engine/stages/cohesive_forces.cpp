@@ -51,7 +51,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   std::vector<cl_uint> nodes(4 * count_);
   std::vector<real4> gaps(count_);   // end gaps at the start (zero for CE4s from a split mesh)
   std::vector<real2> chords(count_); // chords (x_j - x_i) + (x_j' - x_i') at the start
-  params_.assign(kStride * count_, real(0));
+  params_.assign(layout::COH_STRIDE * count_, real(0));
   const double deg = std::acos(-1.0) / 180.0;
   for (size_t e = 0; e < count_; ++e) {
     for (int k = 0; k < 4; ++k) {
@@ -70,19 +70,19 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     const real2 ip = ref[model.ce4[e][3]], jp = ref[model.ce4[e][2]];
     gaps[e] = real4{ip.x - a.x, ip.y - a.y, jp.x - b.x, jp.y - b.y};
     chords[e] = real2{(b.x - a.x) + (jp.x - ip.x), (b.y - a.y) + (jp.y - ip.y)};
-    real* row = &params_[kStride * e];
-    row[kOp] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
-    row[kSp] = real(2.0 * h * f.cohesion / f.penalty_sliding);
-    row[kOverlap] = real(2.0 * h * f.tensile_strength / f.penalty_overlap);
-    row[kOt] = real(f.gf1 / (f.tensile_strength * integral[prop]));
-    row[kSt] = real(f.gf2 / (f.cohesion * integral[prop]));
-    row[kTs] = real(f.tensile_strength);
-    row[kC] = real(f.cohesion);
-    row[kTanPhi] = real(std::tan(f.friction_angle * deg));
-    row[kA] = real(f.a);
-    row[kB] = real(f.b);
-    row[kCexp] = real(f.c);
-    row[kH] = real(h);
+    real* row = &params_[layout::COH_STRIDE * e];
+    row[layout::COH_OP] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
+    row[layout::COH_SP] = real(2.0 * h * f.cohesion / f.penalty_sliding);
+    row[layout::COH_OOV] = real(2.0 * h * f.tensile_strength / f.penalty_overlap);
+    row[layout::COH_OT] = real(f.gf1 / (f.tensile_strength * integral[prop]));
+    row[layout::COH_ST] = real(f.gf2 / (f.cohesion * integral[prop]));
+    row[layout::COH_TS] = real(f.tensile_strength);
+    row[layout::COH_C] = real(f.cohesion);
+    row[layout::COH_TANPHI] = real(std::tan(f.friction_angle * deg));
+    row[layout::COH_A] = real(f.a);
+    row[layout::COH_B] = real(f.b);
+    row[layout::COH_CEXP] = real(f.c);
+    row[layout::COH_H] = real(h);
   }
 
   nodes_ = cl.allocate(nodes.size() * sizeof(cl_uint), "ce4_nodes");
@@ -107,31 +107,23 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, last_chord_, chords);
   upload(cl, energy_, std::vector<real4>(count_));
 
-  const auto program = cl.build("cohesive");
+  const auto program = cl.build(kernel_source::cohesive_forces);
   kernel_ = compute::kernel(program, "cohesive_forces");
-  kernel_.set_arg(0, static_cast<cl_uint>(count_));
-  kernel_.set_arg(1, nodes_);
-  kernel_.set_arg(2, params_buffer_);
-  kernel_.set_arg(3, position);
-  kernel_.set_arg(4, static_cast<real>(model.thickness));
-  kernel_.set_arg(5, real(0));
-  kernel_.set_arg(6, gp_state_);
-  kernel_.set_arg(7, gp_slip_);
-  kernel_.set_arg(8, status_);
-  kernel_.set_arg(9, output_);
-  kernel_.set_arg(10, slots_);
-  kernel_.set_arg(11, last_gap_);
-  kernel_.set_arg(12, last_chord_);
-  kernel_.set_arg(13, energy_);
+  KernelArgs args(kernel_);
+  args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("position", position)(
+      "thickness", static_cast<real>(model.thickness));
+  time_ = args.later("time", real(0));
+  args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("output", output_)("slots", slots_)(
+      "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)
+      .done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
-  partials_kernel_.set_arg(0, static_cast<cl_uint>(count_));
-  partials_kernel_.set_arg(1, static_cast<cl_uint>(partials_));
-  partials_kernel_.set_arg(2, energy_);
-  partials_kernel_.set_arg(3, partial_);
+  bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
+      "energy", energy_)("partial", partial_)
+      .done();
 }
 
 void CohesiveForces::enqueue(double time) {
-  kernel_.set_arg(5, static_cast<real>(time));
+  time_.set(static_cast<real>(time));
   cl_.enqueue(kernel_, count_);
 }
 

@@ -1,4 +1,4 @@
-// Stage: cohesive-element (CE4) forces (cl_kernels/cohesive.cl).
+// Stage: cohesive-element (CE4) forces (cl_kernels/cohesive_forces.cl).
 #pragma once
 #include <utility>
 #include <vector>
@@ -6,16 +6,13 @@
 #include "engine/checkpoint.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/cohesive_model.hpp"
+#include "engine/kernel_args.hpp"
 #include "engine/real.hpp"
 
 namespace fdem {
 
 class CohesiveForces {
  public:
-  // Per-CE4 parameter row uploaded to the device (layout = COH_* in cohesive.cl).
-  static constexpr int kStride = 12;
-  enum Param { kOp, kSp, kOverlap, kOt, kSt, kTs, kC, kTanPhi, kA, kB, kCexp, kH };
-
   // Computes the per-CE4 parameters on the host (h = initial edge length |X_j - X_i| read
   // from ref_position), uploads them, the connectivity and the zeroed state, compiles the
   // stage and binds everything once. Throws InputError for bad properties or a
@@ -30,7 +27,7 @@ class CohesiveForces {
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
   compute::buffer& status() { return status_; }  // int2 per CE4: (broken, mode)
   size_t size() const { return count_; }
-  const std::vector<real>& parameters() const { return params_; }  // kStride per CE4
+  const std::vector<real>& parameters() const { return params_; }  // layout::COH_STRIDE per CE4 (COH_*)
 
   // Host reads (wait; for output, history and tests).
   std::vector<real> damage();       // max over the Gauss points of D_max
@@ -41,7 +38,7 @@ class CohesiveForces {
   std::vector<real> broken_time();  // [s]; -1 while intact
   size_t count_broken();
   std::vector<real> work();         // work done on each CE4 so far [J]
-  std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive.cl)
+  std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive_forces.cl)
   std::vector<real> stored();       // elastic energy each CE4 holds now [J]
 
   // Totals over all CE4s [J]: a device pass into a fixed number of partial sums, each over
@@ -69,6 +66,7 @@ class CohesiveForces {
   size_t partials_;
   std::vector<real> params_;
   compute::kernel kernel_, partials_kernel_;
+  KernelArg<real> time_;
   compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
 };

@@ -5,19 +5,21 @@
 
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
+#include "engine/stages/monitor_ring.hpp"
 
 namespace fdem {
 
 class ContactActivation {
  public:
   // `status`: the CE4 stage's (broken, mode) per CE4; `active`: the detection's
-  // candidate mask (one uint per triangle); `monitor`: the skin test's ring
-  // (ContactSkin::monitor()), where a join is flagged for the host to read later.
+  // candidate mask (one uint per triangle); `ring`: where a join is flagged (word
+  // RING_JOINED) for the host to read later (ContactSkin).
   ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
-                    compute::buffer& active, compute::buffer& monitor);
+                    compute::buffer& active, MonitorRing& ring);
   // Marks the triangles of broken CE4s as candidates (mask value join_stamp(step)) and
-  // flags a join in the ring's slot `slot`. Never waits.
-  void enqueue(unsigned slot, long step);
+  // flags a join in the ring's slot of `step`. Never waits.
+  void enqueue(long step);
   // The mask value of a triangle that joins in step `step` (1 means "from the start").
   static cl_uint join_stamp(long step) { return static_cast<cl_uint>(step + 2); }
 
@@ -25,6 +27,7 @@ class ContactActivation {
   ClContext& cl_;
   size_t count_;
   compute::kernel kernel_;
+  KernelArg<cl_uint> slot_, stamp_;
   compute::buffer triangles_;
 };
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "base/errors.hpp"
+#include "engine/kernel_args.hpp"
 
 namespace fdem {
 
@@ -61,8 +62,6 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
       }
     bond_partners_ = cl.allocate(partners.size() * sizeof(cl_uint), "contact bond partners");
     upload(cl, bond_partners_, partners);
-  } else {
-    bond_partners_ = cl.allocate(sizeof(cl_uint), "contact bond partners (none)");
   }
   // A defined grid before the first run (origin 0, unit cell, one cell).
   upload(cl, grid_, std::vector<real4>{real4{0, 0, 1, 0}});
@@ -71,67 +70,52 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(group)},
                                                             {"NO_PARTNER", std::to_string(kNoPartner) + "u"}};
   if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
-  const auto program = cl.build("contact_detection", defines);
+  const auto program = cl.build(kernel_source::contact_detection, defines);
   const cl_uint nt = static_cast<cl_uint>(count_);
 
   boxes_kernel_ = compute::kernel(program, "triangle_boxes");
-  boxes_kernel_.set_arg(0, nt);
-  boxes_kernel_.set_arg(1, a.tri_nodes);
-  boxes_kernel_.set_arg(2, a.position);
-  boxes_kernel_.set_arg(3, static_cast<real>(0.5 * skin));
-  boxes_kernel_.set_arg(4, boxes_);
-  boxes_kernel_.set_arg(5, partial_bounds_);
-  boxes_kernel_.set_arg(6, partial_side_);
+  bind_args(boxes_kernel_)("n_triangles", nt)("tri_nodes", a.tri_nodes)("position", a.position)(
+      "half_skin", static_cast<real>(0.5 * skin))("boxes", boxes_)("partial_bounds", partial_bounds_)(
+      "partial_side", partial_side_)
+      .done();
 
   grid_kernel_ = compute::kernel(program, "grid_setup");
-  grid_kernel_.set_arg(0, static_cast<cl_uint>(groups_));
-  grid_kernel_.set_arg(1, partial_bounds_);
-  grid_kernel_.set_arg(2, partial_side_);
-  grid_kernel_.set_arg(3, static_cast<cl_uint>(max_cells_));
-  grid_kernel_.set_arg(4, grid_);
-  grid_kernel_.set_arg(5, dims_);
+  bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("partial_bounds", partial_bounds_)(
+      "partial_side", partial_side_)("max_cells", static_cast<cl_uint>(max_cells_))("grid", grid_)("dims", dims_)
+      .done();
 
   clear_kernel_ = compute::kernel(program, "clear_cells");
-  clear_kernel_.set_arg(0, static_cast<cl_uint>(max_cells_));
-  clear_kernel_.set_arg(1, cell_first_);
-  clear_kernel_.set_arg(2, cell_last_);
+  bind_args(clear_kernel_)("max_cells", static_cast<cl_uint>(max_cells_))("cell_first", cell_first_)(
+      "cell_last", cell_last_)
+      .done();
 
   hash_kernel_ = compute::kernel(program, "cell_hash");
-  hash_kernel_.set_arg(0, nt);
-  hash_kernel_.set_arg(1, boxes_);
-  hash_kernel_.set_arg(2, grid_);
-  hash_kernel_.set_arg(3, dims_);
-  hash_kernel_.set_arg(4, hash_);
-  hash_kernel_.set_arg(5, tri_);
+  bind_args(hash_kernel_)("n_triangles", nt)("boxes", boxes_)("grid", grid_)("dims", dims_)("hash", hash_)(
+      "tri", tri_)
+      .done();
 
   range_kernel_ = compute::kernel(program, "cell_range");
-  range_kernel_.set_arg(0, nt);
-  range_kernel_.set_arg(1, hash_);
-  range_kernel_.set_arg(2, cell_first_);
-  range_kernel_.set_arg(3, cell_last_);
+  bind_args(range_kernel_)("n_triangles", nt)("sorted_hash", hash_)("cell_first", cell_first_)(
+      "cell_last", cell_last_)
+      .done();
 
   couples_kernel_ = compute::kernel(program, "find_couples");
-  couples_kernel_.set_arg(0, nt);
-  couples_kernel_.set_arg(1, a.tri_nodes);
-  couples_kernel_.set_arg(2, boxes_);
-  couples_kernel_.set_arg(3, active_);
-  couples_kernel_.set_arg(4, grid_);
-  couples_kernel_.set_arg(5, dims_);
-  couples_kernel_.set_arg(6, cell_first_);
-  couples_kernel_.set_arg(7, cell_last_);
-  couples_kernel_.set_arg(8, tri_);
-  couples_kernel_.set_arg(9, static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
-  couples_kernel_.set_arg(10, counter_);
-  couples_kernel_.set_arg(11, keys_);
-  couples_kernel_.set_arg(12, bond_partners_);
+  KernelArgs couples(couples_kernel_);
+  couples("n_triangles", nt)("tri_nodes", a.tri_nodes)("boxes", boxes_)("active", active_)("grid", grid_)(
+      "dims", dims_)("cell_first", cell_first_)("cell_last", cell_last_)("sorted_tri", tri_);
+  couples_capacity_ = couples.later("capacity", static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
+  couples("count", counter_);
+  couples_keys_ = couples.later("keys", keys_);
+  if (!bonds.empty()) couples("bond_partners", bond_partners_);
+  couples.done();
 }
 
 void ContactDetection::grow(size_t needed) {
   const size_t capacity = needed + (needed + 1) / 2;  // ×1.5, rounded up
   keys_ = cl_.allocate(capacity * sizeof(cl_ulong), "contact couples");
   capacity_ = capacity;
-  couples_kernel_.set_arg(9, static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
-  couples_kernel_.set_arg(11, keys_);
+  couples_capacity_.set(static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
+  couples_keys_.set(keys_);
 }
 
 void ContactDetection::find_couples() {

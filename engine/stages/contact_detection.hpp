@@ -6,6 +6,7 @@
 
 #include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
 
 namespace fdem {
 
@@ -58,8 +59,10 @@ class ContactDetection {
 
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
   compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_;
-  compute::buffer bond_partners_;  // 3 cl_uint per triangle (bonds given), else one unused word
+  compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
   compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
+  KernelArg<cl_uint> couples_capacity_;
+  KernelArg<compute::buffer> couples_keys_;
 };
 
 }  // namespace fdem

@@ -3,6 +3,7 @@
 #include "engine/stages/contact_activation.hpp"
 
 #include "engine/energy.hpp"
+#include "engine/kernel_args.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,14 +13,15 @@
 namespace fdem {
 
 namespace {
-constexpr int kHistory = 12;  // CONTACT_HISTORY in contact_forces.cl
+constexpr int kHistory = layout::CONTACT_HISTORY;
 
 // Room for a grown couple list: an eighth more (the lists are the largest arrays, about
 // 170 bytes a couple; couples grow slowly once the first detection has run).
 size_t grown(size_t count) { return count + count / 8 + 1024; }
 }
 
-ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model) : cl_(cl), arrays_(a) {
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active)
+    : cl_(cl), arrays_(a) {
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -36,14 +38,14 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   std::map<std::string, std::string> defines;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
-  const auto program = cl.build("contact_forces", defines);
+  const auto program = cl.build(kernel_source::contact_forces, defines);
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING in contact_forces.cl).
-  energy_ = cl.allocate(2 * sizeof(cl_long), "contact energy account");
+  // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
+  energy_ = cl.allocate(layout::CONTACT_ENERGY_WORDS * sizeof(cl_long), "contact energy account");
   counters_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
@@ -63,30 +65,66 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model)
   upload(cl, pair_index_, index);
   upload(cl, pair_props_, props);
 
-  forces_.set_arg(6, a.tri_nodes);
-  forces_.set_arg(7, a.tri_material);
-  forces_.set_arg(8, static_cast<cl_uint>(n_materials));
-  forces_.set_arg(9, pair_index_);
-  forces_.set_arg(10, pair_props_);
-  forces_.set_arg(11, a.position);
-  forces_.set_arg(12, a.velocity);
-  forces_.set_arg(13, static_cast<real>(model.thickness));
-  forces_.set_arg(15, static_cast<real>(force_scale_));
-  forces_.set_arg(16, static_cast<real>(energy_scale_));
-  forces_.set_arg(17, a.contact_acc);
-  forces_.set_arg(18, energy_);
-  forces_.set_arg(19, counters_);
-  ones_ = cl.allocate(std::max<size_t>(1, a.num_triangles) * sizeof(cl_uint), "contact default candidate mask");
-  upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
-  forces_.set_arg(25, ones_);
-  classify_.set_arg(6, a.tri_nodes);
-  classify_.set_arg(7, a.position);
-  classify_.set_arg(8, static_cast<real>(energy_scale_));
-  classify_.set_arg(9, energy_);
-  classify_.set_arg(11, counters_);
-  clear_.set_arg(0, static_cast<cl_uint>(a.num_nodes));
-  clear_.set_arg(1, a.contact_acc);
-  clear_.set_arg(2, counters_);
+  if (!active) {
+    // A mask of ones: every triangle a candidate from the start, nobody ever joins.
+    ones_ = cl.allocate(std::max<size_t>(1, a.num_triangles) * sizeof(cl_uint), "contact candidate mask (all)");
+    upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
+  }
+  const cl_uint none = 0;
+  KernelArgs f(forces_);
+  forces_count_ = f.later("n_couples", none);
+  forces_keys_ = f.later("keys", keys_);
+  forces_previous_count_ = f.later("n_previous", none);
+  forces_previous_keys_ = f.later("previous_keys", keys_);
+  forces_previous_history_ = f.later("previous_history", history_[0]);
+  forces_history_ = f.later("history", history_[1]);
+  f("tri_nodes", a.tri_nodes)("tri_material", a.tri_material)("n_materials", static_cast<cl_uint>(n_materials))(
+      "pair_index", pair_index_)("pair_props", pair_props_)("position", a.position)("velocity", a.velocity)(
+      "thickness", static_cast<real>(model.thickness));
+  forces_dt_ = f.later("dt", real(0));
+  f("force_scale", static_cast<real>(force_scale_))("energy_scale", static_cast<real>(energy_scale_))(
+      "contact_acc", a.contact_acc)("energy", energy_)("counters", counters_);
+  forces_same_list_ = f.later("same_list", none);
+  forces_overlap_list_ = f.later("overlap_list", overlap_list_);
+  forces_live_ = f.later("live", live_);
+  forces_energy_row_ = f.later("energy_row", none);
+  forces_couple_stored_ = f.later("couple_stored", couple_stored_);
+  f("active", active ? *active : ones_);
+  forces_joined_since_ = f.later("joined_since", none);
+  f.done();
+
+  KernelArgs c(classify_);
+  classify_count_ = c.later("n_couples", none);
+  classify_keys_ = c.later("keys", keys_);
+  classify_previous_count_ = c.later("n_previous", none);
+  classify_previous_keys_ = c.later("previous_keys", keys_);
+  classify_previous_history_ = c.later("previous_history", history_[0]);
+  classify_history_ = c.later("history", history_[1]);
+  c("tri_nodes", a.tri_nodes)("position", a.position)("energy_scale", static_cast<real>(energy_scale_))(
+      "energy", energy_);
+  classify_same_list_ = c.later("same_list", none);
+  c("counters", counters_);
+  classify_overlap_list_ = c.later("overlap_list", overlap_list_);
+  classify_live_ = c.later("live", live_);
+  c.done();
+
+  bind_args(clear_)("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)(
+      "counters", counters_)
+      .done();
+
+  KernelArgs r(release_);
+  release_previous_count_ = r.later("n_previous", none);
+  release_previous_keys_ = r.later("previous_keys", keys_);
+  release_previous_history_ = r.later("previous_history", history_[0]);
+  release_count_ = r.later("n_couples", none);
+  release_keys_ = r.later("keys", keys_);
+  r("energy_scale", static_cast<real>(energy_scale_))("energy", energy_).done();
+
+  KernelArgs p(stored_partials_);
+  stored_count_ = p.later("n_couples", none);
+  stored_values_ = p.later("couple_stored", couple_stored_);
+  stored_slots_arg_ = p.later("group_slots", stored_slots_);
+  p.done();
 }
 
 void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
@@ -101,13 +139,11 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     history_[next] = cl_.allocate(grown(count) * kHistory * sizeof(real), "contact_history");
   }
   if (new_list && count_ > 0) {
-    release_.set_arg(0, static_cast<cl_uint>(count_));
-    release_.set_arg(1, keys_);
-    release_.set_arg(2, history_[current_]);
-    release_.set_arg(3, static_cast<cl_uint>(count));
-    release_.set_arg(4, keys);
-    release_.set_arg(5, static_cast<real>(energy_scale_));
-    release_.set_arg(6, energy_);
+    release_previous_count_.set(static_cast<cl_uint>(count_));
+    release_previous_keys_.set(keys_);
+    release_previous_history_.set(history_[current_]);
+    release_count_.set(static_cast<cl_uint>(count));
+    release_keys_.set(keys);
     cl_.enqueue(release_, count_);
   }
   if (count > list_capacity_) {
@@ -123,39 +159,39 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   // Same list as the last step: couple c's history is at c, in place (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
   const compute::buffer& list_keys = new_list ? keys : keys_;
-  classify_.set_arg(0, static_cast<cl_uint>(count));
-  classify_.set_arg(1, list_keys);
-  classify_.set_arg(2, static_cast<cl_uint>(count_));
-  classify_.set_arg(3, keys_);
-  classify_.set_arg(4, history_[current_]);
-  classify_.set_arg(5, history_[next]);
-  classify_.set_arg(10, same_list);
-  classify_.set_arg(12, overlap_list_);
-  classify_.set_arg(13, live_);
+  classify_count_.set(static_cast<cl_uint>(count));
+  classify_keys_.set(list_keys);
+  classify_previous_count_.set(static_cast<cl_uint>(count_));
+  classify_previous_keys_.set(keys_);
+  classify_previous_history_.set(history_[current_]);
+  classify_history_.set(history_[next]);
+  classify_same_list_.set(same_list);
+  classify_overlap_list_.set(overlap_list_);
+  classify_live_.set(live_);
   cl_.enqueue(classify_, count);
-  forces_.set_arg(0, static_cast<cl_uint>(count));
-  forces_.set_arg(1, list_keys);
-  forces_.set_arg(2, static_cast<cl_uint>(count_));
-  forces_.set_arg(3, keys_);
-  forces_.set_arg(4, history_[current_]);
-  forces_.set_arg(5, history_[next]);
-  forces_.set_arg(14, static_cast<real>(dt));
-  forces_.set_arg(20, same_list);
-  forces_.set_arg(21, overlap_list_);
-  forces_.set_arg(22, live_);
-  forces_.set_arg(23, static_cast<cl_uint>(energy_row ? 1 : 0));
-  forces_.set_arg(24, couple_stored_);
+  forces_count_.set(static_cast<cl_uint>(count));
+  forces_keys_.set(list_keys);
+  forces_previous_count_.set(static_cast<cl_uint>(count_));
+  forces_previous_keys_.set(keys_);
+  forces_previous_history_.set(history_[current_]);
+  forces_history_.set(history_[next]);
+  forces_dt_.set(static_cast<real>(dt));
+  forces_same_list_.set(same_list);
+  forces_overlap_list_.set(overlap_list_);
+  forces_live_.set(live_);
+  forces_energy_row_.set(energy_row ? 1 : 0);
+  forces_couple_stored_.set(couple_stored_);
   // Joins since the last list (activation runs before detection in a step, so a join in
   // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
-  forces_.set_arg(26, static_cast<cl_uint>(ContactActivation::join_stamp(last_list_step_ + 1)));
+  forces_joined_since_.set(ContactActivation::join_stamp(last_list_step_ + 1));
   if (new_list) last_list_step_ = step;
   cl_.enqueue(forces_, count);
   if (energy_row) {
     stored_groups_ = work_groups(cl_, count);
     if (count > 0) {
-      stored_partials_.set_arg(0, static_cast<cl_uint>(count));
-      stored_partials_.set_arg(1, couple_stored_);
-      stored_partials_.set_arg(2, stored_slots_);
+      stored_count_.set(static_cast<cl_uint>(count));
+      stored_values_.set(couple_stored_);
+      stored_slots_arg_.set(stored_slots_);
       cl_.enqueue(stored_partials_, count);
     }
   }
@@ -177,7 +213,7 @@ size_t ContactForces::touching() {
   return static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
 }
 
-std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, 2); }
+std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, layout::CONTACT_ENERGY_WORDS); }
 
 double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }
 
@@ -185,12 +221,12 @@ void ContactForces::allocate_stored(size_t couples) {
   couple_stored_ = cl_.allocate(std::max<size_t>(1, couples) * sizeof(real), "contact couple_stored");
   stored_slots_ = cl_.allocate(std::max<size_t>(1, work_groups(cl_, couples)) * sizeof(real), "contact stored slots");
 }
-double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[0]) / energy_scale_; }
-double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[1]) / energy_scale_; }
+double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }
+double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_DAMPING]) / energy_scale_; }
 
 double ContactForces::dissipated_energy() {
   const auto e = energy_account();
-  return static_cast<double>(e[0] + e[1]) / energy_scale_;
+  return static_cast<double>(e[layout::ENERGY_FRICTION] + e[layout::ENERGY_DAMPING]) / energy_scale_;
 }
 
 std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }
@@ -203,7 +239,7 @@ void ContactForces::save_state(StateWriter& out) const {
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
   out.buffer<real>("contact_history", history_[current_], count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
-  out.buffer<cl_long>("contact_energy", energy_, 2);
+  out.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
 
 void ContactForces::load_state(StateReader& in) {
@@ -223,7 +259,7 @@ void ContactForces::load_state(StateReader& in) {
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
   in.buffer<real>("contact_history", history_[current_], count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
-  in.buffer<cl_long>("contact_energy", energy_, 2);
+  in.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
 
 }  // namespace fdem

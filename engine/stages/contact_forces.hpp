@@ -2,13 +2,18 @@
 #pragma once
 #include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
 #include "engine/model.hpp"
 
 namespace fdem {
 
 class ContactForces {
  public:
-  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model);
+  // `active`: the detection's candidate mask (cl_uint per triangle; join stamps under
+  // "fractured", ContactActivation): a new couple found overlapping because a triangle
+  // joined since the last detection waits. Null: every triangle is a candidate from the
+  // start and none ever joins.
+  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr);
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
   double force_scale() const { return force_scale_; }
@@ -23,10 +28,6 @@ class ContactForces {
   // kernel, so ask for it on history rows only. Never waits.
   void enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row = false,
                long step = 0);
-  // The detection's candidate mask (cl_uint per triangle; join stamps under "fractured",
-  // ContactActivation): a new couple found overlapping because a triangle joined waits.
-  // Until set, a mask of ones (nobody ever joins).
-  void use_active_mask(const compute::buffer& active) { forces_.set_arg(25, active); }
   // Makes the next enqueue an energy row whatever its argument says (for callers that
   // do not make the enqueue call themselves, e.g. tests stepping a Solver).
   void request_energy_row() { energy_row_requested_ = true; }
@@ -45,7 +46,7 @@ class ContactForces {
   double damping_dissipation();
   // friction_dissipation() + damping_dissipation() (one read).
   double dissipated_energy();
-  std::vector<real> history();   // per couple, 12 reals (waits; for tests)
+  std::vector<real> history();   // per couple, CONTACT_HISTORY reals (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
   std::vector<real> couple_stored();  // per couple, the stored energy of the last energy row [J] (waits; for tests)
 
@@ -62,7 +63,20 @@ class ContactForces {
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   int current_ = 0;
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
-  compute::buffer ones_;      // the default candidate mask
+  compute::buffer ones_;      // the candidate mask when none is given: all ones
+  // The arguments set at each enqueue, per kernel.
+  KernelArg<cl_uint> forces_count_, forces_previous_count_, forces_same_list_, forces_energy_row_,
+      forces_joined_since_;
+  KernelArg<compute::buffer> forces_keys_, forces_previous_keys_, forces_previous_history_, forces_history_,
+      forces_overlap_list_, forces_live_, forces_couple_stored_;
+  KernelArg<real> forces_dt_;
+  KernelArg<cl_uint> classify_count_, classify_previous_count_, classify_same_list_;
+  KernelArg<compute::buffer> classify_keys_, classify_previous_keys_, classify_previous_history_, classify_history_,
+      classify_overlap_list_, classify_live_;
+  KernelArg<cl_uint> release_previous_count_, release_count_;
+  KernelArg<compute::buffer> release_previous_keys_, release_previous_history_, release_keys_;
+  KernelArg<cl_uint> stored_count_;
+  KernelArg<compute::buffer> stored_values_, stored_slots_arg_;
   bool energy_row_requested_ = false;
   // The stored energy of each couple at the last energy row, and its per-work-group sums.
   void allocate_stored(size_t couples);

@@ -18,11 +18,9 @@ double as_value(cl_uint bits) {
 
 }  // namespace
 
-ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, double skin, double dt)
-    : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), host_(4 * kSlots, 0) {
+ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, double skin, double dt)
+    : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), ring_(ring), host_(layout::RING_WORDS * kSlots, 0) {
   at_build_ = cl.allocate(a.num_nodes * sizeof(real2), "position_at_build");
-  monitor_ = cl.allocate(4 * kSlots * sizeof(cl_uint), "skin monitor ring");
-  upload(cl, monitor_, host_);
 }
 
 void ContactSkin::mark() {
@@ -31,11 +29,11 @@ void ContactSkin::mark() {
 }
 
 bool ContactSkin::decide(unsigned slot, bool exact) {
-  const cl_uint* w = &host_[4 * slot];
-  const double moved = as_value(w[0]);
-  largest_speed_ = std::max(largest_speed_, as_value(w[1]));
+  const cl_uint* w = &host_[layout::RING_WORDS * slot];
+  const double moved = as_value(w[layout::RING_MOVED]);
+  largest_speed_ = std::max(largest_speed_, as_value(w[layout::RING_SPEED]));
   if (generation_of_[slot] != generation_) return false;  // measured against an older detection
-  if (w[2] != 0) return true;                              // triangles joined the candidates
+  if (w[layout::RING_JOINED] != 0) return true;                              // triangles joined the candidates
   const double margin = exact ? 0.0 : 2.0 * kSlots * largest_speed_ * dt_;
   return !(moved + margin <= half_skin_);                  // NaN: rebuild (the NaN check stops the run)
 }
@@ -50,10 +48,10 @@ bool ContactSkin::decide_batch() {
   return due;
 }
 
-void ContactSkin::measured(long step) { generation_of_[slot_of(step)] = generation_; }
+void ContactSkin::measured(long step) { generation_of_[MonitorRing::slot_of(step)] = generation_; }
 
 bool ContactSkin::rebuild_due(long step) {
-  const unsigned slot = slot_of(step);
+  const unsigned slot = MonitorRing::slot_of(step);
   const bool batch_ends = slot % kBatch == kBatch - 1;
   // The far margin would eat more than half of the half-skin: test this step exactly.
   // Until a first batch has told the speeds, every step is exact too.
@@ -63,15 +61,18 @@ bool ContactSkin::rebuild_due(long step) {
   if (batch_ends && batch_pending_) due = decide_batch();
   if (exact) {
     ++synchronous_;
-    cl_.queue().enqueue_read_buffer(monitor_, 4 * slot * sizeof(cl_uint), 4 * sizeof(cl_uint), &host_[4 * slot]);
+    constexpr size_t words = layout::RING_WORDS;
+    cl_.queue().enqueue_read_buffer(ring_.buffer(), words * slot * sizeof(cl_uint), words * sizeof(cl_uint),
+                                    &host_[words * slot]);
     const double speed_before = largest_speed_;
     due = decide(slot, true) || due;
     largest_speed_ = std::max(speed_before, largest_speed_);
   }
   if (batch_ends) {
     batch_first_ = slot + 1 - kBatch;
-    batch_read_ = cl_.queue().enqueue_read_buffer_async(monitor_, 4 * batch_first_ * sizeof(cl_uint),
-                                                        4 * kBatch * sizeof(cl_uint), &host_[4 * batch_first_]);
+    constexpr size_t words = layout::RING_WORDS;
+    batch_read_ = cl_.queue().enqueue_read_buffer_async(ring_.buffer(), words * batch_first_ * sizeof(cl_uint),
+                                                        words * kBatch * sizeof(cl_uint), &host_[words * batch_first_]);
     batch_pending_ = true;
   }
   return due;
@@ -80,7 +81,7 @@ bool ContactSkin::rebuild_due(long step) {
 void ContactSkin::save_state(StateWriter& out) {
   cl_.finish();  // a batch read in flight lands in host_
   out.buffer<real>("skin_position_at_build", at_build_, arrays_.num_nodes, 2);
-  out.buffer<cl_uint>("skin_ring", monitor_, 4 * kSlots);
+  out.buffer<cl_uint>("skin_ring", ring_.buffer(), layout::RING_WORDS * kSlots);
   out.host<cl_uint>("skin_ring_read", host_.data(), host_.size());
   std::vector<cl_long> generations(generation_of_.begin(), generation_of_.end());
   generations.push_back(generation_);
@@ -93,7 +94,7 @@ void ContactSkin::save_state(StateWriter& out) {
 
 void ContactSkin::load_state(StateReader& in) {
   in.buffer<real>("skin_position_at_build", at_build_, arrays_.num_nodes, 2);
-  in.buffer<cl_uint>("skin_ring", monitor_, 4 * kSlots);
+  in.buffer<cl_uint>("skin_ring", ring_.buffer(), layout::RING_WORDS * kSlots);
   in.host<cl_uint>("skin_ring_read", host_.data(), host_.size());
   std::vector<cl_long> generations(kSlots + 1);
   in.host<cl_long>("skin_generations", generations.data(), generations.size());

@@ -5,14 +5,15 @@
 
 #include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/stages/monitor_ring.hpp"
 
 namespace fdem {
 
 // Decides when contact detection must run again with a skin: a couple can only appear
 // once some node has moved more than half the skin since the last detection. The test
-// runs on the device every step, inside the previous step's integration (integrate.cl,
-// Integrate::add_skin_test), into a ring of kSlots slots; the host reads the ring
-// kBatch slots at a time, asynchronously, and looks at a batch kBatch steps after it
+// runs on the device every step, inside the previous step's integration (integrate.cl;
+// Integrate built with this skin), into the MonitorRing's kSlots slots; the host reads
+// the ring kBatch slots at a time, asynchronously, and looks at a batch kBatch steps after it
 // was read, so a test is seen up to kSlots − 1 steps late and the host never waits for
 // the device in the step loop. The nodes can move a little in those steps, so the test
 // asks for a margin of 2 × kSlots × (largest speed seen) × Δt on top (2: room for the
@@ -21,9 +22,10 @@ namespace fdem {
 // step waits for its own test instead (exact).
 class ContactSkin {
  public:
-  static constexpr unsigned kSlots = 8, kBatch = 4;
+  static constexpr unsigned kSlots = MonitorRing::kSlots, kBatch = MonitorRing::kBatch;
 
-  ContactSkin(ClContext& cl, DeviceArrays& arrays, double skin, double dt);
+  // Reads the tests (and the activation's join flags) from `ring`.
+  ContactSkin(ClContext& cl, DeviceArrays& arrays, MonitorRing& ring, double skin, double dt);
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
   // The integration that ends step − 1 has enqueued the test of `step` (positions then
@@ -33,9 +35,7 @@ class ContactSkin {
   // for a batch read kBatch steps ago, or for its own test in the exact mode above.
   bool rebuild_due(long step);
   compute::buffer& position_at_build() { return at_build_; }
-  // The device ring that the activation stage flags in (word 2 of a slot).
-  compute::buffer& monitor() { return monitor_; }
-  static unsigned slot_of(long step) { return static_cast<unsigned>(step % kSlots); }
+  MonitorRing& ring() { return ring_; }
   long synchronous_checks() const { return synchronous_; }
   // Positions at the last detection, the device ring and the host's view of it (the
   // decisions of the steps to come depend on all of them), for checkpoints. Waits.
@@ -49,8 +49,9 @@ class ContactSkin {
   ClContext& cl_;
   DeviceArrays& arrays_;
   double half_skin_, dt_;
-  compute::buffer at_build_, monitor_;
-  std::vector<cl_uint> host_;                  // kSlots × 4 words, filled by async reads
+  MonitorRing& ring_;
+  compute::buffer at_build_;
+  std::vector<cl_uint> host_;                  // kSlots × RING_WORDS words, filled by async reads
   compute::event batch_read_;                  // the last batch read (slots batch_first_ …)
   unsigned batch_first_ = 0;
   bool batch_pending_ = false, speed_known_ = false;

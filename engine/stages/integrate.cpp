@@ -5,11 +5,13 @@
 
 namespace fdem {
 
-Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity,
-                     double local_damping, double dt, bool prescribed, bool account)
+Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
+                     bool prescribed, bool account, ContactSkin* skin)
     : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
-      account_work_(account && (prescribed || local_damping != 0)) {
-  kernel_ = compute::kernel(cl.build("integrate", {{"GROUP_SIZE", std::to_string(cl.group_size())}}), "integrate");
+      account_work_(account && (prescribed || local_damping != 0)), skin_test_(skin != nullptr) {
+  kernel_ = compute::kernel(cl.build(kernel_source::integrate, {{"GROUP_SIZE", std::to_string(cl.group_size())},
+                                                                {"SKIN_TEST", skin_test_ ? "1" : "0"}}),
+                            "integrate");
   group_work_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "integrate group_work");
   group_row_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real4), "integrate group_row");
   upload(cl, group_work_, std::vector<real2>(std::max<size_t>(1, groups_)));
@@ -17,49 +19,31 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
   node_work_ = cl.allocate(work_items * sizeof(real2), "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
-  kernel_.set_arg(0, static_cast<cl_uint>(count_));
-  kernel_.set_arg(1, a.position);
-  kernel_.set_arg(2, a.velocity);
-  kernel_.set_arg(3, a.node_force);
-  kernel_.set_arg(4, a.node_mass);
-  kernel_.set_arg(5, a.node_group);
-  kernel_.set_arg(6, a.group_table);
-  kernel_.set_arg(7, static_cast<real>(gravity[0]));
-  kernel_.set_arg(8, static_cast<real>(gravity[1]));
-  kernel_.set_arg(9, static_cast<real>(local_damping));
-  kernel_.set_arg(10, static_cast<real>(dt));
-  kernel_.set_arg(11, real(0));
-  kernel_.set_arg(12, cl_int(0));
-  kernel_.set_arg(13, a.conditions);
-  // No skin test until add_skin_test(); the buffers only need to be valid.
-  kernel_.set_arg(14, cl_int(0));
-  kernel_.set_arg(15, a.position);
-  kernel_.set_arg(16, a.conditions);
-  kernel_.set_arg(17, cl_uint(0));
-  kernel_.set_arg(18, cl_uint(0));
-  kernel_.set_arg(19, a.ref_position);
-  kernel_.set_arg(20, cl_int(account_work_ ? 1 : 0));
-  kernel_.set_arg(21, cl_int(0));
-  kernel_.set_arg(22, group_work_);
-  kernel_.set_arg(23, group_row_);
-  kernel_.set_arg(24, node_work_);
-}
-
-void Integrate::add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor,
-                              unsigned (*slot_of)(long)) {
-  kernel_.set_arg(14, cl_int(1));
-  kernel_.set_arg(15, position_at_build);
-  kernel_.set_arg(16, monitor);
-  slot_of_ = slot_of;
+  KernelArgs args(kernel_);
+  args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(
+      "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
+      "gx", static_cast<real>(gravity[0]))("gy", static_cast<real>(gravity[1]))(
+      "local_damping", static_cast<real>(local_damping))("dt", static_cast<real>(dt));
+  time_after_ = args.later("time_after", real(0));
+  step_ = args.later("step", cl_int(0));
+  args("conditions", a.conditions);
+  if (skin) {
+    args("position_at_build", skin->position_at_build())("monitor", skin->ring().buffer());
+    slot_ = args.later("slot", cl_uint(0));
+    next_slot_ = args.later("next_slot", cl_uint(0));
+  }
+  args("ref_position", a.ref_position)("account_work", cl_int(account_work_ ? 1 : 0));
+  energy_row_ = args.later("energy_row", cl_int(0));
+  args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_).done();
 }
 
 void Integrate::enqueue(double time_after, int step, bool energy_row) {
-  kernel_.set_arg(11, static_cast<real>(time_after));
-  kernel_.set_arg(12, cl_int(step));
-  kernel_.set_arg(21, cl_int(energy_row ? 1 : 0));
-  if (slot_of_) {
-    kernel_.set_arg(17, static_cast<cl_uint>(slot_of_(step + 1)));
-    kernel_.set_arg(18, static_cast<cl_uint>(slot_of_(step + 2)));
+  time_after_.set(static_cast<real>(time_after));
+  step_.set(step);
+  energy_row_.set(energy_row ? 1 : 0);
+  if (skin_test_) {
+    slot_.set(MonitorRing::slot_of(step + 1));
+    next_slot_.set(MonitorRing::slot_of(step + 2));
   }
   cl_.enqueue(kernel_, count_);
 }

@@ -6,6 +6,8 @@
 #include "engine/device_arrays.hpp"
 #include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
+#include "engine/kernel_args.hpp"
+#include "engine/stages/contact_skin.hpp"
 
 namespace fdem {
 
@@ -14,15 +16,14 @@ class Integrate {
   // `prescribed`: some node has a prescribed velocity component (then the reactions'
   // work is accounted every step, as is the local damping's when local_damping > 0);
   // `account` false leaves both out (Solver's switch for measuring the account's cost).
-  Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity,
-            double local_damping, double dt, bool prescribed, bool account = true);
+  // With a `skin`, each step also writes the contact skin test of the next step into its
+  // ring (MonitorRing slot slot_of(step + 1)), against the skin's position_at_build.
+  Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity, double local_damping, double dt,
+            bool prescribed, bool account = true, ContactSkin* skin = nullptr);
   // Advances every node from t to time_after = t + Δt. With energy_row, the step also
   // evaluates the kinetic energy and gravity potential at t (positions before the
   // update) for energy(). Never waits.
   void enqueue(double time_after, int step, bool energy_row = false);
-  // From now on each step also writes the contact skin test of the next step into ring
-  // slot slot_of(step + 1) of `monitor` (ContactSkin), against `position_at_build`.
-  void add_skin_test(compute::buffer& position_at_build, compute::buffer& monitor, unsigned (*slot_of)(long));
 
   // Kinetic energy and gravity potential at the last energy row, and the local damping
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
@@ -41,11 +42,13 @@ class Integrate {
  private:
   ClContext& cl_;
   size_t count_, groups_;
-  bool account_work_;
+  bool account_work_, skin_test_;
   compute::kernel kernel_;
+  KernelArg<real> time_after_;
+  KernelArg<cl_int> step_, energy_row_;
+  KernelArg<cl_uint> slot_, next_slot_;
   compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
   compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
-  unsigned (*slot_of_)(long) = nullptr;
 };
 
 }  // namespace fdem

@@ -1,39 +1,52 @@
 #include "engine/stages/lumped_mass.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "engine/kernel_args.hpp"
+
 namespace fdem {
 
-LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, double thickness)
+std::vector<real> ce4_node_stiffness(const Model& model) {
+  // An intact CE4 of penalty P on an edge of length L (= its h) is a spring of at most
+  // (P/h) L t between its faces; the absolute row sums of its stiffness at a node are
+  // below √2 P t (∫N = ½ per node, two faces, the normal/tangent mix of x and y). In
+  // shear the cohesive part and the friction element's stick spring add: 2 P_tan.
+  std::vector<real> extra(model.num_nodes(), 0);
+  for (size_t e = 0; e < model.ce4.size(); ++e) {
+    const auto& f = model.fracture[model.ce4_properties[e]];
+    const double k =
+        std::sqrt(2.0) * std::max({f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap}) * model.thickness;
+    for (int n : model.ce4[e]) extra[n] += static_cast<real>(k);
+  }
+  return extra;
+}
+
+LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, double dt)
     : cl_(cl), triangles_(a.num_triangles), nodes_(a.num_nodes) {
-  const auto program = cl.build("lumped_mass");
+  const bool ce4 = !model.ce4.empty();
+  const auto program = cl.build(kernel_source::lumped_mass, {{"CE4_STIFFNESS", ce4 ? "1" : "0"}});
   corner_ = compute::kernel(program, "triangle_mass");
-  corner_.set_arg(0, static_cast<cl_uint>(triangles_));
-  corner_.set_arg(1, a.tri_nodes);
-  corner_.set_arg(2, a.tri_material);
-  corner_.set_arg(3, a.materials);
-  corner_.set_arg(4, a.ref_position);
-  corner_.set_arg(5, a.ref_inverse);
-  corner_.set_arg(6, static_cast<real>(thickness));
-  corner_.set_arg(7, a.corner_force);
+  bind_args(corner_)("n_triangles", static_cast<cl_uint>(triangles_))("tri_nodes", a.tri_nodes)(
+      "tri_material", a.tri_material)("materials", a.materials)("ref_position", a.ref_position)(
+      "ref_inverse", a.ref_inverse)("thickness", static_cast<real>(model.thickness))("corner_mass", a.corner_force)
+      .done();
   inertia_ = compute::kernel(program, "node_inertia");
-  inertia_.set_arg(0, static_cast<cl_uint>(nodes_));
-  inertia_.set_arg(3, a.node_mass);
-  extra_ = cl.allocate(sizeof(real), "extra_stiffness");
-  inertia_.set_arg(4, cl_int(0));
-  inertia_.set_arg(5, extra_);
+  KernelArgs inertia(inertia_);
+  inertia("n_nodes", static_cast<cl_uint>(nodes_))("mass_scaling", cl_int(model.mass_scaling ? 1 : 0))(
+      "dt", static_cast<real>(dt))("node_mass", a.node_mass);
+  if (ce4) {
+    const auto extra = ce4_node_stiffness(model);
+    extra_ = cl.allocate(extra.size() * sizeof(real), "extra_stiffness");
+    upload(cl, extra_, extra);
+    inertia("extra_stiffness", extra_);
+  }
+  inertia.done();
 }
 
-void LumpedMass::set_extra_stiffness(const std::vector<real>& per_node) {
-  extra_ = cl_.allocate(per_node.size() * sizeof(real), "extra_stiffness");
-  upload(cl_, extra_, per_node);
-  inertia_.set_arg(4, cl_int(1));
-  inertia_.set_arg(5, extra_);
-}
-
-void LumpedMass::enqueue(NodeGather& gather, bool mass_scaling, double dt) {
+void LumpedMass::enqueue(NodeGather& gather) {
   cl_.enqueue(corner_, triangles_);
   gather.enqueue_corner_sums_into_mass();
-  inertia_.set_arg(1, cl_int(mass_scaling ? 1 : 0));
-  inertia_.set_arg(2, static_cast<real>(dt));
   cl_.enqueue(inertia_, nodes_);
 }
 

@@ -2,17 +2,19 @@
 // at set-up. Uses the corner_force array as scratch for the corner masses.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/model.hpp"
 #include "engine/stages/node_gather.hpp"
 
 namespace fdem {
 
 class LumpedMass {
  public:
-  LumpedMass(ClContext& cl, DeviceArrays& arrays, double thickness);
-  // Extra stiffness per node [N/m] that mass scaling must cover (intact CE4 springs).
-  void set_extra_stiffness(const std::vector<real>& per_node);
+  // Binds the model's triangles and, when it has CE4s, the stiffness per node that mass
+  // scaling must also cover: an intact CE4 of penalty P is a spring between its faces
+  // (ce4_node_stiffness).
+  LumpedMass(ClContext& cl, DeviceArrays& arrays, const Model& model, double dt);
   // node_mass = (Σ ρA₀t/3, inertia); inertia = 0.3 Δt²Σk with mass scaling, else the mass.
-  void enqueue(NodeGather& gather, bool mass_scaling, double dt);
+  void enqueue(NodeGather& gather);
 
  private:
   ClContext& cl_;
@@ -20,5 +22,9 @@ class LumpedMass {
   compute::kernel corner_, inertia_;
   compute::buffer extra_;
 };
+
+// The stiffness per node [N/m] of the intact CE4s at it: an upper bound of the absolute
+// row sums of their stiffness (one entry per node; all zero without CE4s).
+std::vector<real> ce4_node_stiffness(const Model& model);
 
 }  // namespace fdem

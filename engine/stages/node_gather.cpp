@@ -1,41 +1,31 @@
 #include "engine/stages/node_gather.hpp"
 
+#include "engine/kernel_args.hpp"
+
 namespace fdem {
 
-NodeGather::NodeGather(ClContext& cl, DeviceArrays& a) : cl_(cl), count_(a.num_nodes) {
-  const auto program = cl.build("gather");
-  forces_ = compute::kernel(program, "gather_node_sums");
-  masses_ = compute::kernel(program, "gather_node_sums");
-  for (auto* k : {&forces_, &masses_}) {
-    k->set_arg(0, static_cast<cl_uint>(count_));
-    k->set_arg(1, a.corner_start);
-    k->set_arg(2, a.corner_slot);
-    k->set_arg(3, a.corner_force);
-    k->set_arg(5, a.edge_start);
-    k->set_arg(6, a.edge_slot);
-    k->set_arg(7, a.edge_force);
-    k->set_arg(8, cl_int(0));
-    k->set_arg(9, a.ce4_start);
-    k->set_arg(10, a.ce4_slot);
-    k->set_arg(11, a.edge_force);  // placeholder until add_cohesive
-    k->set_arg(12, cl_int(0));
-    k->set_arg(13, a.contact_acc);
-    k->set_arg(14, real(0));
-  }
-  forces_.set_arg(4, cl_int(a.num_loaded_edges > 0 ? 1 : 0));
-  forces_.set_arg(15, a.node_force);
-  masses_.set_arg(4, cl_int(0));
-  masses_.set_arg(15, a.node_mass);
-}
+NodeGather::NodeGather(ClContext& cl, DeviceArrays& a, const compute::buffer* ce4_slots, double contact_force_scale)
+    : cl_(cl), count_(a.num_nodes) {
+  const bool edges = a.num_loaded_edges > 0, ce4 = ce4_slots != nullptr, contact = contact_force_scale > 0;
+  auto program = [&](bool with_edges, bool with_ce4, bool with_contact) {
+    return cl.build(kernel_source::node_gather, {{"GATHER_EDGES", with_edges ? "1" : "0"},
+                                                 {"GATHER_CE4", with_ce4 ? "1" : "0"},
+                                                 {"GATHER_CONTACT", with_contact ? "1" : "0"}});
+  };
+  forces_ = compute::kernel(program(edges, ce4, contact), "gather_node_sums");
+  KernelArgs f(forces_);
+  f("n_nodes", static_cast<cl_uint>(count_))("corner_start", a.corner_start)("corner_slot", a.corner_slot)(
+      "corner_value", a.corner_force);
+  if (edges) f("edge_start", a.edge_start)("edge_slot", a.edge_slot)("edge_value", a.edge_force);
+  if (ce4) f("ce4_start", a.ce4_start)("ce4_slot", a.ce4_slot)("ce4_value", *ce4_slots);
+  if (contact) f("contact_acc", a.contact_acc)("contact_unit", static_cast<real>(1.0 / contact_force_scale));
+  f("node_sum", a.node_force).done();
 
-void NodeGather::add_contact(double force_scale) {
-  forces_.set_arg(12, cl_int(1));
-  forces_.set_arg(14, static_cast<real>(1.0 / force_scale));
-}
-
-void NodeGather::add_cohesive(const compute::buffer& ce4_slots) {
-  forces_.set_arg(8, cl_int(1));
-  forces_.set_arg(11, ce4_slots);
+  masses_ = compute::kernel(program(false, false, false), "gather_node_sums");
+  KernelArgs m(masses_);
+  m("n_nodes", static_cast<cl_uint>(count_))("corner_start", a.corner_start)("corner_slot", a.corner_slot)(
+       "corner_value", a.corner_force)("node_sum", a.node_mass)
+      .done();
 }
 
 void NodeGather::enqueue_forces() { cl_.enqueue(forces_, count_); }

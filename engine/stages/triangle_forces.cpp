@@ -1,13 +1,15 @@
 #include "engine/stages/triangle_forces.hpp"
 
 #include <string>
+
+#include "engine/kernel_args.hpp"
 #include <vector>
 
 namespace fdem {
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
     : cl_(cl), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
-  kernel_ = compute::kernel(cl.build("triangle_forces", {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
+  kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
                             "triangle_forces");
   group_energy_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
@@ -15,36 +17,28 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   const size_t viscous_items = viscous_ ? std::max<size_t>(1, count_) : 1;
   viscous_stress_ = cl.allocate(viscous_items * sizeof(real4), "triangle viscous_stress");
   upload(cl, viscous_stress_, std::vector<real4>(viscous_items));
-  kernel_.set_arg(0, static_cast<cl_uint>(count_));
-  kernel_.set_arg(1, a.tri_nodes);
-  kernel_.set_arg(2, a.ref_inverse);
-  kernel_.set_arg(3, a.tri_material);
-  kernel_.set_arg(4, a.materials);
-  kernel_.set_arg(5, a.position);
-  kernel_.set_arg(6, a.velocity);
-  kernel_.set_arg(7, static_cast<real>(thickness));
-  kernel_.set_arg(8, cl_int(0));
-  kernel_.set_arg(9, cl_int(0));
-  kernel_.set_arg(10, a.corner_force);
-  kernel_.set_arg(11, a.stress);
-  kernel_.set_arg(12, a.conditions);
-  kernel_.set_arg(13, cl_int(0));
-  kernel_.set_arg(14, static_cast<real>(dt));
-  kernel_.set_arg(15, group_energy_);
-  kernel_.set_arg(16, viscous_stress_);
+  KernelArgs args(kernel_);
+  args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
+      "tri_material", a.tri_material)("materials", a.materials)("position", a.position)("velocity", a.velocity)(
+      "thickness", static_cast<real>(thickness));
+  write_stress_ = args.later("write_stress", cl_int(0));
+  step_ = args.later("step", cl_int(0));
+  args("corner_force", a.corner_force)("stress", a.stress)("conditions", a.conditions);
+  energy_mode_ = args.later("energy_mode", cl_int(0));
+  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_).done();
 }
 
 void TriangleForces::enqueue(int step, bool energy_row) {
-  kernel_.set_arg(8, cl_int(0));
-  kernel_.set_arg(9, cl_int(step));
-  kernel_.set_arg(13, cl_int((viscous_ ? 1 : 0) | (energy_row ? 2 : 0)));
+  write_stress_.set(0);
+  step_.set(step);
+  energy_mode_.set((viscous_ ? 1 : 0) | (energy_row ? 2 : 0));
   cl_.enqueue(kernel_, count_);
 }
 
 void TriangleForces::enqueue_stress(int step) {
-  kernel_.set_arg(8, cl_int(1));
-  kernel_.set_arg(9, cl_int(step));
-  kernel_.set_arg(13, cl_int(0));
+  write_stress_.set(1);
+  step_.set(step);
+  energy_mode_.set(0);
   cl_.enqueue(kernel_, count_);
 }
 

@@ -2,6 +2,7 @@
 // viscous dissipation of the energy account.
 #pragma once
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
 #include "engine/checkpoint.hpp"
 #include "engine/energy.hpp"
 
@@ -36,6 +37,7 @@ class TriangleForces {
   size_t count_, groups_;
   bool viscous_;
   compute::kernel kernel_;
+  KernelArg<cl_int> write_stress_, step_, energy_mode_;
   compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation) at the last row
   // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
   compute::buffer viscous_stress_;

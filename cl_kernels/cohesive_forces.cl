@@ -83,19 +83,7 @@
 //   that noise from ever making the dissipation go down (test_cohesive_energy checks
 //   W = stored + dissipation to 1e-4 of the CE4's energy scale along random paths).
 
-#define COH_STRIDE 12
-#define COH_OP 0       /* o_p = 2 h T_s / P_f [m] (Eq. 6) */
-#define COH_SP 1       /* s_p = 2 h c / P_tan [m] (Eq. 7) */
-#define COH_OOV 2      /* o_overlap = 2 h T_s / P_overlap [m] (Eq. 8) */
-#define COH_OT 3       /* o_t = G_fI / (T_s I_f) [m] */
-#define COH_ST 4       /* s_t = G_fII / (c I_f) [m] */
-#define COH_TS 5       /* tensile strength T_s [Pa] */
-#define COH_C 6        /* cohesion c [Pa] */
-#define COH_TANPHI 7   /* tan φ */
-#define COH_A 8        /* softening shape A, B, C (Eq. 10) */
-#define COH_B 9
-#define COH_CEXP 10
-#define COH_H 11       /* initial edge length h [m]: the reference length of the tractions */
+// The per-CE4 parameter row (COH_*, COH_STRIDE) is defined in engine/layouts.hpp.
 
 // f(D) of Eq. 10.
 inline real coh_softening(real D, real A, real B, real C) {
