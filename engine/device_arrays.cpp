@@ -20,44 +20,6 @@ size_t pressure_point_count(const Model& model) {
 
 }  // namespace
 
-size_t DeviceArrays::bytes_needed(const Model& model) {
-  const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
-  const size_t r = sizeof(real), u = sizeof(uint32_t);
-  const bool contact = model.contact.enabled;
-  // Nodes: position, velocity, reference position, force, mass (real2 each), group, three
-  // CSR offsets; with contact the fixed-point force, the skin's positions at the last
-  // detection and the run's checkpoint copy of position and velocity.
-  const size_t nodes = n * (5 * 2 * r + u + 3 * u + (contact ? 2 * 8 + 2 * r : 0) + 4 * r);
-  // Triangles: nodes, X⁻¹, material, three corner slots, stress, three CSR entries.
-  const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
-  const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
-  const size_t tables = (model.groups.size() + model.loads.size()) * 8 * r +
-                        model.materials.size() * layout::MATERIAL_STRIDE * r + 64;
-  // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
-  // per candidate couple its detection key and, with room for an eighth more, the
-  // force stage's key, two history lists (12 reals each), overlap-list entry, live flag
-  // and the stored energy of an energy row (a real). About 8 couples per candidate triangle (7 measured on the UCS mesh, all
-  // triangles candidates).
-  size_t candidates = t;
-  if (!model.contact_active.empty())
-    candidates = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
-                                                   [](uint32_t a) { return a != 0; }));
-  const size_t couples = 8 * std::max<size_t>(candidates, 1);
-  const size_t contact_bytes =
-      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 12 * r + u + 1 + r) : 0;
-  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), friction slips
-  // (real4), status, output row, 4 force slots, last gaps (real4), last chord (real2) and
-  // energy account (real4), 4 CSR entries.
-  const size_t ce4 = model.ce4.size() *
-                     (4 * u + 12 * r + 3 * 4 * r + 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * r + 2 * r + 4 * r + 4 * u);
-  // Energy account: A t σ_viscous of the last step per triangle (real4) when a material is
-  // viscous; per-work-group sums are negligible.
-  const bool viscous = std::any_of(model.materials.begin(), model.materials.end(),
-                                   [](const MaterialConstants& m) { return m.viscosity != 0; });
-  const size_t energy = viscous ? t * 4 * r : 0;
-  return nodes + tris + edges + tables + contact_bytes + ce4 + energy;
-}
-
 MemoryPlan DeviceArrays::plan(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
   const size_t u = sizeof(uint32_t);
@@ -95,11 +57,6 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
     : num_nodes(model.num_nodes()),
       num_triangles(model.num_triangles()),
       num_loaded_edges(model.loaded_edges.size()) {
-  const size_t needed = bytes_needed(model);
-  if (needed > cl.info().global_memory)
-    throw DeviceError("too little device memory: the model needs " + std::to_string(needed >> 20) +
-                      " MiB, device " + cl.info().device_name + " has " +
-                      std::to_string(cl.info().global_memory >> 20) + " MiB");
   const size_t n = num_nodes, t = num_triangles, e = num_loaded_edges;
   const MemoryPlan plan = DeviceArrays::plan(model);
   position = plan.allocate(cl, "position");

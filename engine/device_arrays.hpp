@@ -55,12 +55,8 @@ struct DeviceArrays {
   // Allocates the arrays of plan(model) and uploads the model.
   DeviceArrays(ClContext& cl, const Model& model);
 
-  // The arrays above for `model`, by name and size.
+  // The arrays above for `model`, by name and size (Solver::plan adds the stages').
   static MemoryPlan plan(const Model& model);
-
-  // Device memory the arrays of `model` take, in bytes (for `fdem check` and the
-  // too-little-memory error before any allocation).
-  static size_t bytes_needed(const Model& model);
 };
 
 // Host ↔ device copies that wait (only for set-up, output, history and checks).
