@@ -63,14 +63,14 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   const double bandwidth = cl.info().is_gpu ? 4.3e12 : 0.0;  // H200 figure; no CPU bound printed
   std::ostringstream csv;
   csv << "h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,"
-         "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account\n";
+         "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account,planned_mib\n";
   out << "fdem bench on " << cl.description() << ": " << o.warmup << " warm-up + " << o.steps
       << " timed steps, dt 0.5 ns, activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
       << "ms/step on a plain queue with the energy account (a row every " << kBenchRowEvery
       << " steps), no-account without it (same process); the stage times below from a run on a profiling queue\n";
   out << std::setw(6) << "h_ave" << std::setw(10) << "TRI3" << std::setw(10) << "CE4" << std::setw(10) << "nodes"
       << std::setw(11) << "couples" << std::setw(9) << "touch" << std::setw(6) << "rebd" << std::setw(11)
-      << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(7)
+      << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(7)
       << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << std::setw(13) << "no-account"
       << std::setw(9) << "account" << "\n";
   for (double h : o.sizes) {
@@ -115,14 +115,18 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const double roofline = bandwidth > 0 ? 1e3 * bytes / bandwidth : 0;
     const auto paper = kPaper.count(h) ? kPaper.at(h) : std::pair<long, double>{0, 0};
     const double paper_ms = paper.second / 10.0;
-    // Device memory this model holds: what its arrays, stages and contact lists took.
+    // Device memory this model holds after the run: what its arrays, stages and contact
+    // lists (grown as needed) took; and what Solver::plan says it needs at the start
+    // (lists at their first capacity, plus the largest transient array).
     const double used = static_cast<double>(cl.device_bytes_in_use() - before_bytes);
+    const double planned_mib = static_cast<double>(Solver::bytes_needed(p.model, cl.group_size())) / 1048576.0;
     const double mib = used / 1048576.0, per_tri = used / std::max<size_t>(p.model.num_triangles(), 1);
     out << std::fixed << std::setw(6) << std::setprecision(2) << h << std::setw(10) << p.model.num_triangles()
         << std::setw(10) << p.model.ce4.size() << std::setw(10) << p.model.num_nodes() << std::setw(11) << couples
         << std::setw(9) << touching << std::setw(6) << rebuilds << std::setw(11) << std::setprecision(3) << ms
         << std::setw(9) << std::setprecision(2) << paper_ms << std::setw(9) << std::setprecision(1)
-        << (paper_ms > 0 ? paper_ms / ms : 0) << std::setw(8) << std::setprecision(0) << mib << std::setw(7)
+        << (paper_ms > 0 ? paper_ms / ms : 0) << std::setw(8) << std::setprecision(0) << mib << std::setw(8)
+        << planned_mib << std::setw(7)
         << per_tri << std::setw(10) << std::setprecision(3) << roofline << std::setw(7) << std::setprecision(3)
         << (roofline > 0 ? roofline / ms : 0) << std::setw(13) << ms_without << std::setw(8) << std::setprecision(1)
         << 100.0 * (ms - ms_without) / ms_without << "%" << std::defaultfloat << "\n";
@@ -137,7 +141,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     csv << h << "," << p.model.num_triangles() << "," << p.model.ce4.size() << "," << p.model.num_nodes() << ","
         << couples << "," << touching << "," << rebuilds << "," << ms << "," << paper_ms << ","
         << (paper_ms > 0 ? paper_ms / ms : 0) << "," << mib << "," << per_tri << "," << roofline << ","
-        << (roofline > 0 ? roofline / ms : 0) << "," << ms_without << "\n";
+        << (roofline > 0 ? roofline / ms : 0) << "," << ms_without << "," << planned_mib << "\n";
   }
   if (!o.csv.empty()) {
     std::ofstream file(o.csv);

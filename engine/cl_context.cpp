@@ -171,13 +171,15 @@ void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
   }
 }
 
+std::size_t ClContext::allocation_size(std::size_t bytes) { return bytes == 0 ? sizeof(real) : bytes; }
+
 compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) const {
   if (bytes > info_.max_allocation)
     throw DeviceError("device array '" + what + "' needs " + std::to_string(bytes) +
                       " bytes, more than the device's largest allocation (" +
                       std::to_string(info_.max_allocation) + " bytes)");
   try {
-    const std::size_t size = bytes == 0 ? sizeof(real) : bytes;
+    const std::size_t size = allocation_size(bytes);
     compute::buffer buffer(context_, size, compute::memory_object::read_write);
     // The callback owns a reference to the counter, so it may run after this context is gone.
     auto* owner = new std::pair<std::shared_ptr<LiveBytes>, std::size_t>(live_, size);

@@ -62,7 +62,10 @@ class ClContext {
   void enqueue(const compute::kernel& kernel, std::size_t n);
 
   // Allocates a device buffer; `what` names it in the error when allocation fails.
+  // Stages allocate through their MemoryPlan (engine/memory_plan.hpp), which calls this.
   compute::buffer allocate(std::size_t bytes, const std::string& what) const;
+  // The bytes allocate(bytes) takes: an empty array gets one real (OpenCL has no empty buffers).
+  static std::size_t allocation_size(std::size_t bytes);
   // Bytes of the buffers allocate() made that are still alive (OpenCL destructor
   // callbacks count them down), and the most there ever were.
   std::size_t device_bytes_in_use() const { return live_->bytes.load(); }

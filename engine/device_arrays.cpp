@@ -7,83 +7,87 @@
 
 namespace fdem {
 
-size_t DeviceArrays::bytes_needed(const Model& model) {
+namespace {
+
+// The (time, pressure) points of every pressure table, one after another; one dummy
+// point when there are none.
+size_t pressure_point_count(const Model& model) {
+  size_t points = 0;
+  for (const auto& l : model.loads)
+    if (l.kind == LoadKind::Table) points += l.times.size();
+  return std::max<size_t>(points, 1);
+}
+
+}  // namespace
+
+MemoryPlan DeviceArrays::plan(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
-  const size_t r = sizeof(real), u = sizeof(uint32_t);
-  const bool contact = model.contact.enabled;
-  // Nodes: position, velocity, reference position, force, mass (real2 each), group, three
-  // CSR offsets; with contact the fixed-point force, the skin's positions at the last
-  // detection and the run's checkpoint copy of position and velocity.
-  const size_t nodes = n * (5 * 2 * r + u + 3 * u + (contact ? 2 * 8 + 2 * r : 0) + 4 * r);
-  // Triangles: nodes, X⁻¹, material, three corner slots, stress, three CSR entries.
-  const size_t tris = t * (3 * u + 4 * r + u + 3 * 2 * r + 4 * r + 3 * u);
-  const size_t edges = e * (2 * u + u + 2 * 2 * r + 2 * u);
-  const size_t tables = (model.groups.size() + model.loads.size()) * 8 * r +
-                        model.materials.size() * layout::MATERIAL_STRIDE * r + 64;
-  // Contact: per triangle the detection's box, hash, sorted index, mask and four cells;
-  // per candidate couple its detection key and, with room for an eighth more, the
-  // force stage's key, two history lists (12 reals each), overlap-list entry, live flag
-  // and the stored energy of an energy row (a real). About 8 couples per candidate triangle (7 measured on the UCS mesh, all
-  // triangles candidates).
-  size_t candidates = t;
-  if (!model.contact_active.empty())
-    candidates = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
-                                                   [](uint32_t a) { return a != 0; }));
-  const size_t couples = 8 * std::max<size_t>(candidates, 1);
-  const size_t contact_bytes =
-      contact ? t * (4 * r + 3 * u + 8 * u) + couples * 8 + couples * 9 / 8 * (8 + 2 * 12 * r + u + 1 + r) : 0;
-  // CE4: 4 node indices, 12 parameters, 3 Gauss-point states (real4), friction slips
-  // (real4), status, output row, 4 force slots, last gaps (real4), last chord (real2) and
-  // energy account (real4), 4 CSR entries.
-  const size_t ce4 = model.ce4.size() *
-                     (4 * u + 12 * r + 3 * 4 * r + 4 * r + 2 * u + 4 * r + 4 * 2 * r + 4 * r + 2 * r + 4 * r + 4 * u);
-  // Energy account: A t σ_viscous of the last step per triangle (real4) when a material is
-  // viscous; per-work-group sums are negligible.
-  const bool viscous = std::any_of(model.materials.begin(), model.materials.end(),
-                                   [](const MaterialConstants& m) { return m.viscosity != 0; });
-  const size_t energy = viscous ? t * 4 * r : 0;
-  return nodes + tris + edges + tables + contact_bytes + ce4 + energy;
+  const size_t u = sizeof(uint32_t);
+  MemoryPlan p;
+  p.add("position", n * sizeof(real2))
+      .add("velocity", n * sizeof(real2))
+      .add("ref_position", n * sizeof(real2))
+      .add("node_force", n * sizeof(real2))
+      .add("node_mass", n * sizeof(real2))
+      .add("node_group", n * u)
+      .add("group_table", model.groups.size() * sizeof(real4))
+      .add("tri_nodes", 3 * t * u)
+      .add("ref_inverse", t * sizeof(real4))
+      .add("tri_material", t * u)
+      .add("materials", model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real))
+      .add("corner_force", 3 * t * sizeof(real2))
+      .add("stress", t * sizeof(real4))
+      .add("corner_start", (n + 1) * u)
+      .add("corner_slot", 3 * t * u)
+      .add("edge_nodes", 2 * e * u)
+      .add("edge_load", e * u)
+      .add("load_table", std::max<size_t>(1, model.loads.size()) * sizeof(real4))
+      .add("pressure_points", pressure_point_count(model) * sizeof(real2))
+      .add("edge_force", 2 * e * sizeof(real2))
+      .add("edge_start", (n + 1) * u)
+      .add("edge_slot", 2 * e * u)
+      .add("ce4_start", (n + 1) * u)
+      .add("ce4_slot", std::max<size_t>(1, 4 * model.ce4.size()) * u)  // 4 slots per CE4
+      .add("contact_acc", (model.contact.enabled ? n : 1) * 2 * sizeof(cl_long))
+      .add("conditions", layout::CONDITION_WORDS * sizeof(int));
+  return p;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
     : num_nodes(model.num_nodes()),
       num_triangles(model.num_triangles()),
       num_loaded_edges(model.loaded_edges.size()) {
-  const size_t needed = bytes_needed(model);
-  if (needed > cl.info().global_memory)
-    throw DeviceError("too little device memory: the model needs " + std::to_string(needed >> 20) +
-                      " MiB, device " + cl.info().device_name + " has " +
-                      std::to_string(cl.info().global_memory >> 20) + " MiB");
   const size_t n = num_nodes, t = num_triangles, e = num_loaded_edges;
-
-  position = cl.allocate(n * sizeof(real2), "position");
-  velocity = cl.allocate(n * sizeof(real2), "velocity");
-  ref_position = cl.allocate(n * sizeof(real2), "ref_position");
-  node_force = cl.allocate(n * sizeof(real2), "node_force");
-  node_mass = cl.allocate(n * sizeof(real2), "node_mass");
-  node_group = cl.allocate(n * sizeof(uint32_t), "node_group");
-  group_table = cl.allocate(model.groups.size() * sizeof(real4), "group_table");
-  tri_nodes = cl.allocate(3 * t * sizeof(uint32_t), "tri_nodes");
-  ref_inverse = cl.allocate(t * sizeof(real4), "ref_inverse");
-  tri_material = cl.allocate(t * sizeof(uint32_t), "tri_material");
-  materials = cl.allocate(model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real), "materials");
-  corner_force = cl.allocate(3 * t * sizeof(real2), "corner_force");
-  stress = cl.allocate(t * sizeof(real4), "stress");
-  corner_start = cl.allocate((n + 1) * sizeof(uint32_t), "corner_start");
-  corner_slot = cl.allocate(3 * t * sizeof(uint32_t), "corner_slot");
-  edge_nodes = cl.allocate(2 * e * sizeof(uint32_t), "edge_nodes");
-  edge_load = cl.allocate(e * sizeof(uint32_t), "edge_load");
-  load_table = cl.allocate(std::max<size_t>(1, model.loads.size()) * sizeof(real4), "load_table");
-  edge_force = cl.allocate(2 * e * sizeof(real2), "edge_force");
-  edge_start = cl.allocate((n + 1) * sizeof(uint32_t), "edge_start");
-  edge_slot = cl.allocate(2 * e * sizeof(uint32_t), "edge_slot");
+  const MemoryPlan plan = DeviceArrays::plan(model);
+  position = plan.allocate(cl, "position");
+  velocity = plan.allocate(cl, "velocity");
+  ref_position = plan.allocate(cl, "ref_position");
+  node_force = plan.allocate(cl, "node_force");
+  node_mass = plan.allocate(cl, "node_mass");
+  node_group = plan.allocate(cl, "node_group");
+  group_table = plan.allocate(cl, "group_table");
+  tri_nodes = plan.allocate(cl, "tri_nodes");
+  ref_inverse = plan.allocate(cl, "ref_inverse");
+  tri_material = plan.allocate(cl, "tri_material");
+  materials = plan.allocate(cl, "materials");
+  corner_force = plan.allocate(cl, "corner_force");
+  stress = plan.allocate(cl, "stress");
+  corner_start = plan.allocate(cl, "corner_start");
+  corner_slot = plan.allocate(cl, "corner_slot");
+  edge_nodes = plan.allocate(cl, "edge_nodes");
+  edge_load = plan.allocate(cl, "edge_load");
+  load_table = plan.allocate(cl, "load_table");
+  pressure_points = plan.allocate(cl, "pressure_points");
+  edge_force = plan.allocate(cl, "edge_force");
+  edge_start = plan.allocate(cl, "edge_start");
+  edge_slot = plan.allocate(cl, "edge_slot");
+  ce4_start = plan.allocate(cl, "ce4_start");
+  ce4_slot = plan.allocate(cl, "ce4_slot");
+  contact_acc = plan.allocate(cl, "contact_acc");
+  conditions = plan.allocate(cl, "conditions");
   const SlotMap ce4 = build_slot_map(n, model.ce4);
-  ce4_start = cl.allocate((n + 1) * sizeof(uint32_t), "ce4_start");
-  ce4_slot = cl.allocate(std::max<size_t>(1, ce4.slot.size()) * sizeof(uint32_t), "ce4_slot");
   upload(cl, ce4_start, ce4.start);
   upload(cl, ce4_slot, ce4.slot);
-  contact_acc = cl.allocate((model.contact.enabled ? n : 1) * 2 * sizeof(cl_long), "contact_acc");
-  conditions = cl.allocate(layout::CONDITION_WORDS * sizeof(int), "conditions");
 
   std::vector<real2> pos(n), vel(n);
   for (size_t i = 0; i < n; ++i) {
@@ -151,7 +155,6 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   }
   upload(cl, load_table, loads);
   if (points.empty()) points.push_back({0, 0});
-  pressure_points = cl.allocate(points.size() * sizeof(real2), "pressure_points");
   upload(cl, pressure_points, points);
   const SlotMap edges = build_slot_map(n, edge_items);
   upload(cl, edge_start, edges.start);

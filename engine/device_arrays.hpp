@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/cl_context.hpp"
+#include "engine/memory_plan.hpp"
 #include "engine/model.hpp"
 #include "engine/real.hpp"
 
@@ -51,11 +52,11 @@ struct DeviceArrays {
 
   compute::buffer conditions;    // int, CONDITION_WORDS: first offenders (INT_MAX = none)
 
+  // Allocates the arrays of plan(model) and uploads the model.
   DeviceArrays(ClContext& cl, const Model& model);
 
-  // Device memory the arrays of `model` take, in bytes (for `fdem check` and the
-  // too-little-memory error before any allocation).
-  static size_t bytes_needed(const Model& model);
+  // The arrays above for `model`, by name and size (Solver::plan adds the stages').
+  static MemoryPlan plan(const Model& model);
 };
 
 // Host ↔ device copies that wait (only for set-up, output, history and checks).

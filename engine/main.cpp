@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,7 +20,9 @@
 #include "engine/device_arrays.hpp"
 #include "base/errors.hpp"
 #include "engine/run.hpp"
+#include "engine/solver.hpp"
 #include "engine/stages/contact_detection.hpp"
+#include "engine/stages/contact_forces.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace {
@@ -190,10 +193,23 @@ int check_command(const Arguments& a) {
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"
             << "steps     " << p.steps << "\n";
-  const size_t bytes = fdem::DeviceArrays::bytes_needed(m);
-  std::cout << "device memory needed " << mib(bytes) << "\n";
+  std::unique_ptr<fdem::ClContext> device;
+  std::string no_device;
   try {
-    fdem::ClContext cl(a.device);
+    device = std::make_unique<fdem::ClContext>(a.device);
+  } catch (const fdem::DeviceError& e) {
+    no_device = e.what();
+  }
+  // What the Solver allocates (Solver::plan); the work-group size changes only the
+  // per-group slots (without a device: 64, PoCL's).
+  const size_t bytes = fdem::Solver::bytes_needed(m, device ? device->group_size() : 64);
+  std::cout << "device memory needed " << mib(bytes) << "\n";
+  if (!device) {
+    std::cout << "device    none usable: " << no_device << "\n";
+    return 0;
+  }
+  try {
+    fdem::ClContext& cl = *device;
     std::cout << "device    " << cl.description() << ", " << mib(cl.info().global_memory)
               << (bytes > cl.info().global_memory ? "  -- TOO SMALL" : "  -- fits") << "\n";
     if (bytes > cl.info().global_memory) return 4;
@@ -205,6 +221,20 @@ int check_command(const Arguments& a) {
       std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size
                 << " m, " << couples << " initial candidate couples (boxes overlapping"
                 << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
+      // The contact stage's lists (and the detection's) grow when the first list does not
+      // fit their first capacity: the memory figure above is before that.
+      const size_t group = cl.group_size(), first = fdem::ContactForces::first_capacity(m.num_triangles());
+      size_t more = 0;
+      if (couples > first)
+        more += fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(couples), group).resident() -
+                fdem::ContactForces::couple_arrays(first, group).resident();
+      const size_t first_keys = fdem::ContactDetection::first_capacity(m.num_triangles());
+      if (detection.capacity() > first_keys)  // run() grew it
+        more += fdem::ContactDetection::couple_list(detection.capacity()).resident() -
+                fdem::ContactDetection::couple_list(first_keys).resident();
+      if (more > 0)
+        std::cout << "          the first list outgrows the contact lists' first capacity (" << first
+                  << " couples): + " << mib(more) << " once the run has started\n";
     }
   } catch (const fdem::DeviceError& e) {
     std::cout << "device    none usable: " << e.what() << "\n";

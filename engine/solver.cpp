@@ -12,60 +12,103 @@ namespace fdem {
 
 namespace {
 
-template <class Stage, class... Args>
-std::unique_ptr<Stage> build_if(bool wanted, Args&&... args) {
-  return wanted ? std::make_unique<Stage>(std::forward<Args>(args)...) : nullptr;
+// make() when wanted, else null (make may use stages that exist only when wanted).
+template <class Make>
+auto build_if(bool wanted, Make make) -> decltype(make()) {
+  return wanted ? make() : nullptr;
 }
 
-bool any_viscous(const Model& model) {
-  return std::any_of(model.materials.begin(), model.materials.end(),
-                     [](const MaterialConstants& m) { return m.viscosity != 0; });
+// The Solver's own arrays: the checkpoint's copy of positions and velocities.
+MemoryPlan checkpoint_plan(size_t nodes) {
+  return MemoryPlan().add("saved_position", nodes * sizeof(real2)).add("saved_velocity", nodes * sizeof(real2));
 }
 
-// Activation "fractured": the two triangles of every CE4 are a couple from the start (see
-// ContactDetection); the mask then adds the others as CE4s break.
-std::unique_ptr<ContactDetection> build_detection(ClContext& cl, DeviceArrays& arrays, const Model& model) {
-  if (!model.contact.enabled) return nullptr;
-  auto detection = std::make_unique<ContactDetection>(
-      cl, arrays, model.contact.skin, 0,
-      model.contact_active.empty() ? std::vector<std::array<int, 2>>{} : model.ce4_triangles);
+// Activation "fractured" (a candidate mask is given): the two triangles of every CE4 are
+// a couple from the start (see ContactDetection); the mask then adds the others as CE4s break.
+const std::vector<std::array<int, 2>>& detection_bonds(const Model& model) {
+  static const std::vector<std::array<int, 2>> none;
+  return model.contact_active.empty() ? none : model.ce4_triangles;
+}
+
+std::unique_ptr<ContactDetection> build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
+                                                  const Model& model) {
+  if (!wanted) return nullptr;
+  auto detection = std::make_unique<ContactDetection>(cl, arrays, model.contact.skin, 0, detection_bonds(model));
   if (!model.contact_active.empty()) detection->set_active(model.contact_active);
   return detection;
 }
 
-std::unique_ptr<ContactSkin> build_skin(ClContext& cl, DeviceArrays& arrays, const Model& model, MonitorRing* ring,
-                                        double dt) {
-  if (!ring || !model.contact.rebuild_skin) return nullptr;
-  return std::make_unique<ContactSkin>(cl, arrays, *ring, model.contact.skin, dt);
-}
-
-// Without a skin detection runs every step and nobody reads the join flags in the ring.
-std::unique_ptr<ContactActivation> build_activation(ClContext& cl, const Model& model, CohesiveForces* cohesive,
-                                                    ContactDetection* detection, MonitorRing* ring) {
-  if (!detection || !cohesive || model.contact_active.empty()) return nullptr;
-  return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive->status(), detection->active_mask(),
-                                             *ring);
-}
-
 }  // namespace
+
+Solver::Parts Solver::parts(const Model& model, bool account) {
+  Parts p;
+  p.ce4 = !model.ce4.empty();
+  p.contact = model.contact.enabled;
+  p.skin = p.contact && model.contact.rebuild_skin;
+  // Without a skin detection runs every step and nobody reads the join flags in the ring.
+  p.activation = p.contact && p.ce4 && !model.contact_active.empty();
+  p.viscous = account && std::any_of(model.materials.begin(), model.materials.end(),
+                                     [](const MaterialConstants& m) { return m.viscosity != 0; });
+  p.prescribed = model.groups.size() > 1;
+  p.account_work = Integrate::accounts_work(p.prescribed, model.local_damping, account);
+  return p;
+}
+
+MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
+  const Parts p = parts(model, account);
+  const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
+  MemoryPlan plan = DeviceArrays::plan(model);
+  if (p.ce4) plan.add(CohesiveForces::plan(model.ce4.size()));
+  if (p.contact) {
+    plan.add(MonitorRing::plan());
+    plan.add(ContactDetection::plan(triangles, group_size, 0, !detection_bonds(model).empty()));
+  }
+  if (p.skin) plan.add(ContactSkin::plan(nodes));
+  if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size()));
+  if (p.contact) plan.add(ContactForces::plan(model, group_size, false));  // the detection's mask
+  plan.add(TriangleForces::plan(triangles, group_size, p.viscous));
+  plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
+  plan.add(Integrate::plan(nodes, group_size, p.account_work));
+  plan.add(LumpedMass::plan(nodes, p.ce4));
+  plan.add(checkpoint_plan(nodes));
+  return plan;
+}
+
+Solver::Parts Solver::fitting_parts(const ClContext& cl, const Model& model, bool account) {
+  const size_t needed = bytes_needed(model, cl.group_size(), account);
+  if (needed > cl.info().global_memory)
+    throw DeviceError("too little device memory: the model needs " + std::to_string(needed >> 20) +
+                      " MiB, device " + cl.info().device_name + " has " +
+                      std::to_string(cl.info().global_memory >> 20) + " MiB");
+  return parts(model, account);
+}
 
 Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     : cl_(cl),
       dt_(dt),
+      parts_(fitting_parts(cl, model, account)),
       arrays_(cl, model),
-      cohesive_(build_if<CohesiveForces>(!model.ce4.empty(), cl,
-                                         CohesiveModel{model.ce4, model.ce4_properties, model.fracture, model.thickness},
-                                         arrays_.position, arrays_.ref_position)),
-      ring_(build_if<MonitorRing>(model.contact.enabled, cl)),
-      detection_(build_detection(cl, arrays_, model)),
-      skin_(build_skin(cl, arrays_, model, ring_.get(), dt)),
-      activation_(build_activation(cl, model, cohesive_.get(), detection_.get(), ring_.get())),
-      contact_(build_if<ContactForces>(model.contact.enabled, cl, arrays_, model,
-                                       detection_ ? &detection_->active_mask() : nullptr)),
-      triangle_forces_(cl, arrays_, model.thickness, dt, account && any_viscous(model)),
+      cohesive_(build_if(parts_.ce4,
+                         [&] {
+                           return std::make_unique<CohesiveForces>(
+                               cl, CohesiveModel{model.ce4, model.ce4_properties, model.fracture, model.thickness},
+                               arrays_.position, arrays_.ref_position);
+                         })),
+      ring_(build_if(parts_.contact, [&] { return std::make_unique<MonitorRing>(cl); })),
+      detection_(build_detection(parts_.contact, cl, arrays_, model)),
+      skin_(build_if(parts_.skin,
+                     [&] { return std::make_unique<ContactSkin>(cl, arrays_, *ring_, model.contact.skin, dt); })),
+      activation_(build_if(parts_.activation,
+                           [&] {
+                             return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
+                                                                        detection_->active_mask(), *ring_);
+                           })),
+      contact_(build_if(parts_.contact,
+                        [&] { return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask()); })),
+      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, model.groups.size() > 1, account, skin_.get()) {
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get()) {
   if (contact_) {
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
@@ -76,8 +119,9 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                          3 * longest;
   }
   LumpedMass(cl, arrays_, model, dt).enqueue(gather_);
-  saved_position_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_position");
-  saved_velocity_ = cl.allocate(arrays_.num_nodes * sizeof(real2), "saved_velocity");
+  const MemoryPlan own = checkpoint_plan(arrays_.num_nodes);
+  saved_position_ = own.allocate(cl, "saved_position");
+  saved_velocity_ = own.allocate(cl, "saved_velocity");
   cl.finish();
 }
 

@@ -35,7 +35,32 @@ class Solver {
   // `account` false leaves out the per-step energy sums that only the account needs (the
   // reactions' and local damping's work, the viscous work): for `fdem bench` to measure
   // what the account costs. Runs always keep it.
+  // Throws DeviceError ("too little device memory …") when plan(...).total() exceeds
+  // the device's memory, before allocating anything.
   Solver(ClContext& cl, const Model& model, double dt, bool account = true);
+
+  // The parts of the step that `model` has (the conditions under which the constructor
+  // builds each stage; written only here).
+  struct Parts {
+    bool ce4 = false;         // CohesiveForces
+    bool contact = false;     // MonitorRing, ContactDetection, ContactForces
+    bool skin = false;        // ContactSkin (contact with rebuild = "skin")
+    bool activation = false;  // ContactActivation (contact, activation "fractured", CE4s)
+    bool viscous = false;     // TriangleForces accounts viscous work (account on, a viscous material)
+    bool prescribed = false;  // some node has a prescribed velocity (a BC group besides 0)
+    bool account_work = false;  // Integrate accounts reactions' and damping work
+  };
+  static Parts parts(const Model& model, bool account = true);
+  // Every device array the Solver of `model` allocates: DeviceArrays' and each built
+  // stage's plan, the set-up LumpedMass's and the Solver's own checkpoint copies
+  // (`group_size`: ClContext::group_size() of the device it will run on).
+  // ClContext::device_bytes_in_use() rises by plan(...).resident() when the Solver is built.
+  static MemoryPlan plan(const Model& model, size_t group_size, bool account = true);
+  // Device memory the run needs, in bytes: plan(...).total() (resident arrays, contact
+  // lists at their first capacity, plus the largest transient array).
+  static size_t bytes_needed(const Model& model, size_t group_size, bool account = true) {
+    return plan(model, group_size, account).total();
+  }
 
   // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose
   // energy account (read once) starts the balance. With `energy_row` the step also
@@ -91,9 +116,13 @@ class Solver {
   DeviceArrays& arrays() { return arrays_; }
 
  private:
+  // The parts of `model`, after checking that its arrays fit on the device.
+  static Parts fitting_parts(const ClContext& cl, const Model& model, bool account);
+
   ClContext& cl_;
   double dt_;
   long steps_ = 0;
+  const Parts parts_;
   DeviceArrays arrays_;
   // The stages, each built once from what the model has, in this order: a stage is
   // handed the ones built before it that it reads or writes (engine/solver.cpp).

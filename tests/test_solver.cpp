@@ -8,6 +8,7 @@
 #include "case_files.hpp"
 #include "base/errors.hpp"
 #include "engine/run.hpp"
+#include "engine/solver.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;
@@ -39,6 +40,49 @@ std::string bar_case(const std::string& extra) {
 }  // namespace
 
 TEST_SUITE("solver") {
+
+TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for each part of the step") {
+  test::TempDir dir;
+  const std::string bar = dir.write("bar.toml", bar_case(""));
+  struct Sample {
+    std::string what;
+    std::string path;
+    std::vector<std::string> overrides;
+    bool account = true;
+  };
+  const std::vector<Sample> samples{
+      {"plain bar", bar, {"time.dt=\"auto\""}},
+      {"plain bar, no account", bar, {"time.dt=\"auto\""}, false},
+      {"CE4s (wave bar)", test::source_path("cases/wave-bar/ce4.toml"), {"mesh.size=0.05"}},
+      {"contact, detection every step (impact)", test::source_path("cases/impact/case.toml"), {"mesh.size=0.03"}},
+      {"contact with a skin (impact)", test::source_path("cases/impact/case.toml"),
+       {"mesh.size=0.03", "contact.rebuild=\"skin\"", "contact.skin=1e-3"}},
+      {"CE4s, contact \"fractured\" with a skin (Brazilian disc)", test::source_path("cases/brazilian/case.toml"),
+       {"mesh.size=4e-3"}},
+      {"pressure tables and contact \"fractured\" (blasting)", test::source_path("cases/blasting/case.toml"),
+       {"mesh.size=0.1"}},
+  };
+  ClContext& cl = test::context();
+  for (const auto& sample : samples) {
+    CAPTURE(sample.what);
+    const PreparedCase p = prepare_case(sample.path, sample.overrides);
+    const MemoryPlan plan = Solver::plan(p.model, cl.group_size(), sample.account);
+    const size_t before = cl.device_bytes_in_use();
+    {
+      Solver solver(cl, p.model, p.dt, sample.account);
+      const size_t used = cl.device_bytes_in_use() - before;
+      MESSAGE(sample.what << ": " << p.model.num_triangles() << " TRI3, " << p.model.ce4.size() << " CE4: plan "
+                          << plan.resident() << " B resident (" << plan.total() << " B needed), in use " << used
+                          << " B");
+      CHECK(used == plan.resident());
+      CHECK(cl.device_bytes_peak() >= before + plan.construction_peak());
+      CHECK(Solver::bytes_needed(p.model, cl.group_size(), sample.account) == plan.total());
+      CHECK(plan.total() >= plan.resident());
+    }
+    CHECK(cl.device_bytes_in_use() == before);
+  }
+}
+
 
 TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy within 1% in 6,400 steps") {
   test::TempDir dir;

@@ -7,11 +7,16 @@
 
 namespace fdem {
 
+MemoryPlan BoundaryLoads::plan(size_t loaded_edges, size_t group_size) {
+  return MemoryPlan().add("boundary_loads group_energy",
+                          std::max<size_t>(1, groups_for(loaded_edges, group_size)) * sizeof(real2));
+}
+
 BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt)
     : cl_(cl), count_(a.num_loaded_edges), groups_(work_groups(cl, a.num_loaded_edges)) {
   kernel_ = compute::kernel(cl.build(kernel_source::boundary_loads, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
                             "boundary_loads");
-  group_energy_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "boundary_loads group_energy");
+  group_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   KernelArgs args(kernel_);
   args("n_edges", static_cast<cl_uint>(count_))("edge_nodes", a.edge_nodes)("edge_load", a.edge_load)(

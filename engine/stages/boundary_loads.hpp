@@ -11,6 +11,8 @@ namespace fdem {
 class BoundaryLoads {
  public:
   BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness, double dt);
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
+  static MemoryPlan plan(size_t loaded_edges, size_t group_size);
   // Edge forces at time `time` (absorbing edges use the current velocities) of step
   // `step`, and the loads' work over the step before. Never waits; does nothing when no
   // edge is loaded.

@@ -29,11 +29,29 @@ void check_properties(const FractureProperties& p, size_t index) {
     throw InputError(where + "softening shape needs a, b, c > 0 and a + b > 1");
 }
 
+// Partial sums of the energy totals: one per CE4 up to 4096 (at least one).
+size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>(ce4, 4096)); }
+
 }  // namespace
+
+MemoryPlan CohesiveForces::plan(size_t ce4) {
+  return MemoryPlan()
+      .add("ce4_nodes", 4 * ce4 * sizeof(cl_uint))
+      .add("ce4_params", layout::COH_STRIDE * ce4 * sizeof(real))
+      .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
+      .add("ce4_friction_slip", ce4 * sizeof(real4))
+      .add("ce4_status", 2 * ce4 * sizeof(cl_int))
+      .add("ce4_output", ce4 * sizeof(real4))
+      .add("ce4_force", 4 * ce4 * sizeof(real2))
+      .add("ce4_last_gap", ce4 * sizeof(real4))
+      .add("ce4_last_chord", ce4 * sizeof(real2))
+      .add("ce4_energy", ce4 * sizeof(real4))
+      .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2));
+}
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
                                compute::buffer& ref_position)
-    : cl_(cl), count_(model.ce4.size()), partials_(std::max<size_t>(1, std::min<size_t>(count_, 4096))) {
+    : cl_(cl), count_(model.ce4.size()), partials_(energy_partials(count_)) {
   if (model.properties.size() != count_)
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
                      std::to_string(model.properties.size()) + " property indices");
@@ -85,17 +103,18 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     row[layout::COH_H] = real(h);
   }
 
-  nodes_ = cl.allocate(nodes.size() * sizeof(cl_uint), "ce4_nodes");
-  params_buffer_ = cl.allocate(params_.size() * sizeof(real), "ce4_params");
-  gp_state_ = cl.allocate(3 * count_ * sizeof(real4), "ce4_gauss_state");
-  gp_slip_ = cl.allocate(count_ * sizeof(real4), "ce4_friction_slip");
-  status_ = cl.allocate(2 * count_ * sizeof(cl_int), "ce4_status");
-  output_ = cl.allocate(count_ * sizeof(real4), "ce4_output");
-  slots_ = cl.allocate(4 * count_ * sizeof(real2), "ce4_force");
-  last_gap_ = cl.allocate(count_ * sizeof(real4), "ce4_last_gap");
-  last_chord_ = cl.allocate(count_ * sizeof(real2), "ce4_last_chord");
-  energy_ = cl.allocate(count_ * sizeof(real4), "ce4_energy");
-  partial_ = cl.allocate(partials_ * sizeof(real2), "ce4_energy_partials");
+  const MemoryPlan arrays = plan(count_);
+  nodes_ = arrays.allocate(cl, "ce4_nodes");
+  params_buffer_ = arrays.allocate(cl, "ce4_params");
+  gp_state_ = arrays.allocate(cl, "ce4_gauss_state");
+  gp_slip_ = arrays.allocate(cl, "ce4_friction_slip");
+  status_ = arrays.allocate(cl, "ce4_status");
+  output_ = arrays.allocate(cl, "ce4_output");
+  slots_ = arrays.allocate(cl, "ce4_force");
+  last_gap_ = arrays.allocate(cl, "ce4_last_gap");
+  last_chord_ = arrays.allocate(cl, "ce4_last_chord");
+  energy_ = arrays.allocate(cl, "ce4_energy");
+  partial_ = arrays.allocate(cl, "ce4_energy_partials");
   upload(cl, nodes_, nodes);
   upload(cl, params_buffer_, params_);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));

@@ -7,6 +7,7 @@
 #include "engine/cl_context.hpp"
 #include "engine/cohesive_model.hpp"
 #include "engine/kernel_args.hpp"
+#include "engine/memory_plan.hpp"
 #include "engine/real.hpp"
 
 namespace fdem {
@@ -19,6 +20,8 @@ class CohesiveForces {
   // zero-length edge.
   CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
                  compute::buffer& ref_position);
+  // The arrays the constructor allocates for `ce4` CE4s.
+  static MemoryPlan plan(size_t ce4);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step. Never waits.

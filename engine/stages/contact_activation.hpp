@@ -17,6 +17,8 @@ class ContactActivation {
   // RING_JOINED) for the host to read later (ContactSkin).
   ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
                     compute::buffer& active, MonitorRing& ring);
+  // The arrays the constructor allocates for `ce4` CE4s (their triangle pairs).
+  static MemoryPlan plan(size_t ce4);
   // Marks the triangles of broken CE4s as candidates (mask value join_stamp(step)) and
   // flags a join in the ring's slot of `step`. Never waits.
   void enqueue(long step);

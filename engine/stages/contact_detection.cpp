@@ -21,7 +21,45 @@ compute::buffer_iterator<T> at(const compute::buffer& b, size_t i) {
   return compute::make_buffer_iterator<T>(b, i);
 }
 
+// Most grid cells a run may use: 4 per triangle + 1024.
+size_t cell_limit(size_t triangles) { return 4 * triangles + 1024; }
+
+// Device memory a Boost.Compute sort of `count` keys (and values) takes besides its
+// input: one copy of the keys and of the values, and in its radix sort 16 uint offsets
+// plus 16 uint counters per block of 128 (its merge sorts need only the copies).
+size_t sort_scratch(size_t count, size_t key_bytes, size_t value_bytes) {
+  return count * (key_bytes + value_bytes) + 16 * sizeof(cl_uint) * (1 + (count + 127) / 128);
+}
+
 }  // namespace
+
+MemoryPlan ContactDetection::couple_list(size_t capacity) {
+  return MemoryPlan().add("contact couples", capacity * sizeof(cl_ulong));
+}
+
+MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t initial_capacity, bool bonds) {
+  const size_t n = std::max<size_t>(triangles, 1), groups = std::max<size_t>(groups_for(triangles, group_size), 1);
+  const size_t capacity = first_capacity(triangles, initial_capacity);
+  MemoryPlan p;
+  p.add("contact boxes", n * sizeof(real4))
+      .add("contact partial bounds", groups * sizeof(real4))
+      .add("contact partial sides", groups * sizeof(real))
+      .add("contact grid", sizeof(real4))
+      .add("contact grid size", 4 * sizeof(cl_uint))
+      .add("contact cell first", cell_limit(triangles) * sizeof(cl_uint))
+      .add("contact cell last", cell_limit(triangles) * sizeof(cl_uint))
+      .add("contact hashes", n * sizeof(cl_uint))
+      .add("contact sorted triangles", n * sizeof(cl_uint))
+      .add("contact active mask", n * sizeof(cl_uint))
+      .add("contact couple counter", sizeof(cl_uint))
+      .add(couple_list(capacity));
+  if (bonds) p.add("contact bond partners", 3 * n * sizeof(cl_uint));
+  // The two sorts of a run, one after the other; the couples' at the first capacity.
+  using L = MemoryPlan::Lifetime;
+  p.add("sort scratch: cell hashes", sort_scratch(triangles, sizeof(cl_uint), sizeof(cl_uint)), L::Scratch)
+      .add("sort scratch: couples", sort_scratch(capacity, sizeof(cl_ulong), 0), L::Scratch);
+  return p;
+}
 
 ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, size_t initial_capacity,
                                    const std::vector<std::array<int, 2>>& bonds)
@@ -31,22 +69,23 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
     throw DeviceError("contact detection needs a power-of-two work-group size, not " + std::to_string(group));
   if (count_ > 0xffffffffu) throw DeviceError("contact detection: more than 2^32 triangles");
   groups_ = (count_ + group - 1) / group;
-  max_cells_ = 4 * count_ + 1024;
-  capacity_ = initial_capacity ? initial_capacity : std::max<size_t>(8 * count_, 1);
+  max_cells_ = cell_limit(count_);
+  capacity_ = first_capacity(count_, initial_capacity);
 
   const size_t n = std::max<size_t>(count_, 1);
-  boxes_ = cl.allocate(n * sizeof(real4), "contact boxes");
-  partial_bounds_ = cl.allocate(std::max<size_t>(groups_, 1) * sizeof(real4), "contact partial bounds");
-  partial_side_ = cl.allocate(std::max<size_t>(groups_, 1) * sizeof(real), "contact partial sides");
-  grid_ = cl.allocate(sizeof(real4), "contact grid");
-  dims_ = cl.allocate(4 * sizeof(cl_uint), "contact grid size");
-  cell_first_ = cl.allocate(max_cells_ * sizeof(cl_uint), "contact cell first");
-  cell_last_ = cl.allocate(max_cells_ * sizeof(cl_uint), "contact cell last");
-  hash_ = cl.allocate(n * sizeof(cl_uint), "contact hashes");
-  tri_ = cl.allocate(n * sizeof(cl_uint), "contact sorted triangles");
-  active_ = cl.allocate(n * sizeof(cl_uint), "contact active mask");
-  counter_ = cl.allocate(sizeof(cl_uint), "contact couple counter");
-  keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact couples");
+  const MemoryPlan arrays = plan(count_, group, initial_capacity, !bonds.empty());
+  boxes_ = arrays.allocate(cl, "contact boxes");
+  partial_bounds_ = arrays.allocate(cl, "contact partial bounds");
+  partial_side_ = arrays.allocate(cl, "contact partial sides");
+  grid_ = arrays.allocate(cl, "contact grid");
+  dims_ = arrays.allocate(cl, "contact grid size");
+  cell_first_ = arrays.allocate(cl, "contact cell first");
+  cell_last_ = arrays.allocate(cl, "contact cell last");
+  hash_ = arrays.allocate(cl, "contact hashes");
+  tri_ = arrays.allocate(cl, "contact sorted triangles");
+  active_ = arrays.allocate(cl, "contact active mask");
+  counter_ = arrays.allocate(cl, "contact couple counter");
+  keys_ = arrays.allocate(cl, "contact couples");
   upload(cl, active_, std::vector<cl_uint>(count_, 1u));
   if (!bonds.empty()) {
     std::vector<cl_uint> partners(3 * n, kNoPartner);
@@ -60,7 +99,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
           throw InputError("contact detection: triangle " + std::to_string(t) + " is not in the mesh or has more than three CE4s");
         slot[k] = static_cast<cl_uint>(b[1 - side]);
       }
-    bond_partners_ = cl.allocate(partners.size() * sizeof(cl_uint), "contact bond partners");
+    bond_partners_ = arrays.allocate(cl, "contact bond partners");
     upload(cl, bond_partners_, partners);
   }
   // A defined grid before the first run (origin 0, unit cell, one cell).
@@ -111,8 +150,8 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
 }
 
 void ContactDetection::grow(size_t needed) {
-  const size_t capacity = needed + (needed + 1) / 2;  // ×1.5, rounded up
-  keys_ = cl_.allocate(capacity * sizeof(cl_ulong), "contact couples");
+  const size_t capacity = grown(needed);
+  keys_ = couple_list(capacity).allocate(cl_, "contact couples");
   capacity_ = capacity;
   couples_capacity_.set(static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
   couples_keys_.set(keys_);

@@ -1,5 +1,6 @@
 // Stage: contact detection (cl_kernels/contact_detection.cl).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -20,6 +21,18 @@ class ContactDetection {
   ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
                    const std::vector<std::array<int, 2>>& bonds = {});
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
+  // The couples the output holds at first (initial_capacity 0: 8 per triangle), and the
+  // capacity it grows to when a scan finds `needed` couples (×1.5).
+  static size_t first_capacity(size_t triangles, size_t initial_capacity = 0) {
+    return initial_capacity ? initial_capacity : std::max<size_t>(8 * triangles, 1);
+  }
+  static size_t grown(size_t needed) { return needed + (needed + 1) / 2; }
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size(); `bonds`:
+  // some are given), and the scratch of the sorts of a run (Boost.Compute's own
+  // allocations, outside ClContext, while a detection runs).
+  static MemoryPlan plan(size_t triangles, size_t group_size, size_t initial_capacity = 0, bool bonds = false);
+  // The couple list of `capacity` couples (the constructor's and grow()'s).
+  static MemoryPlan couple_list(size_t capacity);
   // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
   // every side, overlap, and that share no node. Writes them to couple_keys() as
   // cl_ulong keys (ulong(i) << 32 | j), sorted ascending, unique; returns their count.

@@ -14,10 +14,30 @@ namespace fdem {
 
 namespace {
 constexpr int kHistory = layout::CONTACT_HISTORY;
+}
 
-// Room for a grown couple list: an eighth more (the lists are the largest arrays, about
-// 170 bytes a couple; couples grow slowly once the first detection has run).
-size_t grown(size_t count) { return count + count / 8 + 1024; }
+MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
+  return MemoryPlan()
+      .add("contact_keys", capacity * sizeof(cl_ulong))
+      .add("contact_history 0", capacity * kHistory * sizeof(real))
+      .add("contact_history 1", capacity * kHistory * sizeof(real))
+      .add("contact overlap list", capacity * sizeof(cl_uint))
+      .add("contact live flags", capacity * sizeof(cl_uchar))
+      .add("contact couple_stored", std::max<size_t>(1, capacity) * sizeof(real))
+      .add("contact stored slots", std::max<size_t>(1, groups_for(capacity, group_size)) * sizeof(real));
+}
+
+MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask) {
+  MemoryPlan p;
+  // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
+  p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
+      .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
+      .add(couple_arrays(first_capacity(model.num_triangles()), group_size))
+      .add("contact_pair_index", model.contact.pair_index.size() * sizeof(cl_uint))
+      .add("contact_pair_props", model.contact.pair_props.size() * sizeof(real));
+  if (own_mask)
+    p.add("contact candidate mask (all)", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_uint));
+  return p;
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active)
@@ -44,30 +64,29 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
-  energy_ = cl.allocate(layout::CONTACT_ENERGY_WORDS * sizeof(cl_long), "contact energy account");
-  counters_ = cl.allocate(2 * sizeof(cl_uint), "contact counters (touching, overlap list)");
+  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr);
+  energy_ = arrays.allocate(cl, "contact energy account");
+  counters_ = arrays.allocate(cl, "contact counters (touching, overlap list)");
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
-  capacity_ = std::max<size_t>(1024, 4 * a.num_triangles);
-  keys_ = cl.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
-  for (auto& h : history_) h = cl.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+  capacity_ = first_capacity(a.num_triangles);
+  keys_ = arrays.allocate(cl, "contact_keys");
+  history_[0] = arrays.allocate(cl, "contact_history 0");
+  history_[1] = arrays.allocate(cl, "contact_history 1");
   list_capacity_ = capacity_;
-  overlap_list_ = cl.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
-  live_ = cl.allocate(list_capacity_, "contact live flags");
-  allocate_stored(list_capacity_);
+  allocate_list(arrays);
 
   const size_t n_materials = model.materials.size();
   std::vector<cl_uint> index(model.contact.pair_index.begin(), model.contact.pair_index.end());
   std::vector<real> props(model.contact.pair_props.begin(), model.contact.pair_props.end());
-  pair_index_ = cl.allocate(index.size() * sizeof(cl_uint), "contact_pair_index");
-  pair_props_ = cl.allocate(props.size() * sizeof(real), "contact_pair_props");
+  pair_index_ = arrays.allocate(cl, "contact_pair_index");
+  pair_props_ = arrays.allocate(cl, "contact_pair_props");
   upload(cl, pair_index_, index);
   upload(cl, pair_props_, props);
 
   if (!active) {
     // A mask of ones: every triangle a candidate from the start, nobody ever joins.
-    ones_ = cl.allocate(std::max<size_t>(1, a.num_triangles) * sizeof(cl_uint), "contact candidate mask (all)");
+    ones_ = arrays.allocate(cl, "contact candidate mask (all)");
     upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
   }
   const cl_uint none = 0;
@@ -136,7 +155,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   const int next = new_list ? 1 - current_ : current_;
   if (new_list && count > capacity_) {
     // Grow the write side now; the previous list and history stay readable for this call.
-    history_[next] = cl_.allocate(grown(count) * kHistory * sizeof(real), "contact_history");
+    history_[next] = couple_arrays(grown(count), cl_.group_size()).allocate(cl_, "contact_history " + std::to_string(next));
   }
   if (new_list && count_ > 0) {
     release_previous_count_.set(static_cast<cl_uint>(count_));
@@ -148,9 +167,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   }
   if (count > list_capacity_) {
     list_capacity_ = grown(count);
-    overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
-    live_ = cl_.allocate(list_capacity_, "contact live flags");  // a new list writes every flag
-    allocate_stored(list_capacity_);
+    allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every flag
   }
   if (energy_row && count > 0) {
     const real zero = 0;
@@ -198,8 +215,9 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   if (new_list) {
     if (count > capacity_) {
       capacity_ = grown(count);
-      keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");  // the kernel holds the old one
-      history_[current_] = cl_.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+      const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
+      keys_ = arrays.allocate(cl_, "contact_keys");  // the kernel holds the old one
+      history_[current_] = arrays.allocate(cl_, "contact_history " + std::to_string(current_));
     }
     if (count) cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
     current_ = next;
@@ -217,9 +235,11 @@ std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(
 
 double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }
 
-void ContactForces::allocate_stored(size_t couples) {
-  couple_stored_ = cl_.allocate(std::max<size_t>(1, couples) * sizeof(real), "contact couple_stored");
-  stored_slots_ = cl_.allocate(std::max<size_t>(1, work_groups(cl_, couples)) * sizeof(real), "contact stored slots");
+void ContactForces::allocate_list(const MemoryPlan& arrays) {
+  overlap_list_ = arrays.allocate(cl_, "contact overlap list");
+  live_ = arrays.allocate(cl_, "contact live flags");
+  couple_stored_ = arrays.allocate(cl_, "contact couple_stored");
+  stored_slots_ = arrays.allocate(cl_, "contact stored slots");
 }
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }
 double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_DAMPING]) / energy_scale_; }
@@ -247,14 +267,14 @@ void ContactForces::load_state(StateReader& in) {
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
   if (count_ > capacity_) {
     capacity_ = grown(count_);
-    keys_ = cl_.allocate(capacity_ * sizeof(cl_ulong), "contact_keys");
-    for (auto& h : history_) h = cl_.allocate(capacity_ * kHistory * sizeof(real), "contact_history");
+    const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
+    keys_ = arrays.allocate(cl_, "contact_keys");
+    history_[0] = arrays.allocate(cl_, "contact_history 0");
+    history_[1] = arrays.allocate(cl_, "contact_history 1");
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
-    overlap_list_ = cl_.allocate(list_capacity_ * sizeof(cl_uint), "contact overlap list");
-    live_ = cl_.allocate(list_capacity_, "contact live flags");
-    allocate_stored(list_capacity_);
+    allocate_list(couple_arrays(list_capacity_, cl_.group_size()));
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
   in.buffer<real>("contact_history", history_[current_], count_, kHistory);

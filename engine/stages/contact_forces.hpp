@@ -1,5 +1,7 @@
 // Stage: contact forces between detected couples (cl_kernels/contact_forces.cl).
 #pragma once
+#include <algorithm>
+
 #include "engine/checkpoint.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/kernel_args.hpp"
@@ -14,6 +16,18 @@ class ContactForces {
   // joined since the last detection waits. Null: every triangle is a candidate from the
   // start and none ever joins.
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr);
+
+  // The couples the lists hold at first, and the capacity they grow to when a list of
+  // `count` couples does not fit: an eighth more (the lists are the largest arrays,
+  // about 170 bytes a couple; couples grow slowly once the first detection has run).
+  static size_t first_capacity(size_t triangles) { return std::max<size_t>(1024, 4 * triangles); }
+  static size_t grown(size_t count) { return count + count / 8 + 1024; }
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size();
+  // `own_mask`: no candidate mask is given, the stage holds one of all ones).
+  static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask);
+  // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
+  // grows allocates again): keys, two histories, overlap list, live flags, stored energies.
+  static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
   double force_scale() const { return force_scale_; }
@@ -78,8 +92,9 @@ class ContactForces {
   KernelArg<cl_uint> stored_count_;
   KernelArg<compute::buffer> stored_values_, stored_slots_arg_;
   bool energy_row_requested_ = false;
-  // The stored energy of each couple at the last energy row, and its per-work-group sums.
-  void allocate_stored(size_t couples);
+  // The overlap list, live flags, and the stored energy of each couple at the last energy
+  // row with its per-work-group sums, from couple_arrays(list_capacity_).
+  void allocate_list(const MemoryPlan& arrays);
   compute::kernel stored_partials_;
   compute::buffer couple_stored_, stored_slots_;
   size_t stored_groups_ = 0;

@@ -20,7 +20,7 @@ double as_value(cl_uint bits) {
 
 ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, double skin, double dt)
     : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), ring_(ring), host_(layout::RING_WORDS * kSlots, 0) {
-  at_build_ = cl.allocate(a.num_nodes * sizeof(real2), "position_at_build");
+  at_build_ = plan(a.num_nodes).allocate(cl, "position_at_build");
 }
 
 void ContactSkin::mark() {

@@ -26,6 +26,8 @@ class ContactSkin {
 
   // Reads the tests (and the activation's join flags) from `ring`.
   ContactSkin(ClContext& cl, DeviceArrays& arrays, MonitorRing& ring, double skin, double dt);
+  // The arrays the constructor allocates.
+  static MemoryPlan plan(size_t nodes) { return MemoryPlan().add("position_at_build", nodes * sizeof(real2)); }
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
   // The integration that ends step − 1 has enqueued the test of `step` (positions then

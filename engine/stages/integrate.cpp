@@ -5,19 +5,28 @@
 
 namespace fdem {
 
+MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work) {
+  const size_t groups = std::max<size_t>(1, groups_for(nodes, group_size));
+  return MemoryPlan()
+      .add("integrate group_work", groups * sizeof(real2))
+      .add("integrate group_row", groups * sizeof(real4))
+      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2));
+}
+
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
                      bool prescribed, bool account, ContactSkin* skin)
     : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
-      account_work_(account && (prescribed || local_damping != 0)), skin_test_(skin != nullptr) {
+      account_work_(accounts_work(prescribed, local_damping, account)), skin_test_(skin != nullptr) {
   kernel_ = compute::kernel(cl.build(kernel_source::integrate, {{"GROUP_SIZE", std::to_string(cl.group_size())},
                                                                 {"SKIN_TEST", skin_test_ ? "1" : "0"}}),
                             "integrate");
-  group_work_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "integrate group_work");
-  group_row_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real4), "integrate group_row");
+  const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);
+  group_work_ = arrays.allocate(cl, "integrate group_work");
+  group_row_ = arrays.allocate(cl, "integrate group_row");
   upload(cl, group_work_, std::vector<real2>(std::max<size_t>(1, groups_)));
   upload(cl, group_row_, std::vector<real4>(std::max<size_t>(1, groups_)));
   const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
-  node_work_ = cl.allocate(work_items * sizeof(real2), "integrate node_work");
+  node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(

@@ -20,6 +20,13 @@ class Integrate {
   // ring (MonitorRing slot slot_of(step + 1)), against the skin's position_at_build.
   Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity, double local_damping, double dt,
             bool prescribed, bool account = true, ContactSkin* skin = nullptr);
+  // Whether the stage accounts the reactions' and local damping's work every step.
+  static bool accounts_work(bool prescribed, double local_damping, bool account) {
+    return account && (prescribed || local_damping != 0);
+  }
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size();
+  // `account_work`: accounts_work(...)).
+  static MemoryPlan plan(size_t nodes, size_t group_size, bool account_work);
   // Advances every node from t to time_after = t + Δt. With energy_row, the step also
   // evaluates the kinetic energy and gravity potential at t (positions before the
   // update) for energy(). Never waits.

@@ -22,6 +22,12 @@ std::vector<real> ce4_node_stiffness(const Model& model) {
   return extra;
 }
 
+MemoryPlan LumpedMass::plan(size_t nodes, bool ce4) {
+  MemoryPlan p;
+  if (ce4) p.add("extra_stiffness", nodes * sizeof(real), MemoryPlan::Lifetime::SetUp);
+  return p;
+}
+
 LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, double dt)
     : cl_(cl), triangles_(a.num_triangles), nodes_(a.num_nodes) {
   const bool ce4 = !model.ce4.empty();
@@ -37,7 +43,7 @@ LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, doubl
       "dt", static_cast<real>(dt))("node_mass", a.node_mass);
   if (ce4) {
     const auto extra = ce4_node_stiffness(model);
-    extra_ = cl.allocate(extra.size() * sizeof(real), "extra_stiffness");
+    extra_ = plan(nodes_, ce4).allocate(cl, "extra_stiffness");
     upload(cl, extra_, extra);
     inertia("extra_stiffness", extra_);
   }

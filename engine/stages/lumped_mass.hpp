@@ -13,6 +13,9 @@ class LumpedMass {
   // scaling must also cover: an intact CE4 of penalty P is a spring between its faces
   // (ce4_node_stiffness).
   LumpedMass(ClContext& cl, DeviceArrays& arrays, const Model& model, double dt);
+  // The arrays the constructor allocates: set-up only (the Solver drops this stage once
+  // the masses are computed).
+  static MemoryPlan plan(size_t nodes, bool ce4);
   // node_mass = (Σ ρA₀t/3, inertia); inertia = 0.3 Δt²Σk with mass scaling, else the mass.
   void enqueue(NodeGather& gather);
 

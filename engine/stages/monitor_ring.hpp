@@ -16,8 +16,9 @@ class MonitorRing {
  public:
   static constexpr unsigned kSlots = 8, kBatch = 4;
 
+  static MemoryPlan plan() { return MemoryPlan().add("monitor ring", layout::RING_WORDS * kSlots * sizeof(cl_uint)); }
   explicit MonitorRing(ClContext& cl) {
-    buffer_ = cl.allocate(layout::RING_WORDS * kSlots * sizeof(cl_uint), "monitor ring");
+    buffer_ = plan().allocate(cl, "monitor ring");
     upload(cl, buffer_, std::vector<cl_uint>(layout::RING_WORDS * kSlots, 0));
   }
   compute::buffer& buffer() { return buffer_; }

@@ -7,16 +7,23 @@
 
 namespace fdem {
 
+MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous) {
+  MemoryPlan p;
+  p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, group_size)) * sizeof(real2));
+  // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
+  p.add("triangle viscous_stress", (viscous ? std::max<size_t>(1, triangles) : 1) * sizeof(real4));
+  return p;
+}
+
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
     : cl_(cl), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
                             "triangle_forces");
-  group_energy_ = cl.allocate(std::max<size_t>(1, groups_) * sizeof(real2), "triangle group_energy");
+  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_);
+  group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
-  // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
-  const size_t viscous_items = viscous_ ? std::max<size_t>(1, count_) : 1;
-  viscous_stress_ = cl.allocate(viscous_items * sizeof(real4), "triangle viscous_stress");
-  upload(cl, viscous_stress_, std::vector<real4>(viscous_items));
+  viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
+  upload(cl, viscous_stress_, std::vector<real4>(viscous_ ? std::max<size_t>(1, count_) : 1));
   KernelArgs args(kernel_);
   args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
       "tri_material", a.tri_material)("materials", a.materials)("position", a.position)("velocity", a.velocity)(

@@ -13,6 +13,8 @@ class TriangleForces {
   // Compiles the stage and binds its arrays once. `viscous`: some material has η > 0
   // (then every step accounts the viscous dissipation).
   TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous);
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
+  static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous);
   // One step's corner forces; with energy_row also the strain energy of the current shape
   // for energy(). Never waits.
   void enqueue(int step, bool energy_row = false);
