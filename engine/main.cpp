@@ -203,7 +203,9 @@ int check_command(const Arguments& a) {
   // What the Solver allocates (Solver::plan); the work-group size changes only the
   // per-group slots (without a device: 64, PoCL's).
   const size_t bytes = fdem::Solver::bytes_needed(m, device ? device->group_size() : 64);
-  std::cout << "device memory needed " << mib(bytes) << "\n";
+  std::cout << "device memory needed " << mib(bytes);
+  if (m.contact.enabled) std::cout << " (contact lists for " << fdem::Solver::expected_couples(m) << " couples)";
+  std::cout << "\n";
   if (!device) {
     std::cout << "device    none usable: " << no_device << "\n";
     return 0;
@@ -215,26 +217,26 @@ int check_command(const Arguments& a) {
     if (bytes > cl.info().global_memory) return 4;
     if (m.contact.enabled) {
       fdem::DeviceArrays arrays(cl, m);
-      fdem::ContactDetection detection(cl, arrays, m.contact.skin);
+      // As the Solver's detection: under "fractured" the candidate mask and the CE4 couples.
+      const bool fractured = !m.contact_active.empty();
+      fdem::ContactDetection detection(cl, arrays, m.contact.skin, 0,
+                                       fractured ? m.ce4_triangles : std::vector<std::array<int, 2>>{});
+      if (fractured) detection.set_active(m.contact_active);
       const size_t couples = detection.run();
       const auto grid = detection.grid();
       std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size
                 << " m, " << couples << " initial candidate couples (boxes overlapping"
                 << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
-      // The contact stage's lists (and the detection's) grow when the first list does not
-      // fit their first capacity: the memory figure above is before that.
-      const size_t group = cl.group_size(), first = fdem::ContactForces::first_capacity(m.num_triangles());
-      size_t more = 0;
-      if (couples > first)
-        more += fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(couples), group).resident() -
-                fdem::ContactForces::couple_arrays(first, group).resident();
-      const size_t first_keys = fdem::ContactDetection::first_capacity(m.num_triangles());
-      if (detection.capacity() > first_keys)  // run() grew it
-        more += fdem::ContactDetection::couple_list(detection.capacity()).resident() -
-                fdem::ContactDetection::couple_list(first_keys).resident();
-      if (more > 0)
-        std::cout << "          the first list outgrows the contact lists' first capacity (" << first
-                  << " couples): + " << mib(more) << " once the run has started\n";
+      // The figure above holds the contact lists at Solver::expected_couples; a first
+      // list larger than that grows them further.
+      const size_t group = cl.group_size(), expected = fdem::Solver::expected_couples(m);
+      const size_t planned = std::max(expected, fdem::ContactForces::first_capacity(m.num_triangles()));
+      if (couples > planned) {
+        const size_t more = fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(couples), group).resident() -
+                            fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(planned), group).resident();
+        std::cout << "          more couples than the " << planned << " planned for: + " << mib(more)
+                  << " once the run has started\n";
+      }
     }
   } catch (const fdem::DeviceError& e) {
     std::cout << "device    none usable: " << e.what() << "\n";

@@ -74,6 +74,27 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   return plan;
 }
 
+size_t Solver::expected_couples(const Model& model) {
+  if (!model.contact.enabled) return 0;
+  if (model.contact_active.empty()) return 8 * model.num_triangles();
+  const size_t active = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
+                                                          [](uint32_t a) { return a != 0; }));
+  return 8 * active + model.ce4.size();
+}
+
+size_t Solver::bytes_needed(const Model& model, size_t group_size, bool account) {
+  size_t bytes = plan(model, group_size, account).total();
+  const size_t couples = expected_couples(model), first = ContactForces::first_capacity(model.num_triangles());
+  if (couples > first)
+    bytes += ContactForces::couple_arrays(ContactForces::grown(couples), group_size).resident() -
+             ContactForces::couple_arrays(first, group_size).resident();
+  const size_t first_keys = ContactDetection::first_capacity(model.num_triangles());
+  if (couples > first_keys)
+    bytes += ContactDetection::couple_list(ContactDetection::grown(couples)).resident() -
+             ContactDetection::couple_list(first_keys).resident();
+  return bytes;
+}
+
 Solver::Parts Solver::fitting_parts(const ClContext& cl, const Model& model, bool account) {
   const size_t needed = bytes_needed(model, cl.group_size(), account);
   if (needed > cl.info().global_memory)

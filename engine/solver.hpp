@@ -57,10 +57,14 @@ class Solver {
   // ClContext::device_bytes_in_use() rises by plan(...).resident() when the Solver is built.
   static MemoryPlan plan(const Model& model, size_t group_size, bool account = true);
   // Device memory the run needs, in bytes: plan(...).total() (resident arrays, contact
-  // lists at their first capacity, plus the largest transient array).
-  static size_t bytes_needed(const Model& model, size_t group_size, bool account = true) {
-    return plan(model, group_size, account).total();
-  }
+  // lists at their first capacity, plus the largest transient array), plus what the
+  // contact lists grow by when the couples a run meets (expected_couples) outgrow their
+  // first capacity. The too-little-memory refusal uses it.
+  static size_t bytes_needed(const Model& model, size_t group_size, bool account = true);
+  // The couples a contact run typically holds: 8 per candidate triangle (7 measured on
+  // the UCS mesh and on fdem bench's models with activation "all"), plus one per CE4
+  // (its two triangles are a couple from the start) under "fractured". 0 without contact.
+  static size_t expected_couples(const Model& model);
 
   // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose
   // energy account (read once) starts the balance. With `energy_row` the step also
