@@ -243,6 +243,19 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   io::Mesh mesh = source_mesh;
   const int flipped = io::orient_triangles(mesh, &notes);
   (void)flipped;
+  // Refinement comes before anything reads the mesh, so materials, fracturable regions,
+  // boundary curves, loads, probes and contact all see the refined one. Orientation is
+  // checked first: the children keep their parent's counter-clockwise order, and notes
+  // about the file name its own element tags.
+  if (config.mesh.refine > 0) {
+    const size_t nodes = mesh.x.size(), triangles = mesh.triangles.size(), lines = mesh.lines.size();
+    const std::string key = "mesh.refine = " + std::to_string(config.mesh.refine);
+    io::refine_mesh(mesh, config.mesh.refine, config.path + ": " + key);
+    notes.push_back(mesh.source + " refined (" + key + "): " + std::to_string(triangles) + " → " +
+                    std::to_string(mesh.triangles.size()) + " triangles, " + std::to_string(nodes) + " → " +
+                    std::to_string(mesh.x.size()) + " nodes, " + std::to_string(lines) + " → " +
+                    std::to_string(mesh.lines.size()) + " line elements");
+  }
   const double scale = config.mesh.scale;
 
   Model model;

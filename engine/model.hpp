@@ -128,7 +128,8 @@ struct Model {
   size_t num_triangles() const { return triangles.size(); }
 };
 
-// Builds the model. Throws InputError naming the mesh file or case key for: a region
+// Builds the model from the mesh refined config.mesh.refine times (io::refine_mesh, right
+// after the orientation check; 0 uses the mesh as read). Throws InputError naming the mesh file or case key for: a region
 // name the mesh lacks (with a suggestion), a physical surface without a material, a
 // surface in two materials, a load on a curve that is not on the boundary, conflicting
 // prescribed velocities on one node. Notes (re-oriented triangles, dropped nodes) go to

@@ -17,6 +17,7 @@ struct MeshConfig {
   double size = 0.0;        // element size passed to gmsh (-setnumber size); 0 = the .geo's default
   double scale = 1.0;       // coordinates × scale → metres
   double thickness = 1.0;   // out-of-plane thickness [m]
+  int refine = 0;           // times every triangle is split into four after reading (io::refine_mesh)
 };
 
 struct TimeConfig {

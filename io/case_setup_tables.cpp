@@ -31,6 +31,7 @@ MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
   m.size = r.number("size", kPositive).value_or(0.0);
   m.scale = r.number("scale", kPositive).value_or(1.0);
   m.thickness = r.number("thickness", kPositive).value_or(1.0);
+  m.refine = r.integer<int>("refine", 0).value_or(0);
   return m;
 }
 

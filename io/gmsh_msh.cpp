@@ -2,6 +2,7 @@
 // Format reference: the "MSH file format" chapter of the Gmsh manual.
 #include "io/gmsh_reader.hpp"
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <set>
@@ -216,6 +217,7 @@ class MshReader {
 
   // Keeps or counts one element. `node_tags` holds the element's node tags.
   void add_element(int type, long long tag, int physical, const ElementRef& ref, const std::vector<long long>& node_tags) {
+    mesh_.max_element_tag = std::max(mesh_.max_element_tag, static_cast<long>(tag));
     if (type != kTri3 && type != kLine2 && type != kPoint) {
       ++skipped_[type];
       return;

@@ -32,6 +32,11 @@ struct Mesh {
 
   std::vector<PhysicalGroup> groups;
 
+  // The largest element tag in the file, of any element type (kept, skipped or a
+  // dropped duplicate); 0 when unknown (a mesh built in memory). Refinement numbers
+  // its new elements above it and above every tag kept here.
+  long max_element_tag = 0;
+
   // Index into groups of the group with this name and dimension, or -1.
   int find_group(const std::string& name, int dim) const {
     for (size_t i = 0; i < groups.size(); ++i)
@@ -47,5 +52,24 @@ struct Mesh {
 // file and the Gmsh element tag.
 int orient_triangles(Mesh& mesh, std::vector<std::string>* notes = nullptr,
                      double degenerate_tol = 1e-10);
+
+// Splits every triangle into four at its edge midpoints, `levels` times (io/mesh_refine.cpp;
+// the case's mesh.refine). Each child keeps its parent's physical surface and its
+// counter-clockwise orientation: triangle (a, b, c) with midpoints m_ab, m_bc, m_ca becomes
+// (a, m_ab, m_ca), (m_ab, b, m_bc), (m_ca, m_bc, c), (m_ab, m_bc, m_ca), in that order, at
+// the parent's place. Line elements are halved, (a, b) → (a, m_ab), (m_ab, b), keeping
+// their physical curve; point elements stay. A midpoint is one node shared by every
+// element on its edge, at ((x_a + x_b)/2, (y_a + y_b)/2).
+//
+// Numbering, per level (so runs are reproducible): existing nodes keep their indices and
+// tags; midpoints are appended in order of first use, walking the triangles in order and
+// each triangle's edges a→b, b→c, c→a, then the line elements not on any triangle edge;
+// their tags continue from the largest node tag. The children of the k-th triangle get
+// element tags M+4k+1 … M+4k+4 and the halves of the k-th line element M+4T+2k+1 and
+// M+4T+2k+2, M being the largest element tag (max_element_tag or a kept tag) and T the
+// number of triangles before the split. Throws fdem::InputError, naming `what` (e.g.
+// "case.toml: mesh.refine = 12"), when the refined mesh would hold more than 2^31 − 1
+// triangles or nodes. levels = 0 leaves the mesh untouched.
+void refine_mesh(Mesh& mesh, int levels, const std::string& what = "mesh refinement");
 
 }  // namespace fdem::io
