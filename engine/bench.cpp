@@ -1,5 +1,7 @@
 #include "engine/bench.hpp"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -73,15 +75,24 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
       << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(7)
       << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << std::setw(13) << "no-account"
       << std::setw(9) << "account" << "\n";
-  for (double h : o.sizes) {
+  // The rows: each Table 2 size, then the smallest one refined 1 … refine_rows times
+  // (h_ave halves with each level).
+  std::vector<std::pair<double, int>> rows;
+  for (double h : o.sizes) rows.push_back({h, 0});
+  if (!o.sizes.empty())
+    for (int k = 1; k <= o.refine_rows; ++k)
+      rows.push_back({*std::min_element(o.sizes.begin(), o.sizes.end()), k});
+  std::vector<std::pair<double, double>> fit_points;  // (TRI3, ms/step)
+  for (const auto& [h_mesh, refine] : rows) {
+    const double h = std::ldexp(h_mesh, -refine);
     const std::string dir = (std::filesystem::temp_directory_path() / "fdem-bench").string();
-    std::ostringstream size, steps, skin;
-    size << std::setprecision(17) << "mesh.size=" << gmsh_size(h);
-    steps << "time.steps=" << o.warmup + o.steps;
+    std::ostringstream size, skin, levels;
+    size << std::setprecision(17) << "mesh.size=" << gmsh_size(h_mesh);
     skin << std::setprecision(6) << "contact.skin=" << 0.15e-3 * h;
-    const PreparedCase p = prepare_case(o.case_path, {size.str(), "time.dt=0.5e-9", "output.dir=\"" + dir + "\"",
-                                                      "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
-                                                      skin.str()});
+    levels << "mesh.refine=" << refine;
+    const PreparedCase p = prepare_case(o.case_path, {size.str(), levels.str(), "time.dt=0.5e-9",
+                                                      "output.dir=\"" + dir + "\"", "contact.activation=\"all\"",
+                                                      "contact.rebuild=\"skin\"", skin.str()});
     // The step time with the energy account and without it, in the same process: the
     // account's per-step totals (reactions, damping, viscous work) and its energy rows are
     // what it costs. A row every 100 steps: denser than any case's history (the cases
@@ -113,7 +124,8 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const long rebuilds = solver.contact_rebuilds() - rebuilds_before;
     const double bytes = bytes_per_step(p.model, couples, touching);
     const double roofline = bandwidth > 0 ? 1e3 * bytes / bandwidth : 0;
-    const auto paper = kPaper.count(h) ? kPaper.at(h) : std::pair<long, double>{0, 0};
+    fit_points.push_back({static_cast<double>(p.model.num_triangles()), ms});
+    const auto paper = refine == 0 && kPaper.count(h) ? kPaper.at(h) : std::pair<long, double>{0, 0};
     const double paper_ms = paper.second / 10.0;
     // Device memory this model holds after the run: what its arrays, stages and contact
     // lists (grown as needed) took; and what Solver::plan says it needs at the start
@@ -142,6 +154,18 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
         << couples << "," << touching << "," << rebuilds << "," << ms << "," << paper_ms << ","
         << (paper_ms > 0 ? paper_ms / ms : 0) << "," << mib << "," << per_tri << "," << roofline << ","
         << (roofline > 0 ? roofline / ms : 0) << "," << ms_without << "," << planned_mib << "\n";
+  }
+  if (fit_points.size() >= 2) {
+    // Least-squares line ms = a + b · TRI3 over the rows, and each row's distance from it:
+    // a cost linear in the model size shows as small distances at the large rows.
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double n = static_cast<double>(fit_points.size());
+    for (const auto& [x, y] : fit_points) sx += x, sy += y, sxx += x * x, sxy += x * y;
+    const double b = (n * sxy - sx * sy) / (n * sxx - sx * sx), a = (sy - b * sx) / n;
+    out << std::setprecision(4) << "linear fit over the rows: ms/step = " << a << " + " << b * 1e6
+        << " × (TRI3 / 1e6); each row's ms/step against the fit:";
+    for (const auto& [x, y] : fit_points) out << " " << std::setprecision(3) << 100.0 * (y / (a + b * x) - 1) << "%";
+    out << std::defaultfloat << "\n";
   }
   if (!o.csv.empty()) {
     std::ofstream file(o.csv);

@@ -34,7 +34,8 @@ const char* kUsage =
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
-    "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--csv FILE] [--case cases/ucs/case.toml]\n"
+    "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
+    "             [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
     "The device defaults to $FDEM_DEVICE, else auto (first GPU with fp64, else a CPU device).\n";
 
@@ -100,6 +101,11 @@ Arguments parse(int argc, char** argv) {
       } catch (const std::exception&) {
         throw fdem::InputError("--steps needs a whole number");
       }
+    } else if (arg == "--refine-rows") {
+      const std::string v = value(arg);
+      if (v.empty() || v.size() > 1 || v[0] < '0' || v[0] > '3')
+        throw fdem::InputError("--refine-rows needs 0, 1, 2 or 3 (levels of mesh.refine on the smallest size)");
+      a.bench.refine_rows = v[0] - '0';
     } else if (arg == "--csv") a.bench.csv = value(arg);
     else if (arg == "--case") a.bench.case_path = value(arg);
     else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);
