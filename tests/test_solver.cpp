@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
+#include "case_measures.hpp"
 #include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "fixture.hpp"
@@ -18,15 +19,6 @@ RunSummary run(const std::string& case_path, const std::vector<std::string>& ove
   const PreparedCase p = prepare_case(case_path, overrides);
   std::ostringstream log;
   return run_case(p, test::context(), log, false);
-}
-
-// Element centroids' reference y of block 1.
-std::vector<double> centroid_y(const std::string& exo) {
-  const auto y = test::read_variable(exo, "coordy");
-  const auto c = test::read_variable(exo, "connect1");
-  std::vector<double> out;
-  for (size_t e = 0; e + 2 < c.size(); e += 3) out.push_back((y[size_t(c[e]) - 1] + y[size_t(c[e + 1]) - 1] + y[size_t(c[e + 2]) - 1]) / 3);
-  return out;
 }
 
 std::string bar_case(const std::string& extra) {
@@ -46,23 +38,14 @@ TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy 
   const auto s = run(test::source_path("cases/geostatic/case.toml"),
                      {"mesh.size=2.0", "output.dir=\"" + out + "\"", "output.frames=2"});
   CHECK(s.steps == 6400);
-  const std::string exo = out + "/geostatic.exo";
-  const auto sxx = test::last_element_values(exo, "SXX");
-  const auto syy = test::last_element_values(exo, "SYY");
-  const auto yc = centroid_y(exo);
-  const double rho = 1800, g = 9.806, nu = 0.25, scale = rho * g * 100;
-  double worst_yy = 0, worst_xx = 0;
-  for (size_t e = 0; e < yc.size(); ++e) {
-    const double exact = -rho * g * (100 - yc[e]);
-    worst_yy = std::max(worst_yy, std::fabs(syy[e] - exact));
-    worst_xx = std::max(worst_xx, std::fabs(sxx[e] - nu / (1 - nu) * exact));
-  }
-  CHECK(worst_yy / scale < 0.01);
-  CHECK(worst_xx / scale < 0.01);
+  const auto errors = test::geostatic_errors(out + "/geostatic.exo");
+  CHECK(errors.worst_yy < 0.01);  // fractions of ρg·100
+  CHECK(errors.worst_xx < 0.01);
   // Converged: the kinetic energy fell by many orders from its peak.
   const auto ke = test::read_variable(out + "/geostatic_history.nc", "kinetic_energy");
   CHECK(ke.back() < 1e-6 * *std::max_element(ke.begin(), ke.end()));
   // The base carries the column's weight: ρ g × 100 m × 50 m × 1 m.
+  const double rho = 1800, g = 9.806;
   const auto fy = test::read_variable(out + "/geostatic_history.nc", "bottom_force_y");
   CHECK(fy.back() == doctest::Approx(rho * g * 5000).epsilon(1e-3));
 }
@@ -184,35 +167,6 @@ velocity = [-2000.0, 300.0]
   const auto times = test::read_variable(dir.str() + "/crush.exo", "time_whole");
   CHECK(times.size() >= 2);
   for (size_t k = 1; k < times.size(); ++k) CHECK(times[k] > times[k - 1]);
-}
-
-}  // TEST_SUITE
-
-// Long runs: `make validate` (ctest label "validate"), not `make test`.
-TEST_SUITE("validation") {
-
-TEST_CASE("geostatic column on the case's own mesh (about 98k TRI3): within 1% in 6,400 steps") {
-  test::TempDir dir;
-  const std::string out = dir.str();
-  const auto s = run(test::source_path("cases/geostatic/case.toml"), {"output.dir=\"" + out + "\"", "output.frames=2"});
-  CHECK(s.steps == 6400);
-  const std::string exo = out + "/geostatic.exo";
-  const auto sxx = test::last_element_values(exo, "SXX");
-  const auto syy = test::last_element_values(exo, "SYY");
-  const auto yc = centroid_y(exo);
-  CHECK(yc.size() > 90000);
-  const double rho = 1800, g = 9.806, nu = 0.25, scale = rho * g * 100;
-  double worst_yy = 0, worst_xx = 0;
-  for (size_t e = 0; e < yc.size(); ++e) {
-    const double exact = -rho * g * (100 - yc[e]);
-    worst_yy = std::max(worst_yy, std::fabs(syy[e] - exact));
-    worst_xx = std::max(worst_xx, std::fabs(sxx[e] - nu / (1 - nu) * exact));
-  }
-  MESSAGE("geostatic 98k: max |σyy error| = " << 100 * worst_yy / scale << "% of ρg·100, max |σxx error| = "
-                                              << 100 * worst_xx / scale << "%; " << s.ns_per_element_step
-                                              << " ns per element-step");
-  CHECK(worst_yy / scale < 0.01);
-  CHECK(worst_xx / scale < 0.01);
 }
 
 }  // TEST_SUITE
