@@ -16,12 +16,6 @@ using namespace fdem;
 
 namespace {
 
-RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides) {
-  const PreparedCase p = prepare_case(case_path, overrides);
-  std::ostringstream log;
-  return run_case(p, test::context(), log, false);
-}
-
 std::vector<double> history(const test::TempDir& dir, const std::string& name, const std::string& var) {
   return test::read_variable(dir.str() + "/" + name + "_history.nc", var);
 }
@@ -55,7 +49,7 @@ TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 los
     test::TempDir dir;
     std::ostringstream damping;
     damping << "contact.damping={exponent=" << b << "}";
-    run(impact, {"mesh.size=0.02", "time.end=0.0016", "output.dir=\"" + dir.str() + "\"", damping.str()});
+    test::run(impact, {"mesh.size=0.02", "time.end=0.0016", "output.dir=\"" + dir.str() + "\"", damping.str()});
     const auto ke = history(dir, "impact", "kinetic_energy");
     const auto touching = history(dir, "impact", "contact_couples");
     const auto damping_lost = history(dir, "impact", "contact_damping_dissipation");
@@ -75,12 +69,12 @@ TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 los
 
 TEST_CASE("a block on a 20 degree incline with μ = 0.5 stays put; at 30 degrees it slides with a = g(sin θ − μ cos θ)") {
   test::TempDir still;
-  run(incline_case(still, 20.0), {});
+  test::run(incline_case(still, 20.0), {});
   const auto x20 = history(still, "incline", "block_disp_x");
   CHECK(std::fabs(x20.back()) < 1e-3 * 0.05);  // creep below 0.1% of the block's size over 0.2 s
 
   test::TempDir slide;
-  run(incline_case(slide, 30.0), {});
+  test::run(incline_case(slide, 30.0), {});
   const auto t = history(slide, "incline", "time");
   const auto x = history(slide, "incline", "block_disp_x");
   // Least-squares fit of x = x0 + v0 t + a t²/2 over the second half of the run.
@@ -99,7 +93,7 @@ TEST_CASE("a block on a 20 degree incline with μ = 0.5 stays put; at 30 degrees
 
 TEST_CASE("a settled stack: the base carries the total weight within 0.5%, overlaps below 1% of the element size") {
   test::TempDir dir;
-  run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir.str() + "\"", "mesh.size=0.025", "time.end=0.01"});
+  test::run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir.str() + "\"", "mesh.size=0.025", "time.end=0.01"});
   const double weight = 1800 * 9.81 * (0.3 * 0.02 + 3 * 0.1 * 0.05);
   CHECK(history(dir, "stack", "base_force_y").back() == doctest::Approx(weight).epsilon(0.005));
   const std::vector<std::pair<std::string, std::string>> faces = {
@@ -120,11 +114,11 @@ TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
     extra.push_back("output.dir=\"" + dir.str() + "\"");
     return extra;
   };
-  run(impact, with(every, {}));
+  test::run(impact, with(every, {}));
   // A 2 mm skin is tested a few steps late (the host does not wait); a 2 µm skin is too
   // thin for the late test's margin at these speeds, so every step tests its own state.
-  run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
-  run(impact, with(thin, {"contact.rebuild=\"skin\"", "contact.skin=2e-6"}));
+  test::run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
+  test::run(impact, with(thin, {"contact.rebuild=\"skin\"", "contact.skin=2e-6"}));
   for (const std::string var : {"kinetic_energy", "friction_dissipation", "contact_damping_dissipation", "contact_couples"}) {
     CAPTURE(var);
     const auto a = history(every, "impact", var), b = history(skin, "impact", var), c = history(thin, "impact", var);

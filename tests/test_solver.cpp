@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <cstring>
-#include <sstream>
 
 #include "case_files.hpp"
 #include "case_measures.hpp"
@@ -15,17 +14,15 @@ using namespace fdem;
 
 namespace {
 
-RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides) {
-  const PreparedCase p = prepare_case(case_path, overrides);
-  std::ostringstream log;
-  return run_case(p, test::context(), log, false);
-}
-
+// The bar, 0.1 m thick, for 3000 steps of 1 s (mass scaling or "auto" overrides make
+// that stable), followed by `extra`.
 std::string bar_case(const std::string& extra) {
-  return "title = \"bar\"\n[mesh]\ngeo = \"" + test::source_path("tests/data/cases/bar.geo") +
-         "\"\nsize = 0.05\nthickness = 0.1\n[time]\ndt = 1.0\nsteps = 3000\n[output]\ndir = \"out\"\nframes = 2\n"
-         "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n" +
-         extra;
+  test::BarCase c;
+  c.mesh += "thickness = 0.1\n";
+  c.time = "dt = 1.0\nsteps = 3000\n";
+  c.output = "dir = \"out\"\nframes = 2\n";
+  c.rest = extra;
+  return c.text();
 }
 
 }  // namespace
@@ -35,7 +32,7 @@ TEST_SUITE("solver") {
 TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy within 1% in 6,400 steps") {
   test::TempDir dir;
   const std::string out = dir.str();
-  const auto s = run(test::source_path("cases/geostatic/case.toml"),
+  const auto s = test::run(test::source_path("cases/geostatic/case.toml"),
                      {"mesh.size=2.0", "output.dir=\"" + out + "\"", "output.frames=2"});
   CHECK(s.steps == 6400);
   const auto errors = test::geostatic_errors(out + "/geostatic.exo");
@@ -53,7 +50,7 @@ TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy 
 TEST_CASE("determinism: two runs give bitwise identical output") {
   test::TempDir a, b;
   for (auto* d : {&a, &b})
-    run(test::source_path("cases/geostatic/case.toml"),
+    test::run(test::source_path("cases/geostatic/case.toml"),
         {"mesh.size=3.0", "time.end=500", "output.dir=\"" + d->str() + "\"", "output.frames=3"});
   for (const std::string var : {"vals_elem_var1eb1", "vals_elem_var5eb1", "vals_nod_var1", "vals_nod_var4"}) {
     CAPTURE(var);
@@ -83,7 +80,7 @@ fix = ["y"]
 region = "right"
 traction = [2.0e6, 0.0]
 )"));
-  run(path, {"output.dir=\"" + dir.str() + "/out\""});
+  test::run(path, {"output.dir=\"" + dir.str() + "/out\""});
   const std::string exo = dir.str() + "/out/bar.exo";
   for (const auto& [name, expected] : {std::pair{"SXX", 2.0e6}, std::pair{"SYY", 0.0}, std::pair{"SXY", 0.0}}) {
     CAPTURE(name);
@@ -107,7 +104,7 @@ region = "bottom"
 fix = ["y"]
 )";
   const std::string path = dir.write("bar.toml", bar_case(common + "[[boundary]]\nregion = \"right\"\npressure = 1.0e6\n"));
-  run(path, {"output.dir=\"" + dir.str() + "/out\""});
+  test::run(path, {"output.dir=\"" + dir.str() + "/out\""});
   for (double v : test::last_element_values(dir.str() + "/out/bar.exo", "SXX")) CHECK(v == doctest::Approx(-1.0e6).epsilon(2e-3));
 }
 
@@ -123,7 +120,7 @@ rise = 2e-4
   const auto p = prepare_case(path, {"output.dir=\"" + dir.str() + "/out\"", "time.dt=\"auto\"", "time.steps=1"});
   const double dt = p.dt;
   const long steps = std::lround(1e-3 / dt);
-  run(path, {"output.dir=\"" + dir.str() + "/out\"", "time.dt=\"auto\"", "time.steps=" + std::to_string(steps)});
+  test::run(path, {"output.dir=\"" + dir.str() + "/out\"", "time.dt=\"auto\"", "time.steps=" + std::to_string(steps)});
   const auto t = test::read_variable(dir.str() + "/out/bar_history.nc", "time");
   const auto ux = test::read_variable(dir.str() + "/out/bar_history.nc", "left_disp_x");
   // x(t) = -0.5 (t - rise/2) after the ramp, to the integration's O(dt) accuracy
@@ -131,7 +128,7 @@ rise = 2e-4
 
   test::TempDir free;
   const std::string fly = free.write("fly.toml", bar_case("[[initial]]\nregion = \"bar\"\nvelocity = [3.0, -4.0]\n"));
-  run(fly, {"output.dir=\"" + free.str() + "\"", "time.dt=\"auto\"", "time.steps=200"});
+  test::run(fly, {"output.dir=\"" + free.str() + "\"", "time.dt=\"auto\"", "time.steps=200"});
   const auto ke = test::read_variable(free.str() + "/fly_history.nc", "kinetic_energy");
   const double mass = 2000.0 * 1.0 * 0.2 * 0.1;
   for (double k : ke) CHECK(k == doctest::Approx(0.5 * mass * 25.0).epsilon(1e-9));
@@ -155,7 +152,7 @@ region = "right"
 velocity = [-2000.0, 300.0]
 )"));
   try {
-    run(path, {"output.dir=\"" + dir.str() + "\"", "time.dt=\"auto\"", "time.steps=4000", "output.frames=400"});
+    test::run(path, {"output.dir=\"" + dir.str() + "\"", "time.dt=\"auto\"", "time.steps=4000", "output.frames=400"});
     FAIL("the run should have failed");
   } catch (const NumericalError& e) {
     const std::string what = e.what();

@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <map>
-#include <sstream>
 
 #include "case_files.hpp"
 #include "case_measures.hpp"
@@ -15,21 +14,11 @@
 
 using namespace fdem;
 
-namespace {
-
-RunSummary run(const std::string& case_file, const std::vector<std::string>& overrides) {
-  const PreparedCase p = prepare_case(test::source_path(case_file), overrides);
-  std::ostringstream log;
-  return run_case(p, test::context(), log, false);
-}
-
-}  // namespace
-
 TEST_SUITE("waves") {
 
 TEST_CASE("wave-bar case (gmsh mesh, no CE4): the front travels at V_p within 0.5%") {
   test::TempDir dir;
-  run("cases/wave-bar/case.toml", {"output.dir=\"" + dir.str() + "\""});
+  test::run(test::source_path("cases/wave-bar/case.toml"), {"output.dir=\"" + dir.str() + "\""});
   const test::SpeedFit fit = test::wave_bar_speed(dir.str() + "/wave-bar_history.nc");
   MESSAGE("wave-bar case: V_p = " << fit.speed << " m/s (" << 100 * (fit.speed / test::kWaveTheory - 1) << "% from 5000 m/s)");
   CHECK(std::fabs(fit.speed / test::kWaveTheory - 1) < 0.005);
@@ -58,8 +47,8 @@ TEST_CASE("loaded and absorbing edges on split fracturable nodes belong to their
 
 TEST_CASE("coarse blast: the hole pushes the rock outwards and the front reaches the stations in order") {
   test::TempDir dir;
-  const auto s = run("cases/blasting/case.toml", {"mesh.size=0.05", "time.end=450e-6", "output.every=150e-6",
-                                                  "output.dir=\"" + dir.str() + "\""});
+  const auto s = test::run(test::source_path("cases/blasting/case.toml"),
+                           {"mesh.size=0.05", "time.end=450e-6", "output.every=150e-6", "output.dir=\"" + dir.str() + "\""});
   CHECK(s.steps > 1000);
   const std::string history = dir.str() + "/blasting_history.nc";
   const auto t = test::read_variable(history, "time");
