@@ -22,10 +22,11 @@ inline ClContext& context() {
 }
 
 // Runs a prepared case on the shared context, as `fdem run` would; the progress lines
-// are dropped. Throws what run_case throws (NumericalError, OutputError, InputError).
-inline RunSummary run(const PreparedCase& prepared, const RunOptions& options = {}) {
-  std::ostringstream log;
-  return run_case(prepared, context(), log, false, options);
+// go to `progress` (the validation driver's stdout), else nowhere. Throws what run_case
+// throws (NumericalError, OutputError, InputError).
+inline RunSummary run(const PreparedCase& prepared, const RunOptions& options = {}, std::ostream* progress = nullptr) {
+  std::ostringstream dropped;
+  return run_case(prepared, context(), progress ? *progress : dropped, false, options);
 }
 
 // Reads, meshes and runs a case file with `--set` overrides (KEY=VALUE, as on the

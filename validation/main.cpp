@@ -106,12 +106,13 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  out = fs::absolute(out).lexically_normal().string();
-  fs::create_directories(out);
   std::vector<Row> rows;
   std::vector<std::string> failed_runs;
   try {
-    std::cout << "device: " << test::context().description() << "\noutput: " << out << "\n";
+    out = fs::absolute(out).lexically_normal().string();
+    fs::create_directories(out);
+    const std::string device = test::context().description();
+    std::cout << "device: " << device << "\noutput: " << out << "\n";
   } catch (const std::exception& e) {
     std::cerr << "fdem_validate: " << e.what() << "\n";
     return 1;
@@ -129,18 +130,20 @@ int main(int argc, char** argv) {
       try {
         fs::remove_all(dir);  // nothing of an earlier run is read back
         const PreparedCase p = prepare_case(test::source_path(r.case_file), overrides);
-        results.summaries[r.dir] = run_case(p, test::context(), std::cout, false);
+        results.summaries[r.dir] = test::run(p, {}, &std::cout);
       } catch (const std::exception& e) {
         error = r.dir + ": " + e.what();
         break;
       }
     }
     Measured measured;
-    if (error.empty()) try {
+    if (error.empty()) {
+      try {
         measured = entry->measure(results);
       } catch (const std::exception& e) {
         error = "measuring: " + std::string(e.what());
       }
+    }
     if (!error.empty()) {
       std::cout << "FAILED " << error << "\n";
       failed_runs.push_back(entry->name + ": " + error);
