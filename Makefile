@@ -1,7 +1,7 @@
 # fdem-cl: the two commands.
 #   make demo   install missing Debian packages (apt), build, run the demo case, write PNGs
 #   make test   same set-up, then the whole test suite (the long validation runs excepted)
-#   make validate   the long validation runs (ctest label "validate")
+#   make validate   the long validation runs (build/fdem_validate, ctest label "validate"), then plots
 BUILD ?= build
 JOBS ?= $(shell nproc)
 PYTHON := /usr/bin/python3
@@ -47,25 +47,29 @@ build: deps
 test: build
 	cd $(BUILD) && ctest -L unit --output-on-failure
 
-# The long validation runs (minutes on a CPU); their output stays under out/validate/.
+# The long validation runs: build/fdem_validate, the table of validation/runs.cpp, through
+# its ctest entry (label "validate"; hours on a CPU). It writes every run under
+# $(BUILD)/validate/ (never into the source tree), with the figures in summary.md; the
+# plots go beside them.
+VALIDATE_OUT = $(BUILD)/validate
 validate: build
-	cd $(BUILD) && ctest -L validate --output-on-failure
+	cd $(BUILD) && ctest -L validate --verbose
 	$(PLOT) compare kinetic_energy --ms --title "Disc impact (cases/impact)" \
-	  out/validate/impact-b1/impact_history.nc:"b = 1" out/validate/impact-b2/impact_history.nc:"b = 2" \
-	  out/validate/impact-b5/impact_history.nc:"b = 5" out/validate/impact-b20/impact_history.nc:"b = 20" \
-	  out/validate/impact-b30/impact_history.nc:"b = 30" out/validate/impact-b2-pn10/impact_history.nc:"b = 2, P_n = 10 GPa" \
-	  out/validate/impact-b2-T1MPa/impact_history.nc:"b = 2, T = 1 MPa" -o out/validate/impact_kinetic_energy.png
-	$(PLOT) $(BRAZILIAN_CURVE) out/validate/brazilian/brazilian_history.nc -o out/validate/brazilian_stress_strain.png
-	$(PLOT) $(CRACKS) out/validate/brazilian/brazilian.exo --frames 2 3 5 --range -5 2 -o out/validate/brazilian_cracks.png
-	$(PLOT) $(UCS_CURVE) out/validate/ucs/ucs_history.nc -o out/validate/ucs_stress_strain.png
-	$(PLOT) $(CRACKS) out/validate/blasting/blasting.exo --frames 2 6 9 13 --range -20 10 \
-	  -o out/validate/blasting_absorbing_cracks.png
-	$(PLOT) $(CRACKS) out/validate/blasting-free/blasting-free.exo --frames 2 6 9 13 --range -20 10 \
-	  -o out/validate/blasting_free_cracks.png
-	for f in 50 10 1; do $(PLOT) $(CRACKS) out/validate/wave-penalty-$${f}E/wave-penalty.exo --frames 3 \
-	  --range -20 10 -o out/validate/wave_penalty_$${f}E_900us.png || exit 1; done
-	@cat out/validate/wave-penalty.md
-	@echo "validation output and plots in out/validate/"
+	  $(VALIDATE_OUT)/impact-b1/impact_history.nc:"b = 1" $(VALIDATE_OUT)/impact-b2/impact_history.nc:"b = 2" \
+	  $(VALIDATE_OUT)/impact-b5/impact_history.nc:"b = 5" $(VALIDATE_OUT)/impact-b20/impact_history.nc:"b = 20" \
+	  $(VALIDATE_OUT)/impact-b30/impact_history.nc:"b = 30" $(VALIDATE_OUT)/impact-b2-pn10/impact_history.nc:"b = 2, P_n = 10 GPa" \
+	  $(VALIDATE_OUT)/impact-b2-T1MPa/impact_history.nc:"b = 2, T = 1 MPa" -o $(VALIDATE_OUT)/impact_kinetic_energy.png
+	$(PLOT) $(BRAZILIAN_CURVE) $(VALIDATE_OUT)/brazilian/brazilian_history.nc -o $(VALIDATE_OUT)/brazilian_stress_strain.png
+	$(PLOT) $(CRACKS) $(VALIDATE_OUT)/brazilian/brazilian.exo --frames 2 3 5 --range -5 2 -o $(VALIDATE_OUT)/brazilian_cracks.png
+	$(PLOT) $(UCS_CURVE) $(VALIDATE_OUT)/ucs/ucs_history.nc -o $(VALIDATE_OUT)/ucs_stress_strain.png
+	$(PLOT) $(CRACKS) $(VALIDATE_OUT)/blasting/blasting.exo --frames 2 6 9 13 --range -20 10 \
+	  -o $(VALIDATE_OUT)/blasting_absorbing_cracks.png
+	$(PLOT) $(CRACKS) $(VALIDATE_OUT)/blasting-free/blasting-free.exo --frames 2 6 9 13 --range -20 10 \
+	  -o $(VALIDATE_OUT)/blasting_free_cracks.png
+	for f in 50 10 1; do $(PLOT) $(CRACKS) $(VALIDATE_OUT)/wave-penalty-$${f}E/wave-penalty.exo --frames 3 \
+	  --range -20 10 -o $(VALIDATE_OUT)/wave_penalty_$${f}E_900us.png || exit 1; done
+	@cat $(VALIDATE_OUT)/wave-penalty.md
+	@echo "validation output, its figures (summary.md) and plots in $(VALIDATE_OUT)/"
 
 # The demo: the seed paper's Brazilian disc test on the default device, then the crack
 # pattern before the peak, at the peak and after it, and the stress-strain curve. With a

@@ -41,6 +41,26 @@ inline std::string source_path(const std::string& relative) {
   return std::string(env && *env ? env : FDEM_SOURCE_DIR) + "/" + relative;
 }
 
+// The text of a case on tests/data/cases/bar.geo (a 1 m × 0.2 m bar; physical groups
+// "bar", "left", "right", "top", "bottom") in the end-to-end tests' rock, "rock": ρ 2000
+// kg/m³, E 10 GPa, ν 0.2. Each field is the body of its table; `material` adds keys
+// (and sub-tables such as [material.fracture]) to the rock, `rest` follows it.
+struct BarCase {
+  std::string title = "bar";          // no title line when empty
+  std::string mesh = "size = 0.05\n";  // [mesh] keys besides geo
+  std::string time;
+  std::string output;
+  std::string material;
+  std::string rest;
+
+  std::string text() const {
+    return (title.empty() ? "" : "title = \"" + title + "\"\n") + "[mesh]\ngeo = \"" +
+           source_path("tests/data/cases/bar.geo") + "\"\n" + mesh + "[time]\n" + time + "[output]\n" + output +
+           "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n" +
+           material + rest;
+  }
+};
+
 // Reads a netCDF variable (all of it, as doubles) or throws.
 inline std::vector<double> read_variable(const std::string& file, const std::string& name) {
   int nc = -1, var = -1, ndims = 0;

@@ -1,21 +1,46 @@
 // Shared test set-up: one OpenCL context for the whole test binary (the device is
-// FDEM_DEVICE's, else auto: PoCL on CI, the GPU on the GPU machine), and small models
-// built directly in C++.
+// FDEM_DEVICE's, else auto: PoCL on CI, the GPU on the GPU machine), the one way the
+// tests (and the validation driver) run a case on it, and small models built directly
+// in C++.
 #pragma once
 #include <array>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
 #include "engine/model.hpp"
+#include "engine/run.hpp"
 
 namespace fdem::test {
 
 inline ClContext& context() {
   static ClContext cl("");
   return cl;
+}
+
+// Runs a prepared case on the shared context, as `fdem run` would; the progress lines
+// go to `progress` (the validation driver's stdout), else nowhere. Throws what run_case
+// throws (NumericalError, OutputError, InputError).
+inline RunSummary run(const PreparedCase& prepared, const RunOptions& options = {}, std::ostream* progress = nullptr) {
+  std::ostringstream dropped;
+  return run_case(prepared, context(), progress ? *progress : dropped, false, options);
+}
+
+// Reads, meshes and runs a case file with `--set` overrides (KEY=VALUE, as on the
+// command line).
+inline RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides = {},
+                      const RunOptions& options = {}) {
+  return run(prepare_case(case_path, overrides), options);
+}
+
+// Options that continue a run from `checkpoint` (fdem run --restart).
+inline RunOptions restart_from(const std::string& checkpoint) {
+  RunOptions options;
+  options.restart = checkpoint;
+  return options;
 }
 
 inline io::MaterialConfig material_config(const std::string& name, io::Elasticity elasticity, io::Plane plane,

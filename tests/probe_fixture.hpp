@@ -9,11 +9,12 @@
 namespace fdem::test {
 
 inline std::string bar_case(const std::string& out, const std::string& probes) {
-  return "[mesh]\ngeo = \"" + source_path("tests/data/cases/bar.geo") +
-         "\"\nsize = 0.05\n[time]\ndt = \"auto\"\nsteps = 200\n[output]\ndir = \"" + out +
-         "\"\nframes = 5\n"
-         "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n"
-         "[[boundary]]\nregion = \"left\"\nvelocity = [0.2, 0.05]\n" + probes;
+  BarCase c;
+  c.title = "";
+  c.time = "dt = \"auto\"\nsteps = 200\n";
+  c.output = "dir = \"" + out + "\"\nframes = 5\n";
+  c.rest = "[[boundary]]\nregion = \"left\"\nvelocity = [0.2, 0.05]\n" + probes;
+  return c.text();
 }
 
 }  // namespace fdem::test

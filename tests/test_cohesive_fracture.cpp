@@ -24,12 +24,15 @@ gf2 = 200.0
 penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
 )";
 
+// The bar with critical viscosity for 2 ms, written to DIR/bar.toml; `material_extra`
+// goes into the rock's [[material]] (its fracture table), `extra` after it.
 std::string bar(const test::TempDir& dir, const std::string& material_extra, const std::string& extra) {
-  return dir.write("bar.toml", "title = \"bar\"\n[mesh]\ngeo = \"" + test::source_path("tests/data/cases/bar.geo") +
-                                   "\"\nsize = 0.05\n[time]\ndt = \"auto\"\nend = 2e-3\n[output]\ndir = \"" + dir.str() +
-                                   "\"\nframes = 3\nhistory_every = 2e-5\n[[material]]\nname = \"rock\"\nregions = [\"bar\"]\n"
-                                   "density = 2000.0\nyoung = 10e9\npoisson = 0.2\nviscosity = \"critical\"\n" +
-                                   material_extra + extra);
+  test::BarCase c;
+  c.time = "dt = \"auto\"\nend = 2e-3\n";
+  c.output = "dir = \"" + dir.str() + "\"\nframes = 3\nhistory_every = 2e-5\n";
+  c.material = "viscosity = \"critical\"\n" + material_extra;
+  c.rest = extra;
+  return dir.write("bar.toml", c.text());
 }
 
 // The bar's supports: its left edge held in x, its bottom edge in y.
@@ -100,12 +103,9 @@ TEST_CASE("splitting: every fracturable triangle owns three nodes, one CE4 per i
 TEST_CASE("an intact fracturable bar under a small load matches the unsplit bar to the CE4 compliance") {
   const std::string load = kBarTension;
   test::TempDir a, b;
-  std::ostringstream log;
-  for (auto* d : {&a, &b}) {
-    auto p = prepare_case(bar(*d, d == &a ? "" : kFracture, load),
-                          {"time.dt=1.0", "time.end=40000.0", "material.0.viscosity=0.0", "output.history_every=1000.0"});
-    run_case(p, test::context(), log, false);
-  }
+  for (auto* d : {&a, &b})
+    test::run(bar(*d, d == &a ? "" : kFracture, load),
+              {"time.dt=1.0", "time.end=40000.0", "material.0.viscosity=0.0", "output.history_every=1000.0"});
   const auto sa = test::last_element_values(a.str() + "/bar.exo", "SXX");
   const auto sb = test::last_element_values(b.str() + "/bar.exo", "SXX");
   // Uniform in the unsplit bar; with CE4s (penalties 10 E) the interfaces' finite
@@ -129,8 +129,7 @@ TEST_CASE("an intact fracturable bar under a small load matches the unsplit bar 
 TEST_CASE("a bar pulled apart breaks in mode I near the tensile strength; the crack is in the output") {
   test::TempDir dir;
   const PreparedCase p = prepare_case(bar(dir, kFracture, kPull), {});
-  std::ostringstream log;
-  run_case(p, test::context(), log, false);
+  test::run(p);
   const std::string hist = dir.str() + "/bar_history.nc";
   const auto force = test::read_variable(hist, "left_force_x");
   double peak = 0;
@@ -174,11 +173,7 @@ activation = "fractured"
 regions = ["right"]
 )";
   test::TempDir a, b;
-  std::ostringstream log;
-  for (auto* d : {&a, &b}) {
-    auto p = prepare_case(bar(*d, kFracture, contact), {});
-    run_case(p, test::context(), log, false);
-  }
+  for (auto* d : {&a, &b}) test::run(bar(*d, kFracture, contact));
   const auto candidates = test::read_variable(a.str() + "/bar_history.nc", "contact_candidates");
   const auto broken = test::read_variable(a.str() + "/bar_history.nc", "broken_ce4");
   CHECK(broken.back() > 0);
@@ -207,10 +202,8 @@ TEST_CASE("apparent Young's modulus of an intact fracturable bar: within 1% of E
     to << "penalty = { opening = " << penalty << ", sliding = " << penalty << ", overlap = " << penalty << " }";
     text.replace(text.find(from), from.size(), to.str());
     const std::string load = kBarTension;
-    auto p = prepare_case(bar(dir, text, load), {"mesh.size=0.1", "time.dt=1.0", "time.end=200000.0",
-                                                 "material.0.viscosity=0.0", "output.history_every=10000.0"});
-    std::ostringstream log;
-    run_case(p, test::context(), log, false);
+    test::run(bar(dir, text, load),
+              {"mesh.size=0.1", "time.dt=1.0", "time.end=200000.0", "material.0.viscosity=0.0", "output.history_every=10000.0"});
     const double u = test::read_variable(dir.str() + "/bar_history.nc", "right_disp_x").back();
     return traction * length / u / (E / (1 - nu * nu));
   };

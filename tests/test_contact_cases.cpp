@@ -1,11 +1,11 @@
 // Contact end to end: energy in impacts, friction on an incline, a settled stack,
-// and skin rebuilds against rebuilding every step.
+// and skin rebuilds against rebuilding every step. The contact cases at full size
+// (sliding, impact, stack) are validation runs (validation/, `make validate`).
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <sstream>
 
 #include "case_files.hpp"
@@ -15,12 +15,6 @@
 using namespace fdem;
 
 namespace {
-
-RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides) {
-  const PreparedCase p = prepare_case(case_path, overrides);
-  std::ostringstream log;
-  return run_case(p, test::context(), log, false);
-}
 
 std::vector<double> history(const test::TempDir& dir, const std::string& name, const std::string& var) {
   return test::read_variable(dir.str() + "/" + name + "_history.nc", var);
@@ -55,7 +49,7 @@ TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 los
     test::TempDir dir;
     std::ostringstream damping;
     damping << "contact.damping={exponent=" << b << "}";
-    run(impact, {"mesh.size=0.02", "time.end=0.0016", "output.dir=\"" + dir.str() + "\"", damping.str()});
+    test::run(impact, {"mesh.size=0.02", "time.end=0.0016", "output.dir=\"" + dir.str() + "\"", damping.str()});
     const auto ke = history(dir, "impact", "kinetic_energy");
     const auto touching = history(dir, "impact", "contact_couples");
     const auto damping_lost = history(dir, "impact", "contact_damping_dissipation");
@@ -75,12 +69,12 @@ TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 los
 
 TEST_CASE("a block on a 20 degree incline with μ = 0.5 stays put; at 30 degrees it slides with a = g(sin θ − μ cos θ)") {
   test::TempDir still;
-  run(incline_case(still, 20.0), {});
+  test::run(incline_case(still, 20.0), {});
   const auto x20 = history(still, "incline", "block_disp_x");
   CHECK(std::fabs(x20.back()) < 1e-3 * 0.05);  // creep below 0.1% of the block's size over 0.2 s
 
   test::TempDir slide;
-  run(incline_case(slide, 30.0), {});
+  test::run(incline_case(slide, 30.0), {});
   const auto t = history(slide, "incline", "time");
   const auto x = history(slide, "incline", "block_disp_x");
   // Least-squares fit of x = x0 + v0 t + a t²/2 over the second half of the run.
@@ -99,7 +93,7 @@ TEST_CASE("a block on a 20 degree incline with μ = 0.5 stays put; at 30 degrees
 
 TEST_CASE("a settled stack: the base carries the total weight within 0.5%, overlaps below 1% of the element size") {
   test::TempDir dir;
-  run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir.str() + "\"", "mesh.size=0.025", "time.end=0.01"});
+  test::run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir.str() + "\"", "mesh.size=0.025", "time.end=0.01"});
   const double weight = 1800 * 9.81 * (0.3 * 0.02 + 3 * 0.1 * 0.05);
   CHECK(history(dir, "stack", "base_force_y").back() == doctest::Approx(weight).epsilon(0.005));
   const std::vector<std::pair<std::string, std::string>> faces = {
@@ -120,11 +114,11 @@ TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
     extra.push_back("output.dir=\"" + dir.str() + "\"");
     return extra;
   };
-  run(impact, with(every, {}));
+  test::run(impact, with(every, {}));
   // A 2 mm skin is tested a few steps late (the host does not wait); a 2 µm skin is too
   // thin for the late test's margin at these speeds, so every step tests its own state.
-  run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
-  run(impact, with(thin, {"contact.rebuild=\"skin\"", "contact.skin=2e-6"}));
+  test::run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
+  test::run(impact, with(thin, {"contact.rebuild=\"skin\"", "contact.skin=2e-6"}));
   for (const std::string var : {"kinetic_energy", "friction_dissipation", "contact_damping_dissipation", "contact_couples"}) {
     CAPTURE(var);
     const auto a = history(every, "impact", var), b = history(skin, "impact", var), c = history(thin, "impact", var);
@@ -137,73 +131,6 @@ TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
   MESSAGE("contact rebuilds: skin 2 mm " << rebuilds_skin.back() << ", skin 2 µm " << rebuilds_thin.back());
   CHECK(rebuilds_skin.back() < rebuilds_thin.back());
   CHECK(history(skin, "impact", "contact_candidates").back() >= history(every, "impact", "contact_candidates").back());
-}
-
-}  // TEST_SUITE
-
-// Long runs: `make validate`. They write under out/validate/ (kept for plots).
-TEST_SUITE("validation") {
-
-TEST_CASE("sliding block: L = v²/(2μg) within 2% for v = 2, 3, 4, 5, 6 m/s") {
-  for (double v : {2.0, 3.0, 4.0, 5.0, 6.0}) {
-    CAPTURE(v);
-    std::ostringstream dir, velocity, end;
-    dir << test::source_path("out/validate/sliding-v") << v;
-    velocity << "initial.0.velocity=[" << v << ", 0.0]";
-    end << "time.end=" << v / (0.5 * 9.81) + 0.05;
-    const auto s = run(test::source_path("cases/sliding/case.toml"),
-                       {"output.dir=\"" + dir.str() + "\"", velocity.str(), end.str(), "output.history_every=0.002",
-                        "output.regions=[\"block\"]"});
-    const auto x = test::read_variable(dir.str() + "/sliding_history.nc", "block_disp_x");
-    const double expected = v * v / (2 * 0.5 * 9.81);
-    MESSAGE("v = " << v << " m/s: L = " << x.back() << " m, v²/(2μg) = " << expected << " m, error "
-                   << 100 * (x.back() / expected - 1) << "%, " << s.steps << " steps, " << s.wall_seconds << " s");
-    CHECK(x.back() == doctest::Approx(expected).epsilon(0.02));
-  }
-}
-
-TEST_CASE("disc impact: kinetic energy curves for b = 1, 2, 5, 20, 30, P_n = 10 GPa and T = 1 MPa") {
-  const std::vector<std::pair<std::string, std::vector<std::string>>> runs = {
-      {"b1", {"contact.damping={exponent=1.0}"}},
-      {"b2", {"contact.damping={exponent=2.0}"}},
-      {"b5", {"contact.damping={exponent=5.0}"}},
-      {"b20", {"contact.damping={exponent=20.0}"}},
-      {"b30", {"contact.damping={exponent=30.0}"}},
-      {"b2-pn10", {"contact.damping={exponent=2.0}", "contact.normal_penalty=10e9"}},
-      {"b2-T1MPa", {"contact.damping={exponent=2.0, transition=1e6}"}}};
-  std::map<std::string, double> returned;
-  for (const auto& [name, extra] : runs) {
-    std::vector<std::string> overrides = extra;
-    const std::string dir = test::source_path("out/validate/impact-" + name);
-    overrides.push_back("output.dir=\"" + dir + "\"");
-    run(test::source_path("cases/impact/case.toml"), overrides);
-    const auto ke = test::read_variable(dir + "/impact_history.nc", "kinetic_energy");
-    returned[name] = ke.back() / ke.front();
-    MESSAGE(name << ": kinetic energy after impact " << 100 * returned[name] << "% of " << ke.front() << " J");
-  }
-  CHECK(returned["b1"] > 0.99);
-  CHECK(returned["b2"] < returned["b1"]);
-  CHECK(returned["b5"] < returned["b2"]);
-  CHECK(returned["b20"] < returned["b5"]);
-  CHECK(returned["b30"] < returned["b20"]);
-  CHECK(returned["b2-pn10"] > returned["b2"]);  // loss depends on P_n (as in the paper)
-  CHECK(returned["b2-T1MPa"] < returned["b2"]);  // and on T
-}
-
-TEST_CASE("stack of three blocks at rest: base reaction = total weight within 0.5%, overlaps below 1% of h") {
-  const std::string dir = test::source_path("out/validate/stack");
-  run(test::source_path("cases/stack/case.toml"), {"output.dir=\"" + dir + "\""});
-  const double weight = 1800 * 9.81 * (0.3 * 0.02 + 3 * 0.1 * 0.05);
-  const double reaction = test::read_variable(dir + "/stack_history.nc", "base_force_y").back();
-  double worst = 0;
-  for (const auto& [lower, upper] : std::vector<std::pair<std::string, std::string>>{
-           {"base_top", "block1_bottom"}, {"block1_top", "block2_bottom"}, {"block2_top", "block3_bottom"}})
-    worst = std::max(worst, test::read_variable(dir + "/stack_history.nc", lower + "_disp_y").back() -
-                                test::read_variable(dir + "/stack_history.nc", upper + "_disp_y").back());
-  MESSAGE("stack: reaction " << reaction << " N for a weight of " << weight << " N; largest overlap " << worst
-                             << " m = " << 100 * worst / 0.01 << "% of h");
-  CHECK(reaction == doctest::Approx(weight).epsilon(0.005));
-  CHECK(worst < 0.01 * 0.01);
 }
 
 }  // TEST_SUITE

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "case_files.hpp"
 #include "engine/run.hpp"
@@ -14,16 +13,6 @@
 using namespace fdem;
 
 namespace {
-
-RunSummary run(const std::string& case_path, const std::vector<std::string>& overrides = {}) {
-  const PreparedCase p = prepare_case(case_path, overrides);
-  std::ostringstream log;
-  return run_case(p, test::context(), log, false);
-}
-
-std::string strip(const std::string& geo, const std::string& body) {
-  return "[mesh]\ngeo = \"" + test::source_path(geo) + "\"\n" + body;
-}
 
 double largest_abs(const std::vector<double>& v) {
   double m = 0;
@@ -129,13 +118,14 @@ TEST_CASE("a bar pulled slowly stores the boundary work as strain energy (½ σ 
   if (!kDoublePrecision) return;  // strains of 1e-8 at the start are below float resolution
   test::TempDir dir;
   const double E = 10e9, nu = 0.2, v = 1e-3, rise = 5e-3, end = 30e-3, thickness = 0.1;
-  const auto path = dir.write("bar.toml", strip("tests/data/cases/bar.geo",
-      "size = 0.05\nthickness = 0.1\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 30e-3\n"
-      "[output]\ndir = \"" + dir.str() + "\"\nname = \"bar\"\nframes = 2\nhistory_every = 0.5e-3\n"
-      "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n"
-      "[[boundary]]\nregion = \"left\"\nfix = [\"x\"]\n"
-      "[[boundary]]\nregion = \"right\"\nvelocity = [1e-3, 0.0]\nfix = [\"y\"]\nrise = 5e-3\n"));
-  const auto s = run(path);
+  test::BarCase bar;
+  bar.title = "";
+  bar.mesh = "size = 0.05\nthickness = 0.1\n";
+  bar.time = "dt = \"auto\"\nsafety = 0.5\nend = 30e-3\n";
+  bar.output = "dir = \"" + dir.str() + "\"\nname = \"bar\"\nframes = 2\nhistory_every = 0.5e-3\n";
+  bar.rest = "[[boundary]]\nregion = \"left\"\nfix = [\"x\"]\n"
+             "[[boundary]]\nregion = \"right\"\nvelocity = [1e-3, 0.0]\nfix = [\"y\"]\nrise = 5e-3\n";
+  const auto s = test::run(dir.write("bar.toml", bar.text()));
   const std::string hist = dir.str() + "/bar_history.nc";
   const auto strain = test::read_variable(hist, "strain_energy");
   const auto work = test::read_variable(hist, "boundary_work");
@@ -159,14 +149,14 @@ TEST_CASE("a body in free fall turns gravity potential into kinetic energy: ½ M
   if (!kDoublePrecision) return;
   test::TempDir dir;
   const double g = 9.81, rho = 2000, thickness = 0.1, mass = rho * 1.0 * 0.2 * thickness;
-  const auto path = dir.write("fall.toml", strip("tests/data/cases/bar.geo",
-      "size = 0.1\nthickness = 0.1\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 0.05\n"
-      "[output]\ndir = \"" + dir.str() + "\"\nname = \"fall\"\nframes = 2\nhistory_every = 5e-3\n"
-      "[[material]]\nname = \"rock\"\nregions = [\"bar\"]\ndensity = 2000.0\nyoung = 10e9\npoisson = 0.2\n"
-      "[gravity]\ng = [0.0, -9.81]\n"));
-  const auto p = prepare_case(path, {});
-  std::ostringstream log;
-  run_case(p, test::context(), log, false);
+  test::BarCase fall;
+  fall.title = "";
+  fall.mesh = "size = 0.1\nthickness = 0.1\n";
+  fall.time = "dt = \"auto\"\nsafety = 0.5\nend = 0.05\n";
+  fall.output = "dir = \"" + dir.str() + "\"\nname = \"fall\"\nframes = 2\nhistory_every = 5e-3\n";
+  fall.rest = "[gravity]\ng = [0.0, -9.81]\n";
+  const auto p = prepare_case(dir.write("fall.toml", fall.text()), {});
+  test::run(p);
   const std::string hist = dir.str() + "/fall_history.nc";
   const auto time = test::read_variable(hist, "time");
   const auto kinetic = test::read_variable(hist, "kinetic_energy");
@@ -193,15 +183,16 @@ TEST_CASE("a plane P pulse leaves through an absorbing end: absorbed energy = th
   // measured; these checks are for the double build.
   if (!kDoublePrecision) return;
   test::TempDir dir;
-  const auto path = dir.write("pulse.toml", strip("tests/data/cases/wave_strip.geo",
+  const auto path = dir.write("pulse.toml",
+      "[mesh]\ngeo = \"" + test::source_path("tests/data/cases/wave_strip.geo") + "\"\n"
       "size = 0.02\n[time]\ndt = \"auto\"\nsafety = 0.5\nend = 1.1e-3\n"
       "[output]\ndir = \"" + dir.str() + "\"\nname = \"pulse\"\nframes = 2\nhistory_every = 10e-6\n"
       "[[material]]\nname = \"rock\"\nregions = [\"strip\"]\ndensity = 3000.0\nyoung = 22.5e9\npoisson = 0.25\n"
       "[[boundary]]\nregion = \"left\"\npressure = { times = [0.0, 50e-6, 100e-6], values = [0.0, 10e6, 0.0] }\n"
       "[[boundary]]\nregion = \"top\"\nfix = [\"y\"]\n"
       "[[boundary]]\nregion = \"bottom\"\nfix = [\"y\"]\n"
-      "[[boundary]]\nregion = \"right\"\nabsorbing = true\n"));
-  run(path);
+      "[[boundary]]\nregion = \"right\"\nabsorbing = true\n");
+  test::run(path);
   const std::string hist = dir.str() + "/pulse_history.nc";
   const auto load = test::read_variable(hist, "load_work");
   const auto absorbed = test::read_variable(hist, "absorbed_energy");
@@ -249,7 +240,7 @@ TEST_CASE("every case closes its energy balance within 1% (small versions)") {
     auto overrides = c.overrides;
     overrides.push_back("output.dir=\"" + dir.str() + "\"");
     overrides.push_back("output.energy_limit=1.0");  // measure, do not stop
-    const auto s = run(test::source_path(c.file), overrides);
+    const auto s = test::run(test::source_path(c.file), overrides);
     MESSAGE(std::string(c.file) << ": worst |energy_error| " << s.worst_energy_error << ", final " << s.final_energy_error);
     CHECK(s.worst_energy_error < 0.01);
   }

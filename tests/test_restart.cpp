@@ -45,14 +45,6 @@ std::string disc_case(const test::TempDir& dir, const std::string& out, double e
   return dir.write("disc.toml", text.str());
 }
 
-RunSummary run(const std::string& path, const std::string& restart = "", const std::vector<std::string>& set = {}) {
-  const PreparedCase p = prepare_case(path, set);
-  std::ostringstream log;
-  RunOptions options;
-  options.restart = restart;
-  return run_case(p, test::context(), log, false, options);
-}
-
 bool same_bytes(const std::string& a, const std::string& b) {
   std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
   const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
@@ -105,7 +97,7 @@ std::string text_of(const std::string& path) {
 
 std::string refusal(const std::string& path, const std::string& restart, const std::vector<std::string>& set = {}) {
   try {
-    run(path, restart, set);
+    test::run(path, set, test::restart_from(restart));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -119,9 +111,9 @@ TEST_SUITE("restart") {
 TEST_CASE("a run to T and a run to T/2 restarted to T write the same bytes (history and every frame)") {
   test::TempDir dir;
   const std::string one = dir.str() + "/one", two = dir.str() + "/two";
-  const auto whole = run(disc_case(dir, one, 2e-4));
-  const auto half = run(disc_case(dir, two, 1e-4));
-  const auto rest = run(disc_case(dir, two, 2e-4), two + "/brazilian.ckpt");
+  const auto whole = test::run(disc_case(dir, one, 2e-4));
+  const auto half = test::run(disc_case(dir, two, 1e-4));
+  const auto rest = test::run(disc_case(dir, two, 2e-4), {}, test::restart_from(two + "/brazilian.ckpt"));
   CHECK(rest.first_step == half.steps);
   CHECK(half.steps + rest.steps == whole.steps);
   CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
@@ -142,14 +134,14 @@ TEST_CASE("a run to T and a run to T/2 restarted to T write the same bytes (hist
 TEST_CASE("a run killed with SIGKILL after a checkpoint, restarted, writes the same bytes as one never killed") {
   test::TempDir dir;
   const std::string one = dir.str() + "/one", two = dir.str() + "/two";
-  run(disc_case(dir, one, 2e-4));
+  test::run(disc_case(dir, one, 2e-4));
   const std::string path = disc_case(dir, two, 2e-4, "checkpoint_every = 3e-5\n");
   const pid_t pid = start_fdem({"run", path, "--quiet"}, dir.str() + "/killed.log");
   REQUIRE(wait_for(two + "/brazilian.ckpt.prev"));  // the second checkpoint is in place
   kill(pid, SIGKILL);
   CHECK(wait_exit(pid) == -SIGKILL);
   const auto before = io::read_checkpoint_file(two + "/brazilian.ckpt").integers.at("step");
-  const auto rest = run(path, two + "/brazilian.ckpt");
+  const auto rest = test::run(path, {}, test::restart_from(two + "/brazilian.ckpt"));
   MESSAGE("killed after the checkpoint at step " << before << "; the restart ran " << rest.steps << " steps");
   CHECK(rest.first_step == before);
   CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
@@ -188,7 +180,7 @@ TEST_CASE("checkpoints that do not fit are refused, naming the culprit (exit 2)"
   test::TempDir dir;
   const std::string out = dir.str() + "/out";
   const std::string path = disc_case(dir, out, 5e-5);
-  run(path);
+  test::run(path);
   const std::string ckpt = out + "/brazilian.ckpt";
   const std::vector<std::string> longer = {"time.end=1e-4"};
   // A material value changed.
