@@ -67,7 +67,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   csv << "h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,"
          "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account,planned_mib\n";
   out << "fdem bench on " << cl.description() << ": " << o.warmup << " warm-up + " << o.steps
-      << " timed steps, dt 0.5 ns, activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
+      << " timed steps, dt 0.5 ns (halved per mesh.refine level), activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
       << "ms/step on a plain queue with the energy account (a row every " << kBenchRowEvery
       << " steps), no-account without it (same process); the stage times below from a run on a profiling queue\n";
   out << std::setw(6) << "h_ave" << std::setw(10) << "TRI3" << std::setw(10) << "CE4" << std::setw(10) << "nodes"
@@ -90,7 +90,11 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     size << std::setprecision(17) << "mesh.size=" << gmsh_size(h_mesh);
     skin << std::setprecision(6) << "contact.skin=" << 0.15e-3 * h;
     levels << "mesh.refine=" << refine;
-    const PreparedCase p = prepare_case(o.case_path, {size.str(), levels.str(), "time.dt=0.5e-9",
+    // Table 2's Δt, halved with each level of refinement (the elements' size halves).
+    const double dt = std::ldexp(0.5e-9, -refine);
+    std::ostringstream dt_key;
+    dt_key << std::setprecision(17) << "time.dt=" << dt;
+    const PreparedCase p = prepare_case(o.case_path, {size.str(), levels.str(), dt_key.str(),
                                                       "output.dir=\"" + dir + "\"", "contact.activation=\"all\"",
                                                       "contact.rebuild=\"skin\"", skin.str()});
     // The step time with the energy account and without it, in the same process: the
@@ -99,7 +103,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     // write a row every 200 to 6,000 steps). Until this round the bench took a row every
     // (steps + warm-up)/1000 steps, which for its own 1,020 steps was every step.
     auto time_steps = [&](bool account) {
-      Solver solver(timed, p.model, 0.5e-9, account);
+      Solver solver(timed, p.model, dt, account);
       const long row = kBenchRowEvery;
       for (long s = 0; s < o.warmup; ++s) solver.step(account && (s + 1) % row == 0);
       timed.finish();
@@ -111,7 +115,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const double seconds = time_steps(true);
     const double seconds_without = time_steps(false);
     const size_t before_bytes = cl.device_bytes_in_use();
-    Solver solver(cl, p.model, 0.5e-9);
+    Solver solver(cl, p.model, dt);
     for (long s = 0; s < o.warmup; ++s) solver.step();
     cl.collect_profile();
     const auto before = cl.profile();
