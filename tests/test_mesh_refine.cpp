@@ -273,6 +273,11 @@ TEST_CASE("refine: a refinement past 2^31 - 1 triangles is refused, naming the k
                                          "2^31 - 1 triangles"),
                        InputError);
   CHECK(m.triangles.size() == 28);  // refused before any work
+  // 13 levels stay under 2^31 (1.9e9 triangles) but not under any machine's memory at
+  // about 1 KB a triangle: refused too, before any work, rather than killed for memory.
+  CHECK_THROWS_WITH_AS(fdem::io::refine_mesh(m, 13, "c.toml: mesh.refine = 13"),
+                       doctest::Contains("GB of host memory at 1 KB each; this machine has"), InputError);
+  CHECK(m.triangles.size() == 28);
 }
 
 TEST_CASE("refine in build_model: loads, supports and regions on refined curves; Δt halves per level") {
