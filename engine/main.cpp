@@ -223,11 +223,8 @@ int check_command(const Arguments& a) {
     if (bytes > cl.info().global_memory) return 4;
     if (m.contact.enabled) {
       fdem::DeviceArrays arrays(cl, m);
-      // As the Solver's detection: under "fractured" the candidate mask and the CE4 couples.
-      const bool fractured = !m.contact_active.empty();
-      fdem::ContactDetection detection(cl, arrays, m.contact.skin, 0,
-                                       fractured ? m.ce4_triangles : std::vector<std::array<int, 2>>{});
-      if (fractured) detection.set_active(m.contact_active);
+      auto built = fdem::Solver::build_detection(true, cl, arrays, m);  // as the Solver's
+      fdem::ContactDetection& detection = *built;
       const size_t couples = detection.run();
       const auto grid = detection.grid();
       std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size

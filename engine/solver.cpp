@@ -30,15 +30,15 @@ const std::vector<std::array<int, 2>>& detection_bonds(const Model& model) {
   return model.contact_active.empty() ? none : model.ce4_triangles;
 }
 
-std::unique_ptr<ContactDetection> build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
-                                                  const Model& model) {
+}  // namespace
+
+std::unique_ptr<ContactDetection> Solver::build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
+                                                          const Model& model) {
   if (!wanted) return nullptr;
   auto detection = std::make_unique<ContactDetection>(cl, arrays, model.contact.skin, 0, detection_bonds(model));
   if (!model.contact_active.empty()) detection->set_active(model.contact_active);
   return detection;
 }
-
-}  // namespace
 
 Solver::Parts Solver::parts(const Model& model, bool account) {
   Parts p;

@@ -51,6 +51,10 @@ class Solver {
     bool account_work = false;  // Integrate accounts reactions' and damping work
   };
   static Parts parts(const Model& model, bool account = true);
+  // The contact detection of `model` as the Solver builds it (null unless `wanted`): under
+  // activation "fractured" with the candidate mask and the CE4 couples (fdem check uses it).
+  static std::unique_ptr<ContactDetection> build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
+                                                           const Model& model);
   // Every device array the Solver of `model` allocates: DeviceArrays' and each built
   // stage's plan, the set-up LumpedMass's and the Solver's own checkpoint copies
   // (`group_size`: ClContext::group_size() of the device it will run on).

@@ -91,21 +91,16 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   }
   const cl_uint none = 0;
   KernelArgs f(forces_);
-  forces_count_ = f.later("n_couples", none);
-  forces_keys_ = f.later("keys", keys_);
-  forces_previous_count_ = f.later("n_previous", none);
-  forces_previous_keys_ = f.later("previous_keys", keys_);
-  forces_previous_history_ = f.later("previous_history", history_[0]);
-  forces_history_ = f.later("history", history_[1]);
+  forces_list_.bind_list(f, keys_, history_[0], history_[1]);
   f("tri_nodes", a.tri_nodes)("tri_material", a.tri_material)("n_materials", static_cast<cl_uint>(n_materials))(
       "pair_index", pair_index_)("pair_props", pair_props_)("position", a.position)("velocity", a.velocity)(
       "thickness", static_cast<real>(model.thickness));
   forces_dt_ = f.later("dt", real(0));
   f("force_scale", static_cast<real>(force_scale_))("energy_scale", static_cast<real>(energy_scale_))(
       "contact_acc", a.contact_acc)("energy", energy_)("counters", counters_);
-  forces_same_list_ = f.later("same_list", none);
-  forces_overlap_list_ = f.later("overlap_list", overlap_list_);
-  forces_live_ = f.later("live", live_);
+  forces_list_.same_list = f.later("same_list", none);
+  forces_list_.overlap_list = f.later("overlap_list", overlap_list_);
+  forces_list_.live = f.later("live", live_);
   forces_energy_row_ = f.later("energy_row", none);
   forces_couple_stored_ = f.later("couple_stored", couple_stored_);
   f("active", active ? *active : ones_);
@@ -113,18 +108,13 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   f.done();
 
   KernelArgs c(classify_);
-  classify_count_ = c.later("n_couples", none);
-  classify_keys_ = c.later("keys", keys_);
-  classify_previous_count_ = c.later("n_previous", none);
-  classify_previous_keys_ = c.later("previous_keys", keys_);
-  classify_previous_history_ = c.later("previous_history", history_[0]);
-  classify_history_ = c.later("history", history_[1]);
+  classify_list_.bind_list(c, keys_, history_[0], history_[1]);
   c("tri_nodes", a.tri_nodes)("position", a.position)("energy_scale", static_cast<real>(energy_scale_))(
       "energy", energy_);
-  classify_same_list_ = c.later("same_list", none);
+  classify_list_.same_list = c.later("same_list", none);
   c("counters", counters_);
-  classify_overlap_list_ = c.later("overlap_list", overlap_list_);
-  classify_live_ = c.later("live", live_);
+  classify_list_.overlap_list = c.later("overlap_list", overlap_list_);
+  classify_list_.live = c.later("live", live_);
   c.done();
 
   bind_args(clear_)("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)(
@@ -144,6 +134,17 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   stored_values_ = p.later("couple_stored", couple_stored_);
   stored_slots_arg_ = p.later("group_slots", stored_slots_);
   p.done();
+}
+
+void ContactForces::ListArgs::bind_list(KernelArgs& args, const compute::buffer& list_keys,
+                                        const compute::buffer& history0, const compute::buffer& history1) {
+  const cl_uint none = 0;
+  count = args.later("n_couples", none);
+  keys = args.later("keys", list_keys);
+  previous_count = args.later("n_previous", none);
+  previous_keys = args.later("previous_keys", list_keys);
+  previous_history = args.later("previous_history", history0);
+  history = args.later("history", history1);
 }
 
 void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
@@ -176,26 +177,19 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   // Same list as the last step: couple c's history is at c, in place (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
   const compute::buffer& list_keys = new_list ? keys : keys_;
-  classify_count_.set(static_cast<cl_uint>(count));
-  classify_keys_.set(list_keys);
-  classify_previous_count_.set(static_cast<cl_uint>(count_));
-  classify_previous_keys_.set(keys_);
-  classify_previous_history_.set(history_[current_]);
-  classify_history_.set(history_[next]);
-  classify_same_list_.set(same_list);
-  classify_overlap_list_.set(overlap_list_);
-  classify_live_.set(live_);
+  for (ListArgs* list : {&classify_list_, &forces_list_}) {
+    list->count.set(static_cast<cl_uint>(count));
+    list->keys.set(list_keys);
+    list->previous_count.set(static_cast<cl_uint>(count_));
+    list->previous_keys.set(keys_);
+    list->previous_history.set(history_[current_]);
+    list->history.set(history_[next]);
+    list->same_list.set(same_list);
+    list->overlap_list.set(overlap_list_);
+    list->live.set(live_);
+  }
   cl_.enqueue(classify_, count);
-  forces_count_.set(static_cast<cl_uint>(count));
-  forces_keys_.set(list_keys);
-  forces_previous_count_.set(static_cast<cl_uint>(count_));
-  forces_previous_keys_.set(keys_);
-  forces_previous_history_.set(history_[current_]);
-  forces_history_.set(history_[next]);
   forces_dt_.set(static_cast<real>(dt));
-  forces_same_list_.set(same_list);
-  forces_overlap_list_.set(overlap_list_);
-  forces_live_.set(live_);
   forces_energy_row_.set(energy_row ? 1 : 0);
   forces_couple_stored_.set(couple_stored_);
   // Joins since the last list (activation runs before detection in a step, so a join in

@@ -79,14 +79,20 @@ class ContactForces {
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
   // The arguments set at each enqueue, per kernel.
-  KernelArg<cl_uint> forces_count_, forces_previous_count_, forces_same_list_, forces_energy_row_,
-      forces_joined_since_;
-  KernelArg<compute::buffer> forces_keys_, forces_previous_keys_, forces_previous_history_, forces_history_,
-      forces_overlap_list_, forces_live_, forces_couple_stored_;
+  // The arguments contact_classify and contact_forces both take that change with the
+  // couple list: the list and the previous one with its history, the history written, the
+  // same-list flag, the overlap list and the live flags. Each kernel declares the first six
+  // first, in this order (bind_list).
+  struct ListArgs {
+    KernelArg<cl_uint> count, previous_count, same_list;
+    KernelArg<compute::buffer> keys, previous_keys, previous_history, history, overlap_list, live;
+    void bind_list(KernelArgs& args, const compute::buffer& keys, const compute::buffer& history0,
+                   const compute::buffer& history1);
+  };
+  ListArgs classify_list_, forces_list_;
+  KernelArg<cl_uint> forces_energy_row_, forces_joined_since_;
+  KernelArg<compute::buffer> forces_couple_stored_;
   KernelArg<real> forces_dt_;
-  KernelArg<cl_uint> classify_count_, classify_previous_count_, classify_same_list_;
-  KernelArg<compute::buffer> classify_keys_, classify_previous_keys_, classify_previous_history_, classify_history_,
-      classify_overlap_list_, classify_live_;
   KernelArg<cl_uint> release_previous_count_, release_count_;
   KernelArg<compute::buffer> release_previous_keys_, release_previous_history_, release_keys_;
   KernelArg<cl_uint> stored_count_;
