@@ -23,6 +23,8 @@
 #include "engine/solver.hpp"
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
+#include <cstdlib>
+#include "engine/partition.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace {
@@ -31,7 +33,7 @@ const char* kUsage =
     "usage:\n"
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
     "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
-    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]...\n"
+    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]]\n"
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
@@ -47,6 +49,8 @@ struct Arguments {
   bool restart = false;
   std::string restart_file;  // empty with --restart: OUT/NAME.ckpt
   double max_wall = 0;
+  int ranks = 0;                  // fdem check --ranks N: print the partition over N ranks
+  std::string partition;          // "metis" or "bisection"; empty: metis when built with it
   fdem::BenchOptions bench;
 };
 
@@ -85,6 +89,20 @@ Arguments parse(int argc, char** argv) {
       }
     }
     else if (arg == "--profile") a.profile = true;
+    else if (arg == "--ranks") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        a.ranks = std::stoi(v, &used);
+        if (used != v.size() || a.ranks < 1) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--ranks needs a whole number of ranks, 1 or more, not '" + v + "'");
+      }
+    } else if (arg == "--partition") {
+      a.partition = value(arg);
+      if (a.partition != "metis" && a.partition != "bisection")
+        throw fdem::InputError("--partition: unknown method '" + a.partition + "' (metis or bisection)");
+    }
     else if (arg == "--sizes") {
       a.bench.sizes.clear();
       std::istringstream list(value(arg));
@@ -163,6 +181,31 @@ int check_checkpoint(const std::string& path) {
   return 0;
 }
 
+// `fdem check --ranks N`: each part's share of the model and what it would hold besides
+// (engine/partition.hpp gives the ownership and ghost rules).
+void print_partition(const Arguments& a, const fdem::Model& m) {
+  using fdem::PartitionMethod;
+  const PartitionMethod method = a.partition == "bisection" || (a.partition.empty() && !fdem::partition_has_metis())
+                                     ? PartitionMethod::Bisection
+                                     : PartitionMethod::Metis;
+  const auto partition = fdem::partition_model(m, a.ranks, method);
+  const double reach = m.contact.enabled ? m.contact.skin : 0.0;
+  const auto stats = fdem::partition_stats(m, partition, reach);
+  std::cout << "partition " << a.ranks << " ranks by " << fdem::partition_method_name(method)
+            << " (work weights: TRI3 4, CE4 5 a side, contact candidate 100)\n"
+            << "  rank       TRI3        CE4      nodes  ghost TRI3  ghost CE4 ghost nodes"
+            << (m.contact.enabled ? " contact ghosts" : "") << "        work\n";
+  for (size_t r = 0; r < stats.size(); ++r) {
+    const auto& s = stats[r];
+    std::cout << std::setw(6) << r << std::setw(11) << s.tri3 << std::setw(11) << s.ce4 << std::setw(11) << s.nodes
+              << std::setw(12) << s.ghost_tri3 << std::setw(11) << s.ghost_ce4 << std::setw(12) << s.ghost_nodes;
+    if (m.contact.enabled) std::cout << std::setw(15) << s.contact_ghost_tri3;
+    std::cout << std::setw(12) << s.work << "\n";
+  }
+  std::cout << "  imbalance " << std::fixed << std::setprecision(3) << fdem::partition_imbalance(stats)
+            << " (largest part's work over the mean)" << std::defaultfloat << "\n";
+}
+
 int check_command(const Arguments& a) {
   if (a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt") return check_checkpoint(a.case_path);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
@@ -199,6 +242,7 @@ int check_command(const Arguments& a) {
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"
             << "steps     " << p.steps << "\n";
+  if (a.ranks > 0) print_partition(a, m);
   std::unique_ptr<fdem::ClContext> device;
   std::string no_device;
   try {
@@ -245,6 +289,19 @@ int check_command(const Arguments& a) {
     std::cout << "device    none usable: " << e.what() << "\n";
   }
   return 0;
+}
+
+// Started by mpirun (or another launcher) as one of several ranks: every rank would run
+// the whole model and write the same files, so refuse before doing anything. The
+// launchers say so in the environment (Open MPI's mpirun; MPICH's Hydra and srun with PMI).
+void refuse_parallel_launch() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* value = std::getenv(name);
+    if (value && std::atoi(value) > 1)
+      throw fdem::InputError(std::string("started as one of ") + value + " parallel ranks (" + name + "=" + value +
+                             "), but this fdem runs a model on one device only: run it as one process. "
+                             "`fdem check CASE --ranks N` shows how the model would be split.");
+  }
 }
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -320,6 +377,8 @@ int main(int argc, char** argv) {
       return fdem::run_bench(a.bench, a.device, std::cout);
     }
     if (a.command == "run" || a.command == "check") {
+      if (a.ranks > 0 && a.command != "check") throw fdem::InputError("--ranks belongs to fdem check");
+      refuse_parallel_launch();
       if (a.case_path.empty()) throw fdem::InputError("fdem " + a.command + " needs a case file\n" + kUsage);
       return a.command == "run" ? run_command(a) : check_command(a);
     }

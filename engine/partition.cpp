@@ -1,0 +1,285 @@
+#include "engine/partition.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_map>
+#include "base/errors.hpp"
+#ifdef FDEM_HAVE_METIS
+#include <metis.h>
+#endif
+
+namespace fdem {
+
+std::vector<int64_t> triangle_work(const Model& model) {
+  const size_t n = model.num_triangles();
+  std::vector<int64_t> work(n, 4);
+  for (const auto& pair : model.ce4_triangles)
+    for (int t : pair) work[t] += 5;
+  if (model.contact.enabled)
+    for (size_t t = 0; t < n; ++t) {
+      const bool candidate = model.contact_active.empty() || model.contact_active[t] != 0 ||
+                             (t < model.triangle_fracturable.size() && model.triangle_fracturable[t]);
+      if (candidate) work[t] += 100;
+    }
+  return work;
+}
+
+bool partition_has_metis() {
+#ifdef FDEM_HAVE_METIS
+  return true;
+#else
+  return false;
+#endif
+}
+
+const char* partition_method_name(PartitionMethod method) {
+  return method == PartitionMethod::Metis ? "metis" : "bisection";
+}
+
+namespace {
+
+struct Centroids {
+  std::vector<double> x, y;
+};
+
+Centroids centroids(const Model& m) {
+  Centroids c;
+  c.x.resize(m.num_triangles());
+  c.y.resize(m.num_triangles());
+  for (size_t t = 0; t < m.num_triangles(); ++t) {
+    const auto& v = m.triangles[t];
+    c.x[t] = (m.x[v[0]] + m.x[v[1]] + m.x[v[2]]) / 3.0;
+    c.y[t] = (m.y[v[0]] + m.y[v[1]] + m.y[v[2]]) / 3.0;
+  }
+  return c;
+}
+
+// Splits `ids` (triangles) into parts first_part … first_part + parts − 1: along the
+// longer extent of their centroids, at the point where the work to the left reaches
+// the left half's share. Ties in the coordinate are broken by triangle index, so the
+// result does not depend on the sort's implementation.
+void bisect(std::vector<int>& ids, size_t begin, size_t end, int first_part, int parts, const Centroids& c,
+            const std::vector<int64_t>& work, std::vector<int>& out) {
+  if (parts == 1) {
+    for (size_t k = begin; k < end; ++k) out[ids[k]] = first_part;
+    return;
+  }
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  int64_t total = 0;
+  for (size_t k = begin; k < end; ++k) {
+    const int t = ids[k];
+    xmin = std::min(xmin, c.x[t]), xmax = std::max(xmax, c.x[t]);
+    ymin = std::min(ymin, c.y[t]), ymax = std::max(ymax, c.y[t]);
+    total += work[t];
+  }
+  const std::vector<double>& coord = (xmax - xmin >= ymax - ymin) ? c.x : c.y;
+  std::sort(ids.begin() + begin, ids.begin() + end,
+            [&](int a, int b) { return coord[a] != coord[b] ? coord[a] < coord[b] : a < b; });
+  const int left_parts = parts / 2;
+  // Work wanted on the left: its share of the total, in exact integer arithmetic.
+  const int64_t wanted = total * left_parts / parts;
+  size_t cut = begin;
+  int64_t sum = 0;
+  while (cut < end && sum + work[ids[cut]] <= wanted) sum += work[ids[cut++]];
+  // Whichever of the cut and the next triangle is closer to the share; each side keeps
+  // at least one triangle per part.
+  if (cut < end && (wanted - sum) * 2 > work[ids[cut]]) ++cut;
+  cut = std::clamp(cut, begin + left_parts, end - (parts - left_parts));
+  bisect(ids, begin, cut, first_part, left_parts, c, work, out);
+  bisect(ids, cut, end, first_part + left_parts, parts - left_parts, c, work, out);
+}
+
+// Triangles joined across an edge (two shared nodes) or by a CE4, as adjacency lists
+// sorted by index.
+std::vector<std::vector<int>> triangle_graph(const Model& m) {
+  std::vector<std::vector<int>> adj(m.num_triangles());
+  std::unordered_map<uint64_t, int> first;  // edge (low node, high node) → first triangle
+  first.reserve(3 * m.num_triangles());
+  for (size_t t = 0; t < m.num_triangles(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      uint64_t a = static_cast<uint32_t>(m.triangles[t][e]), b = static_cast<uint32_t>(m.triangles[t][(e + 1) % 3]);
+      if (a > b) std::swap(a, b);
+      const auto [it, fresh] = first.emplace((a << 32) | b, static_cast<int>(t));
+      if (!fresh) {
+        adj[t].push_back(it->second);
+        adj[it->second].push_back(static_cast<int>(t));
+      }
+    }
+  for (const auto& pair : m.ce4_triangles) {
+    adj[pair[0]].push_back(pair[1]);
+    adj[pair[1]].push_back(pair[0]);
+  }
+  for (auto& a : adj) {
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+  }
+  return adj;
+}
+
+#ifdef FDEM_HAVE_METIS
+std::vector<int> metis_parts(const Model& m, int parts, const std::vector<int64_t>& work) {
+  const auto adj = triangle_graph(m);
+  std::vector<idx_t> xadj{0}, adjncy, vwgt;
+  for (size_t t = 0; t < adj.size(); ++t) {
+    for (int u : adj[t]) adjncy.push_back(u);
+    xadj.push_back(static_cast<idx_t>(adjncy.size()));
+    vwgt.push_back(static_cast<idx_t>(work[t]));
+  }
+  idx_t nvtxs = static_cast<idx_t>(adj.size()), ncon = 1, nparts = parts, objval = 0;
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_SEED] = 1;
+  options[METIS_OPTION_NUMBERING] = 0;
+  options[METIS_OPTION_CONTIG] = 0;
+  std::vector<idx_t> part(adj.size(), 0);
+  const int status = METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, nullptr,
+                                         &nparts, nullptr, nullptr, options, &objval, part.data());
+  if (status != METIS_OK)
+    throw InputError("METIS could not split the model's " + std::to_string(adj.size()) + " TRI3 into " +
+                     std::to_string(parts) + " parts (status " + std::to_string(status) + ")");
+  return std::vector<int>(part.begin(), part.end());
+}
+#endif
+
+}  // namespace
+
+Partition partition_model(const Model& model, int parts, PartitionMethod method) {
+  const size_t n = model.num_triangles();
+  if (parts < 1 || static_cast<size_t>(parts) > n)
+    throw InputError("cannot split " + std::to_string(n) + " TRI3 into " + std::to_string(parts) +
+                     " parts: the number of ranks must be between 1 and the number of triangles");
+  Partition p;
+  p.parts = parts;
+  p.method = method;
+  const auto work = triangle_work(model);
+  if (parts == 1) {
+    p.triangle_part.assign(n, 0);
+    return p;
+  }
+  if (method == PartitionMethod::Metis) {
+#ifdef FDEM_HAVE_METIS
+    p.triangle_part = metis_parts(model, parts, work);
+    return p;
+#else
+    throw InputError("this fdem was built without METIS (Debian package libmetis-dev): use the bisection partitioner");
+#endif
+  }
+  p.triangle_part.assign(n, 0);
+  std::vector<int> ids(n);
+  std::iota(ids.begin(), ids.end(), 0);
+  bisect(ids, 0, n, 0, parts, centroids(model), work, p.triangle_part);
+  return p;
+}
+
+std::vector<int> node_owners(const Model& model, const Partition& partition) {
+  std::vector<int> owner(model.num_nodes(), -1);
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int v : model.triangles[t])
+      if (owner[v] < 0) owner[v] = partition.triangle_part[t];
+  return owner;
+}
+
+std::vector<PartStats> partition_stats(const Model& model, const Partition& partition, double contact_reach) {
+  const int parts = partition.parts;
+  const auto& part = partition.triangle_part;
+  const auto owner = node_owners(model, partition);
+  const auto work = triangle_work(model);
+  std::vector<PartStats> s(parts);
+  // Elements each part holds: its own, then its ghosts (owned elsewhere, using a node it owns).
+  std::vector<std::vector<int>> tris(parts), ce4s(parts);
+  for (size_t t = 0; t < model.num_triangles(); ++t) {
+    const int p = part[t];
+    ++s[p].tri3;
+    s[p].work += work[t];
+    tris[p].push_back(static_cast<int>(t));
+    int seen[3] = {p, p, p};
+    for (int k = 0; k < 3; ++k) {
+      const int q = owner[model.triangles[t][k]];
+      if (q != p && q != seen[0] && q != seen[1] && q != seen[2]) {
+        seen[k] = q;
+        ++s[q].ghost_tri3;
+        tris[q].push_back(static_cast<int>(t));
+      }
+    }
+  }
+  for (size_t c = 0; c < model.ce4.size(); ++c) {
+    const int p = part[model.ce4_triangles[c][0]];
+    ++s[p].ce4;
+    ce4s[p].push_back(static_cast<int>(c));
+    std::vector<int> seen{p};
+    for (int v : model.ce4[c]) {
+      const int q = owner[v];
+      if (std::find(seen.begin(), seen.end(), q) == seen.end()) {
+        seen.push_back(q);
+        ++s[q].ghost_ce4;
+        ce4s[q].push_back(static_cast<int>(c));
+      }
+    }
+  }
+  for (size_t v = 0; v < model.num_nodes(); ++v)
+    if (owner[v] >= 0) ++s[owner[v]].nodes;
+  std::vector<int> stamp(model.num_nodes(), -1);
+  for (int p = 0; p < parts; ++p) {
+    auto visit = [&](int v) {
+      if (stamp[v] != p) {
+        stamp[v] = p;
+        if (owner[v] != p) ++s[p].ghost_nodes;
+      }
+    };
+    for (int t : tris[p])
+      for (int v : model.triangles[t]) visit(v);
+    for (int c : ce4s[p])
+      for (int v : model.ce4[c]) visit(v);
+  }
+  if (!model.contact.enabled || parts == 1) return s;
+
+  // Contact ghosts: boxes of other parts' triangles within reach of one of p's boxes,
+  // found through a uniform grid of cells as large as the largest box plus the reach.
+  const size_t n = model.num_triangles();
+  std::vector<double> x0(n), y0(n), x1(n), y1(n);
+  double extent = 0, gx = 1e300, gy = 1e300;
+  for (size_t t = 0; t < n; ++t) {
+    const auto& v = model.triangles[t];
+    x0[t] = std::min({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+    x1[t] = std::max({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+    y0[t] = std::min({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+    y1[t] = std::max({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+    extent = std::max({extent, x1[t] - x0[t], y1[t] - y0[t]});
+    gx = std::min(gx, x0[t]), gy = std::min(gy, y0[t]);
+  }
+  const double cell = extent + contact_reach;
+  auto cell_of = [&](double x, double y) {
+    return std::pair<int64_t, int64_t>{static_cast<int64_t>((x - gx) / cell), static_cast<int64_t>((y - gy) / cell)};
+  };
+  std::unordered_map<int64_t, std::vector<int>> grid;  // cell of a box's lower corner → triangles
+  auto key = [](int64_t i, int64_t j) { return (i << 32) ^ j; };
+  for (size_t t = 0; t < n; ++t) {
+    const auto [i, j] = cell_of(x0[t], y0[t]);
+    grid[key(i, j)].push_back(static_cast<int>(t));
+  }
+  std::vector<uint64_t> ghost;  // (part << 32) | triangle
+  for (size_t t = 0; t < n; ++t) {
+    const auto [i, j] = cell_of(x0[t], y0[t]);
+    for (int64_t di = -1; di <= 1; ++di)
+      for (int64_t dj = -1; dj <= 1; ++dj) {
+        const auto it = grid.find(key(i + di, j + dj));
+        if (it == grid.end()) continue;
+        for (int u : it->second)
+          if (part[u] != part[t] && x0[u] <= x1[t] + contact_reach && x1[u] >= x0[t] - contact_reach &&
+              y0[u] <= y1[t] + contact_reach && y1[u] >= y0[t] - contact_reach)
+            ghost.push_back((static_cast<uint64_t>(part[t]) << 32) | static_cast<uint32_t>(u));
+      }
+  }
+  std::sort(ghost.begin(), ghost.end());
+  ghost.erase(std::unique(ghost.begin(), ghost.end()), ghost.end());
+  for (uint64_t g : ghost) ++s[g >> 32].contact_ghost_tri3;
+  return s;
+}
+
+double partition_imbalance(const std::vector<PartStats>& stats) {
+  int64_t total = 0, largest = 0;
+  for (const auto& s : stats) total += s.work, largest = std::max(largest, s.work);
+  return total == 0 ? 1.0 : static_cast<double>(largest) * stats.size() / static_cast<double>(total);
+}
+
+}  // namespace fdem

@@ -1,0 +1,216 @@
+// The partition of a model over ranks (engine/partition.*): every triangle in exactly
+// one part, balanced work, deterministic, and the owner and ghost counts of `fdem check
+// --ranks` against a brute-force reference written here from the rules in
+// engine/partition.hpp.
+#include <doctest/doctest.h>
+#include <algorithm>
+#include <array>
+#include <set>
+#include <vector>
+#include "base/errors.hpp"
+#include "engine/partition.hpp"
+#include "fixture.hpp"
+
+using namespace fdem;
+
+namespace {
+
+// nx × ny squares of side h, each split into two counter-clockwise triangles sharing
+// nodes. With `cohesive`, every triangle has its own three nodes and each interior edge
+// gets a CE4 joining its two triangles (as a fracturable region's mesh has them).
+Model grid(int nx, int ny, double h, bool cohesive) {
+  std::vector<double> x, y;
+  std::vector<std::array<int, 3>> tris;
+  auto node = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) x.push_back(i * h), y.push_back(j * h);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      tris.push_back({node(i, j), node(i + 1, j), node(i + 1, j + 1)});
+      tris.push_back({node(i, j), node(i + 1, j + 1), node(i, j + 1)});
+    }
+  if (!cohesive) return test::make_model(x, y, tris, {test::material_config("rock", io::Elasticity::NeoHookean, io::Plane::Strain)});
+  // Own nodes per triangle; CE4s across the edges that two triangles shared.
+  std::vector<double> sx, sy;
+  std::vector<std::array<int, 3>> split;
+  for (const auto& t : tris) {
+    std::array<int, 3> s{};
+    for (int k = 0; k < 3; ++k) s[k] = static_cast<int>(sx.size()), sx.push_back(x[t[k]]), sy.push_back(y[t[k]]);
+    split.push_back(s);
+  }
+  Model m = test::make_model(sx, sy, split, {test::material_config("rock", io::Elasticity::NeoHookean, io::Plane::Strain)});
+  for (size_t a = 0; a < tris.size(); ++a)
+    for (size_t b = a + 1; b < tris.size(); ++b)
+      for (int ea = 0; ea < 3; ++ea)
+        for (int eb = 0; eb < 3; ++eb)
+          if (tris[a][ea] == tris[b][(eb + 1) % 3] && tris[a][(ea + 1) % 3] == tris[b][eb]) {
+            m.ce4.push_back({split[a][ea], split[a][(ea + 1) % 3], split[b][eb], split[b][(eb + 1) % 3]});
+            m.ce4_triangles.push_back({static_cast<int>(a), static_cast<int>(b)});
+          }
+  m.triangle_fracturable.assign(m.num_triangles(), true);
+  return m;
+}
+
+std::vector<PartitionMethod> methods() {
+  std::vector<PartitionMethod> list{PartitionMethod::Bisection};
+  if (partition_has_metis()) list.push_back(PartitionMethod::Metis);
+  return list;
+}
+
+// The rules of engine/partition.hpp, with sets.
+std::vector<PartStats> reference_stats(const Model& m, const Partition& p, double reach) {
+  std::vector<int> owner(m.num_nodes(), -1);
+  for (size_t t = 0; t < m.num_triangles(); ++t)
+    for (int v : m.triangles[t])
+      if (owner[v] < 0) owner[v] = p.triangle_part[t];
+  std::vector<PartStats> s(p.parts);
+  for (int r = 0; r < p.parts; ++r) {
+    std::set<int> tri_ghosts, ce4_ghosts, nodes, touched;
+    for (size_t v = 0; v < m.num_nodes(); ++v)
+      if (owner[v] == r) nodes.insert(static_cast<int>(v));
+    for (size_t t = 0; t < m.num_triangles(); ++t) {
+      const bool mine = p.triangle_part[t] == r;
+      bool uses = false;
+      for (int v : m.triangles[t]) uses = uses || nodes.count(v);
+      if (mine) ++s[r].tri3, s[r].work += triangle_work(m)[t];
+      if (!mine && uses) tri_ghosts.insert(static_cast<int>(t));
+      if (mine || uses)
+        for (int v : m.triangles[t]) touched.insert(v);
+    }
+    for (size_t c = 0; c < m.ce4.size(); ++c) {
+      const bool mine = p.triangle_part[m.ce4_triangles[c][0]] == r;
+      bool uses = false;
+      for (int v : m.ce4[c]) uses = uses || nodes.count(v);
+      if (mine) ++s[r].ce4;
+      if (!mine && uses) ce4_ghosts.insert(static_cast<int>(c));
+      if (mine || uses)
+        for (int v : m.ce4[c]) touched.insert(v);
+    }
+    s[r].nodes = nodes.size();
+    s[r].ghost_tri3 = tri_ghosts.size();
+    s[r].ghost_ce4 = ce4_ghosts.size();
+    for (int v : touched) s[r].ghost_nodes += owner[v] != r;
+    if (m.contact.enabled && p.parts > 1) {
+      auto box = [&](size_t t) {
+        const auto& v = m.triangles[t];
+        return std::array<double, 4>{std::min({m.x[v[0]], m.x[v[1]], m.x[v[2]]}), std::max({m.x[v[0]], m.x[v[1]], m.x[v[2]]}),
+                                     std::min({m.y[v[0]], m.y[v[1]], m.y[v[2]]}), std::max({m.y[v[0]], m.y[v[1]], m.y[v[2]]})};
+      };
+      std::set<size_t> near;
+      for (size_t t = 0; t < m.num_triangles(); ++t) {
+        if (p.triangle_part[t] != r) continue;
+        const auto a = box(t);
+        for (size_t u = 0; u < m.num_triangles(); ++u) {
+          if (p.triangle_part[u] == r) continue;
+          const auto b = box(u);
+          if (b[0] <= a[1] + reach && b[1] >= a[0] - reach && b[2] <= a[3] + reach && b[3] >= a[2] - reach) near.insert(u);
+        }
+      }
+      s[r].contact_ghost_tri3 = near.size();
+    }
+  }
+  return s;
+}
+
+void check_equal(const std::vector<PartStats>& got, const std::vector<PartStats>& want) {
+  REQUIRE(got.size() == want.size());
+  for (size_t r = 0; r < got.size(); ++r) {
+    CAPTURE(r);
+    CHECK(got[r].tri3 == want[r].tri3);
+    CHECK(got[r].ce4 == want[r].ce4);
+    CHECK(got[r].nodes == want[r].nodes);
+    CHECK(got[r].ghost_tri3 == want[r].ghost_tri3);
+    CHECK(got[r].ghost_ce4 == want[r].ghost_ce4);
+    CHECK(got[r].ghost_nodes == want[r].ghost_nodes);
+    CHECK(got[r].contact_ghost_tri3 == want[r].contact_ghost_tri3);
+    CHECK(got[r].work == want[r].work);
+  }
+}
+
+}  // namespace
+
+TEST_SUITE("partition") {
+  TEST_CASE("every triangle in exactly one part, every part used, the same twice") {
+    const Model m = grid(24, 12, 0.01, true);
+    for (auto method : methods())
+      for (int parts : {1, 2, 3, 4, 7}) {
+        CAPTURE(partition_method_name(method));
+        CAPTURE(parts);
+        const auto p = partition_model(m, parts, method);
+        REQUIRE(p.triangle_part.size() == m.num_triangles());
+        std::vector<size_t> count(parts, 0);
+        for (int q : p.triangle_part) {
+          REQUIRE(q >= 0);
+          REQUIRE(q < parts);
+          ++count[q];
+        }
+        for (size_t c : count) CHECK(c > 0);
+        CHECK(partition_model(m, parts, method).triangle_part == p.triangle_part);
+      }
+  }
+
+  TEST_CASE("balanced work on a uniform grid") {
+    const Model m = grid(40, 40, 0.01, false);
+    for (int parts : {2, 4, 8}) {
+      CAPTURE(parts);
+      const double bisection = partition_imbalance(partition_stats(m, partition_model(m, parts, PartitionMethod::Bisection), 0));
+      CHECK(bisection < 1.01);
+      if (partition_has_metis()) {
+        const double metis = partition_imbalance(partition_stats(m, partition_model(m, parts, PartitionMethod::Metis), 0));
+        CHECK(metis < 1.05);
+      }
+    }
+  }
+
+  TEST_CASE("bisection cuts across the longer side, into compact parts") {
+    const Model m = grid(40, 10, 0.01, false);  // 0.4 m wide, 0.1 m tall
+    const auto p = partition_model(m, 2, PartitionMethod::Bisection);
+    double left_max = -1, right_min = 1e9;
+    for (size_t t = 0; t < m.num_triangles(); ++t) {
+      const auto& v = m.triangles[t];
+      const double cx = (m.x[v[0]] + m.x[v[1]] + m.x[v[2]]) / 3;
+      if (p.triangle_part[t] == 0) left_max = std::max(left_max, cx);
+      else right_min = std::min(right_min, cx);
+    }
+    CHECK(left_max < right_min);
+    CHECK(left_max == doctest::Approx(0.2).epsilon(0.05));
+  }
+
+  TEST_CASE("owners and ghosts against the brute-force rules, with CE4s and contact") {
+    Model m = grid(10, 6, 0.01, true);
+    for (bool contact : {false, true}) {
+      m.contact.enabled = contact;
+      for (auto method : methods())
+        for (int parts : {2, 3, 5}) {
+          CAPTURE(contact);
+          CAPTURE(partition_method_name(method));
+          CAPTURE(parts);
+          const auto p = partition_model(m, parts, method);
+          const double reach = 0.004;
+          check_equal(partition_stats(m, p, reach), reference_stats(m, p, reach));
+        }
+    }
+    // A model whose triangles share nodes (no CE4s).
+    const Model shared = grid(9, 7, 0.02, false);
+    for (int parts : {2, 4}) check_equal(partition_stats(shared, partition_model(shared, parts, PartitionMethod::Bisection), 0),
+                                         reference_stats(shared, partition_model(shared, parts, PartitionMethod::Bisection), 0));
+  }
+
+  TEST_CASE("the work weights: a contact candidate outweighs a CE4, a CE4 a bare triangle") {
+    Model m = grid(3, 3, 0.01, true);
+    auto w = triangle_work(m);
+    // A corner triangle has one CE4, an inner one three.
+    CHECK(*std::min_element(w.begin(), w.end()) == 4 + 5);
+    CHECK(*std::max_element(w.begin(), w.end()) == 4 + 3 * 5);
+    m.contact.enabled = true;
+    w = triangle_work(m);
+    CHECK(*std::min_element(w.begin(), w.end()) == 4 + 5 + 100);
+  }
+
+  TEST_CASE("a number of ranks the model cannot take is refused") {
+    const Model m = grid(2, 2, 0.01, false);  // 8 triangles
+    CHECK_THROWS_AS(partition_model(m, 0, PartitionMethod::Bisection), InputError);
+    CHECK_THROWS_AS(partition_model(m, 9, PartitionMethod::Bisection), InputError);
+    CHECK_NOTHROW(partition_model(m, 8, PartitionMethod::Bisection));
+  }
+}
