@@ -15,10 +15,11 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-Result run_fdem(const std::string& args) {
+// `environment`: assignments put before the command (e.g. "OMPI_COMM_WORLD_SIZE=3 ").
+Result run_fdem(const std::string& args, const std::string& environment = "") {
   Result r;
   const char* env = std::getenv("FDEM_BINARY");  // overrides the build's, on another machine
-  FILE* pipe = popen((std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((environment + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
   REQUIRE(pipe != nullptr);
   std::array<char, 4096> buffer{};
   size_t n = 0;
@@ -72,6 +73,24 @@ TEST_CASE("check prints counts, the stable step and the memory; run writes its f
   CHECK(has(r, "ns per element-step"));
   CHECK(std::filesystem::exists(dir.str() + "/out/tiny.exo"));
   CHECK(std::filesystem::exists(dir.str() + "/out/tiny_history.nc"));
+}
+
+TEST_CASE("check --ranks prints the partition; a run started as one of several MPI ranks is refused") {
+  fdem::test::TempDir dir;
+  const std::string path = tiny_case(dir);
+  const auto c = run_fdem("check " + path + " --ranks 2 --partition bisection");
+  INFO(c.output);
+  CHECK(c.code == 0);
+  CHECK(has(c, "partition 2 ranks by bisection"));
+  CHECK(has(c, "imbalance"));
+  CHECK(run_fdem("check " + path + " --ranks 0").code == 2);
+  CHECK(run_fdem("check " + path + " --ranks 2 --partition best").code == 2);
+  CHECK(run_fdem("run " + path + " --ranks 2").code == 2);
+  const auto launched = run_fdem("run " + path, "OMPI_COMM_WORLD_SIZE=3 ");
+  CHECK(launched.code == 2);
+  CHECK(has(launched, "one of 3 parallel ranks"));
+  CHECK_FALSE(std::filesystem::exists(dir.str() + "/out/tiny.exo"));
+  CHECK(run_fdem("run " + path + " --quiet", "OMPI_COMM_WORLD_SIZE=1 ").code == 0);  // one rank: runs
 }
 
 TEST_CASE("bad input exits 2 naming the file and the key") {
