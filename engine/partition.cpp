@@ -282,4 +282,86 @@ double partition_imbalance(const std::vector<PartStats>& stats) {
   return total == 0 ? 1.0 : static_cast<double>(largest) * stats.size() / static_cast<double>(total);
 }
 
+LocalModel local_model(const Model& g, const Partition& partition, int rank) {
+  if (g.contact.enabled)
+    throw InputError("a model with contact cannot be split over ranks yet (its contact ghosts and couples are not built)");
+  if (rank < 0 || rank >= partition.parts) throw InputError("rank " + std::to_string(rank) + " is not one of the partition's");
+  const auto& part = partition.triangle_part;
+  const auto owner = node_owners(g, partition);
+  auto touches_owned = [&](const auto& nodes) {
+    for (int v : nodes)
+      if (owner[v] == rank) return true;
+    return false;
+  };
+  std::vector<char> keep_tri(g.num_triangles(), 0), keep_ce4(g.ce4.size(), 0), keep_node(g.num_nodes(), 0);
+  for (size_t t = 0; t < g.num_triangles(); ++t) keep_tri[t] = part[t] == rank || touches_owned(g.triangles[t]);
+  for (size_t c = 0; c < g.ce4.size(); ++c)
+    if (part[g.ce4_triangles[c][0]] == rank || touches_owned(g.ce4[c])) {
+      keep_ce4[c] = 1;
+      keep_tri[g.ce4_triangles[c][0]] = keep_tri[g.ce4_triangles[c][1]] = 1;
+    }
+  for (size_t t = 0; t < g.num_triangles(); ++t)
+    if (keep_tri[t])
+      for (int v : g.triangles[t]) keep_node[v] = 1;
+  for (size_t c = 0; c < g.ce4.size(); ++c)
+    if (keep_ce4[c])
+      for (int v : g.ce4[c]) keep_node[v] = 1;
+
+  LocalModel l;
+  Model& m = l.model;
+  std::vector<int> local_node(g.num_nodes(), -1), local_tri(g.num_triangles(), -1);
+  for (size_t v = 0; v < g.num_nodes(); ++v)
+    if (keep_node[v]) {
+      local_node[v] = static_cast<int>(l.node_global.size());
+      l.node_global.push_back(static_cast<int>(v));
+      l.node_owner.push_back(owner[v]);
+      if (owner[v] != rank) l.ghost_nodes.push_back(local_node[v]);
+      m.x.push_back(g.x[v]), m.y.push_back(g.y[v]);
+      m.node_tags.push_back(g.node_tags[v]);
+      m.node_group.push_back(g.node_group[v]);
+      m.vx0.push_back(g.vx0[v]), m.vy0.push_back(g.vy0[v]);
+    }
+  m.mesh_path = g.mesh_path;
+  m.thickness = g.thickness;
+  m.materials = g.materials;
+  m.groups = g.groups;
+  m.loads = g.loads;
+  m.fracture = g.fracture;
+  m.gravity = g.gravity;
+  m.local_damping = g.local_damping;
+  m.mass_scaling = g.mass_scaling;
+  m.contact = g.contact;
+  // Triangles stay grouped by material: a filtered global order is still in blocks.
+  m.block_start.assign(g.materials.size() + 1, 0);
+  for (size_t t = 0; t < g.num_triangles(); ++t)
+    if (keep_tri[t]) {
+      local_tri[t] = static_cast<int>(l.triangle_global.size());
+      l.triangle_global.push_back(static_cast<int>(t));
+      m.triangles.push_back({local_node[g.triangles[t][0]], local_node[g.triangles[t][1]], local_node[g.triangles[t][2]]});
+      m.triangle_material.push_back(g.triangle_material[t]);
+      m.triangle_tags.push_back(g.triangle_tags[t]);
+      if (!g.triangle_fracturable.empty()) m.triangle_fracturable.push_back(g.triangle_fracturable[t]);
+      if (!g.contact_active.empty()) m.contact_active.push_back(g.contact_active[t]);
+      ++m.block_start[g.triangle_material[t] + 1];
+    }
+  for (size_t k = 1; k < m.block_start.size(); ++k) m.block_start[k] += m.block_start[k - 1];
+  for (size_t c = 0; c < g.ce4.size(); ++c)
+    if (keep_ce4[c]) {
+      l.ce4_global.push_back(static_cast<int>(c));
+      const auto& n = g.ce4[c];
+      m.ce4.push_back({local_node[n[0]], local_node[n[1]], local_node[n[2]], local_node[n[3]]});
+      m.ce4_triangles.push_back({local_tri[g.ce4_triangles[c][0]], local_tri[g.ce4_triangles[c][1]]});
+      m.ce4_properties.push_back(g.ce4_properties[c]);
+    }
+  for (const auto& e : g.loaded_edges)
+    if (owner[e.a] == rank || owner[e.b] == rank) m.loaded_edges.push_back({local_node[e.a], local_node[e.b], e.load});
+  for (const auto& r : g.regions) {
+    Region lr{r.name, r.dim, {}, r.prescribed};
+    for (int v : r.nodes)
+      if (local_node[v] >= 0) lr.nodes.push_back(local_node[v]);
+    m.regions.push_back(std::move(lr));
+  }
+  return l;
+}
+
 }  // namespace fdem

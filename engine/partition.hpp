@@ -64,4 +64,22 @@ double partition_imbalance(const std::vector<PartStats>& stats);
 // The nodes' owners by the rule above (lowest-index triangle's part).
 std::vector<int> node_owners(const Model& model, const Partition& partition);
 
+// One rank's share of a model: its own triangles and CE4s, its ghost elements (above),
+// and the nodes they use, each list in the global order (so the node gather's slot
+// maps, built from element order, list an owned node's contributions in the order one
+// rank does, and its sums are bitwise those of one rank). The CE4s' two triangles are
+// included too (a CE4 reads them). Loaded edges that touch an owned node come along.
+// Every local node that the rank does not own is a ghost: its position and velocity
+// are taken from its owner after every step.
+struct LocalModel {
+  Model model;
+  std::vector<int> node_global, triangle_global, ce4_global;  // local index → global
+  std::vector<int> node_owner;                                // rank owning each local node
+  std::vector<int> ghost_nodes;                               // local indices of nodes owned elsewhere
+};
+
+// Throws InputError for a model with contact (its ghosts, detection and couples are not
+// built yet: ARCHITECTURE.md, "Scale-out").
+LocalModel local_model(const Model& model, const Partition& partition, int rank);
+
 }  // namespace fdem

@@ -7,8 +7,13 @@
 #include <array>
 #include <set>
 #include <vector>
+#include <cstring>
+#include <memory>
 #include "base/errors.hpp"
+#include "case_files.hpp"
 #include "engine/partition.hpp"
+#include "engine/run.hpp"
+#include "engine/solver.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;
@@ -127,9 +132,125 @@ void check_equal(const std::vector<PartStats>& got, const std::vector<PartStats>
   }
 }
 
+// The bar of tests/data/cases/bar.geo, fracturable, critical viscosity, gravity, pulled
+// at 5 m/s on its right edge (CE4s there break within tens of steps) and pressed by a
+// traction on its top edge (loaded edges).
+std::string pulled_bar(const test::TempDir& dir) {
+  test::BarCase c;
+  c.time = "dt = \"auto\"\nsteps = 400\n";
+  c.output = "dir = \"" + dir.str() + "\"\nframes = 2\n";
+  c.material = R"(viscosity = "critical"
+[material.fracture]
+tensile_strength = 2e6
+cohesion = 10e6
+friction_angle = 30.0
+gf1 = 20.0
+gf2 = 200.0
+penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
+)";
+  c.rest = R"(
+[gravity]
+g = [0.0, -9.81]
+[[boundary]]
+region = "left"
+fix = ["x", "y"]
+[[boundary]]
+region = "right"
+velocity = [5.0, 0.0]
+[[boundary]]
+region = "top"
+traction = [0.0, -1e6]
+)";
+  return dir.write("bar.toml", c.text());
+}
+
+bool same_bits(const real2& a, const real2& b) { return std::memcmp(&a, &b, sizeof(real2)) == 0; }
+
 }  // namespace
 
 TEST_SUITE("partition") {
+  // The heart of the scale-out design (ARCHITECTURE.md): each rank holds its own
+  // elements plus every element that uses one of its nodes, in the global order, so its
+  // own nodes' forces are summed as one rank sums them; only ghost nodes' positions and
+  // velocities travel, once a step. Here the ranks run one after another in one process
+  // and the exchange goes through the host.
+  TEST_CASE("ranks emulated in one process: every owned node bitwise as one rank, CE4s breaking") {
+    test::TempDir dir;
+    const PreparedCase p = prepare_case(pulled_bar(dir), {});
+    ClContext& cl = test::context();
+    const long steps = p.steps;
+    Solver whole(cl, p.model, p.dt);
+    for (long k = 0; k < steps; ++k) whole.step();
+    const auto x_whole = whole.positions(), v_whole = whole.velocities();
+    const size_t broken = whole.cohesive()->count_broken();
+    CHECK(broken > 0);
+    CHECK(broken < p.model.ce4.size());
+    for (auto method : methods())
+      for (int parts : {2, 3}) {
+        CAPTURE(partition_method_name(method));
+        CAPTURE(parts);
+        const auto partition = partition_model(p.model, parts, method);
+        std::vector<LocalModel> locals;
+        std::vector<std::unique_ptr<Solver>> ranks;
+        for (int r = 0; r < parts; ++r) {
+          locals.push_back(local_model(p.model, partition, r));
+          CHECK(!locals.back().ghost_nodes.empty());
+          ranks.push_back(std::make_unique<Solver>(cl, locals.back().model, p.dt));
+        }
+        std::vector<real2> x(p.model.num_nodes()), v(p.model.num_nodes());
+        auto step_all = [&](bool exchange) {
+          for (auto& s : ranks) s->step();
+          if (!exchange) return;
+          for (int r = 0; r < parts; ++r) {  // owners publish
+            const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
+            for (size_t i = 0; i < xl.size(); ++i)
+              if (locals[r].node_owner[i] == r) x[locals[r].node_global[i]] = xl[i], v[locals[r].node_global[i]] = vl[i];
+          }
+          for (int r = 0; r < parts; ++r) {  // ghosts take their owners' values
+            auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
+            for (int i : locals[r].ghost_nodes) xl[i] = x[locals[r].node_global[i]], vl[i] = v[locals[r].node_global[i]];
+            upload(cl, ranks[r]->arrays().position, xl);
+            upload(cl, ranks[r]->arrays().velocity, vl);
+          }
+        };
+        for (long k = 0; k < steps; ++k) step_all(true);
+        size_t owned = 0, differ = 0, broken_owned = 0;
+        for (int r = 0; r < parts; ++r) {
+          const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
+          for (size_t i = 0; i < xl.size(); ++i)
+            if (locals[r].node_owner[i] == r) {
+              ++owned;
+              const int g = locals[r].node_global[i];
+              differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
+            }
+          const auto b = ranks[r]->cohesive()->broken();
+          for (size_t c = 0; c < b.size(); ++c)
+            broken_owned += b[c] && partition.triangle_part[p.model.ce4_triangles[locals[r].ce4_global[c]][0]] == r;
+        }
+        CHECK(owned == p.model.num_nodes());
+        CHECK(differ == 0);
+        CHECK(broken_owned == broken);
+        // Without the exchange the ghosts drift and the owned nodes next to them with them.
+        if (method == PartitionMethod::Bisection && parts == 2) {
+          for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
+          for (long k = 0; k < steps; ++k) step_all(false);
+          size_t drift = 0;
+          for (int r = 0; r < parts; ++r) {
+            const auto xl = ranks[r]->positions();
+            for (size_t i = 0; i < xl.size(); ++i)
+              drift += locals[r].node_owner[i] == r && !same_bits(xl[i], x_whole[locals[r].node_global[i]]);
+          }
+          CHECK(drift > 0);
+        }
+      }
+  }
+
+  TEST_CASE("a model with contact is not split yet") {
+    Model m = grid(4, 4, 0.01, false);
+    m.contact.enabled = true;
+    CHECK_THROWS_AS(local_model(m, partition_model(m, 2, PartitionMethod::Bisection), 0), InputError);
+  }
+
   TEST_CASE("every triangle in exactly one part, every part used, the same twice") {
     const Model m = grid(24, 12, 0.01, true);
     for (auto method : methods())
