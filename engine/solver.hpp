@@ -14,6 +14,7 @@
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include "engine/stages/contact_skin.hpp"
+#include "engine/stages/fragment_labels.hpp"
 #include "engine/stages/integrate.hpp"
 #include "engine/stages/lumped_mass.hpp"
 #include "engine/stages/monitor_ring.hpp"
@@ -112,6 +113,11 @@ class Solver {
   long contact_rebuilds() const { return rebuilds_; }
   ContactDetection* detection() { return detection_.get(); }
   CohesiveForces* cohesive() { return cohesive_.get(); }
+  // The pieces of the body now (models with CE4s; empty otherwise): per triangle, the
+  // smallest triangle index of its piece (FragmentLabels). Labelled once per step however
+  // often it is asked (a frame and a history row at the same step share it); waits.
+  const std::vector<int>& fragment_labels();
+  FragmentLabels* fragments() { return fragments_.get(); }
   ContactForces* contact() { return contact_.get(); }
 
   // The whole state a run continues from (checkpoints): positions, velocities, every
@@ -135,6 +141,9 @@ class Solver {
   // The stages, each built once from what the model has, in this order: a stage is
   // handed the ones built before it that it reads or writes (engine/solver.cpp).
   std::unique_ptr<CohesiveForces> cohesive_;     // the model has CE4s
+  std::unique_ptr<FragmentLabels> fragments_;    // the model has CE4s (not in the step)
+  std::vector<int> labels_;
+  long labels_step_ = -1;
   std::unique_ptr<MonitorRing> ring_;            // contact: the skin test's and the joins' ring
   std::unique_ptr<ContactDetection> detection_;  // contact
   std::unique_ptr<ContactSkin> skin_;            // contact with rebuild = "skin"
