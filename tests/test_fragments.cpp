@@ -3,6 +3,9 @@
 // put, the history columns and the fragments file.
 #include <doctest/doctest.h>
 #include <netcdf.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -322,6 +325,43 @@ TEST_CASE("fragments file: a run to T and a run to T/2 restarted to T write the 
   const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
   CHECK(!sa.empty());
   CHECK(sa == sb);
+}
+
+TEST_CASE("fragments file: records read back; a writer killed without close leaves every synced frame") {
+  test::TempDir dir;
+  const std::string path = dir.str() + "/k_fragments.nc";
+  const std::vector<io::FragmentRecord> one{{0, 10, 2.5, 7.0, 0.1, 0.2, std::sqrt(10 / M_PI)}};
+  const std::vector<io::FragmentRecord> two{{0, 4, 1.0, 3.0, -0.1, 0.2, 1.1}, {4, 6, 1.5, 4.0, 0.3, 0.25, 1.4}};
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    try {
+      io::FragmentWriter w(path, "killed");
+      w.write_frame(0.0, one);
+      w.write_frame(1e-3, two);
+    } catch (...) {
+      _exit(3);
+    }
+    kill(getpid(), SIGKILL);
+    _exit(4);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFSIGNALED(status));
+  const io::FragmentFrames frames = io::read_fragment_file(path);
+  REQUIRE(frames.time == std::vector<double>{0.0, 1e-3});
+  REQUIRE(frames.fragments[0].size() == 1);
+  REQUIRE(frames.fragments[1].size() == 2);
+  CHECK(frames.fragments[0][0].area == 2.5);
+  CHECK(frames.fragments[0][0].diameter == std::sqrt(10 / M_PI));
+  CHECK(frames.fragments[1][1].id == 4);
+  CHECK(frames.fragments[1][1].triangles == 6);
+  CHECK(frames.fragments[1][1].mass == 4.0);
+  CHECK(frames.fragments[1][1].x == 0.3);
+  CHECK(frames.fragments[1][1].y == 0.25);
+  CHECK(test::read_variable(path, "fragment_id") == std::vector<double>{1, 1, 5});  // 1-based in the file
+  CHECK(test::read_variable(path, "fragment_frame") == std::vector<double>{0, 1, 1});
+  CHECK_THROWS_AS(io::FragmentWriter(path, "t").write_frame(0.0, {}), std::invalid_argument);
 }
 
 }  // TEST_SUITE
