@@ -106,7 +106,8 @@ void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Mod
     for (auto& var : elem) var.emplace_back(n, 0.0);
     // FRAGMENT: the piece's id (Exodus element number of its first triangle) on every
     // triangle; on an intact CE4 its triangles' piece, on a broken one 0.
-    const auto& labels = solver.fragment_labels();
+    const auto& labels =
+        solver.fragment_labels(static_cast<long>(std::count_if(broken.begin(), broken.end(), [](int b) { return b != 0; })));
     for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
       const size_t begin = model.block_start[m], end = model.block_start[m + 1];
       if (begin == end) continue;

@@ -251,6 +251,7 @@ void Solver::load_state(StateReader& in) {
     if (skin_) skin_->load_state(in);
   }
   labels_step_ = -1;
+  labels_broken_ = -1;
   cl_.finish();
   save_checkpoint();
   cl_.finish();
@@ -265,12 +266,14 @@ std::vector<real2> Solver::contact_forces() {
   return out;
 }
 
-const std::vector<int>& Solver::fragment_labels() {
+const std::vector<int>& Solver::fragment_labels(long broken) {
+  if (fragments_ && labels_step_ >= 0 && broken >= 0 && broken == labels_broken_) labels_step_ = steps_;
   if (fragments_ && labels_step_ != steps_) {
     if (cl_.profiling()) cl_.finish();  // time the labelling alone, not the steps queued before it
     const auto start = std::chrono::steady_clock::now();
     labels_ = fragments_->labels();
     labels_step_ = steps_;
+    labels_broken_ = broken;
     if (cl_.profiling()) {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       cl_.add_host_time("fragment labelling (host wall, incl. flag reads and labels read back)", seconds);
@@ -309,6 +312,7 @@ void Solver::restore_checkpoint() {
   cl_.queue().enqueue_copy_buffer(saved_velocity_, arrays_.velocity, 0, 0, bytes);
   steps_ = checkpoint_step_;
   labels_step_ = -1;
+  labels_broken_ = -1;
   cl_.finish();
 }
 
