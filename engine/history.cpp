@@ -36,6 +36,14 @@ const std::vector<double>& HistoryRow::probe_values() {
   return *probe_values_;
 }
 
+const FragmentSummary& HistoryRow::fragments(const Model& model) {
+  if (!fragments_) {
+    const long broken_now = static_cast<long>(std::count_if(broken().begin(), broken().end(), [](int b) { return b != 0; }));
+    fragments_ = summarise_fragments(model, solver_.fragment_labels(broken_now), positions());
+  }
+  return *fragments_;
+}
+
 namespace {
 
 // Largest out-of-balance force component on a free degree of freedom, and the mean
@@ -135,6 +143,11 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
       for (size_t e = 0; e < broken.size(); ++e) sum += broken[e] ? length[e] : 0.0;
       return sum;
     });
+    // The pieces: triangles joined by intact CE4s or shared nodes (FragmentLabels).
+    add("fragments", "1", "connected pieces of the body (triangles joined by intact CE4s or shared nodes)",
+        [&model](HistoryRow& r) { return double(r.fragments(model).fragments.size()); });
+    add("largest_fragment", "1", "area of the largest piece / total area (current areas)",
+        [&model](HistoryRow& r) { return r.fragments(model).largest_fraction(); });
   }
 
   for (const Region& region : model.regions) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/energy.hpp"
+#include "engine/fragments.hpp"
 #include "engine/model.hpp"
 #include "engine/probes.hpp"
 #include "engine/real.hpp"
@@ -31,6 +32,8 @@ class HistoryRow {
   const std::vector<int>& broken();
   const std::vector<int>& mode();
   const std::vector<double>& probe_values();  // PointProbes::values, in their order
+  // The pieces of the body now (Solver::fragment_labels and the positions); models with CE4s.
+  const FragmentSummary& fragments(const Model& model);
   // Whether this row evaluated the stress of the current state (for the probes): a frame
   // written at the same step then need not evaluate it again.
   bool stress_evaluated() const { return probe_values_.has_value() && !probes_.empty(); }
@@ -45,6 +48,7 @@ class HistoryRow {
   std::optional<std::vector<real2>> positions_, forces_;
   std::optional<std::vector<int>> broken_, mode_;
   std::optional<std::vector<double>> probe_values_;
+  std::optional<FragmentSummary> fragments_;
 };
 
 struct HistoryColumn {

@@ -345,7 +345,8 @@ int run_command(const Arguments& a) {
             << std::defaultfloat << "final kinetic energy " << s.final_kinetic_energy << " J, unbalanced ratio "
             << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error
             << " (worst " << s.worst_energy_error << ")\n"
-            << "wrote " << p.exodus_path << " (" << s.frames << " frames), " << p.history_path << " and "
+            << "wrote " << p.exodus_path << " (" << s.frames << " frames), " << p.history_path
+            << (p.model.ce4.empty() ? std::string() : ", " + p.fragments_path) << " and "
             << s.checkpoint << " (" << mib(std::filesystem::file_size(s.checkpoint)) << ", written in " << std::fixed
             << std::setprecision(2) << s.checkpoint_seconds << " s)\n" << std::defaultfloat;
   if (a.profile) {

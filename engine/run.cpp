@@ -19,7 +19,9 @@
 #include "base/hash.hpp"
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
+#include "engine/fragments.hpp"
 #include "io/exodus_writer.hpp"
+#include "io/fragment_writer.hpp"
 #include "io/gmsh_reader.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/history_writer.hpp"
@@ -50,7 +52,7 @@ std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt
 
 std::vector<std::string> element_names(const Model& model) {
   std::vector<std::string> names = {"SXX", "SYY", "SXY", "PS1", "PS2"};
-  if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP"});
+  if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP", "FRAGMENT"});
   return names;
 }
 
@@ -62,7 +64,9 @@ std::vector<std::string> nodal_names(const Model& model) {
 
 // Writes the current state as a frame; `stress_current`: the stress of this state has
 // been evaluated already (a history row with probes at the same step).
-void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver, bool stress_current = false) {
+// With CE4s, also the frame's pieces: FRAGMENT and `fragments`' records.
+void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Model& model, Solver& solver,
+                 bool stress_current = false) {
   if (!stress_current) solver.enqueue_stress();
   const auto x = solver.positions(), v = solver.velocities();
   const auto stress = solver.stresses();
@@ -100,15 +104,31 @@ void write_frame(io::ExodusWriter& exo, const Model& model, Solver& solver, bool
     const auto broken = ce4.broken(), mode = ce4.mode();
     const size_t n = model.ce4.size();
     for (auto& var : elem) var.emplace_back(n, 0.0);
+    // FRAGMENT: the piece's id (Exodus element number of its first triangle) on every
+    // triangle; on an intact CE4 its triangles' piece, on a broken one 0.
+    const auto& labels =
+        solver.fragment_labels(static_cast<long>(std::count_if(broken.begin(), broken.end(), [](int b) { return b != 0; })));
+    for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
+      const size_t begin = model.block_start[m], end = model.block_start[m + 1];
+      if (begin == end) continue;
+      for (size_t t = begin; t < end; ++t) elem[10][b][t - begin] = labels[t] + 1;
+      ++b;
+    }
     for (size_t e = 0; e < n; ++e) {
       elem[5].back()[e] = damage[e];
       elem[6].back()[e] = broken[e];
       elem[7].back()[e] = mode[e];
       elem[8].back()[e] = opening[e];
       elem[9].back()[e] = slip[e];
+      elem[10].back()[e] = broken[e] ? 0 : labels[model.ce4_triangles[e][0]] + 1;
     }
+    if (fragments) fragments->write_frame(solver.time(), summarise_fragments(model, labels, x).fragments);
   }
+  const auto began = std::chrono::steady_clock::now();
   exo.write_frame(solver.time(), nodal, elem);
+  if (solver.context().profiling())
+    solver.context().add_host_time("Exodus frame write (host wall, incl. sync)",
+                                   std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
 }
 
 std::string describe_failure(const Model& model, const Conditions& c) {
@@ -242,6 +262,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   p.steps = c.time.steps > 0 ? c.time.steps : std::max(1L, static_cast<long>(std::ceil(c.time.end / p.dt - 1e-9)));
   p.exodus_path = (fs::path(c.output.dir) / (c.output.name + ".exo")).string();
   p.history_path = (fs::path(c.output.dir) / (c.output.name + "_history.nc")).string();
+  p.fragments_path = (fs::path(c.output.dir) / (c.output.name + "_fragments.nc")).string();
   return p;
 }
 
@@ -291,10 +312,13 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   // whole at every moment.
   const std::string suffix = resumed ? ".resume" : "";
   io::ExodusWriter exodus(p.exodus_path + suffix, config.title, model.x, model.y, blocks,
-                          nodal_names(model), element_names(model));
+                          nodal_names(model), element_names(model),
+                          io::ExodusOptions{config.output.float_frames, config.output.compress});
   const PointProbes points(p.probes);
   const HistoryTable table(model, solver.masses(), points);
   io::HistoryWriter history(p.history_path + suffix, config.title, table.variables());
+  std::unique_ptr<io::FragmentWriter> fragments;
+  if (!model.ce4.empty()) fragments = std::make_unique<io::FragmentWriter>(p.fragments_path + suffix, config.title);
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
@@ -310,9 +334,14 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     });
     io::copy_history_rows(p.history_path, history, solver.time(),
                           [&](double t) { return step_of(t) % history_stride == 0; });
+    if (fragments)
+      io::copy_fragment_frames(p.fragments_path, *fragments, solver.time(), [&](double t) {
+        return std::binary_search(frames.begin(), frames.end(), step_of(t));
+      });
     std::error_code ec;
     fs::rename(p.exodus_path + suffix, p.exodus_path, ec);
     if (!ec) fs::rename(p.history_path + suffix, p.history_path, ec);
+    if (!ec && fragments) fs::rename(p.fragments_path + suffix, p.fragments_path, ec);
     if (ec) throw OutputError("cannot put the continued output in place of " + p.exodus_path + ": " + ec.message());
   }
   const long check_stride = 200;
@@ -321,7 +350,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   long last_frame_step = -1;
   auto write_current_frame = [&](bool stress_current = false) {
     last_frame_step = solver.steps_done();
-    write_frame(exodus, model, solver, stress_current);
+    write_frame(exodus, fragments.get(), model, solver, stress_current);
   };
 
   const std::string ckpt_path = checkpoint_path(p);
@@ -483,6 +512,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   }
   exodus.close();
   history.close();
+  if (fragments) fragments->close();
   return summary;
 }
 

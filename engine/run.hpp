@@ -21,6 +21,7 @@ struct PreparedCase {
   double dt = 0;                   // the Δt the run uses
   long steps = 0;                  // number of steps
   std::string exodus_path, history_path;
+  std::string fragments_path;  // OUT/NAME_fragments.nc, written when the model has CE4s
   std::vector<ProbeLocation> probes;  // [[probe]] points tied to their node and triangle
 };
 

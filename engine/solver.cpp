@@ -59,6 +59,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
   MemoryPlan plan = DeviceArrays::plan(model);
   if (p.ce4) plan.add(CohesiveForces::plan(model.ce4.size()));
+  if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());
     plan.add(ContactDetection::plan(triangles, group_size, 0, !detection_bonds(model).empty()));
@@ -115,6 +116,12 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                cl, CohesiveModel{model.ce4, model.ce4_properties, model.fracture, model.thickness},
                                arrays_.position, arrays_.ref_position);
                          })),
+      fragments_(build_if(parts_.ce4,
+                          [&] {
+                            return std::make_unique<FragmentLabels>(cl, model.num_triangles(), model.num_nodes(),
+                                                                    arrays_.tri_nodes, model.ce4_triangles,
+                                                                    &cohesive_->status());
+                          })),
       ring_(build_if(parts_.contact, [&] { return std::make_unique<MonitorRing>(cl); })),
       detection_(build_detection(parts_.contact, cl, arrays_, model)),
       skin_(build_if(parts_.skin,
@@ -243,6 +250,8 @@ void Solver::load_state(StateReader& in) {
     detection_->load_state(in);
     if (skin_) skin_->load_state(in);
   }
+  labels_step_ = -1;
+  labels_broken_ = -1;
   cl_.finish();
   save_checkpoint();
   cl_.finish();
@@ -255,6 +264,23 @@ std::vector<real2> Solver::contact_forces() {
   const double unit = 1.0 / contact_->force_scale();
   for (size_t i = 0; i < out.size(); ++i) out[i] = {real(acc[2 * i] * unit), real(acc[2 * i + 1] * unit)};
   return out;
+}
+
+const std::vector<int>& Solver::fragment_labels(long broken) {
+  if (fragments_ && labels_step_ >= 0 && broken >= 0 && broken == labels_broken_) labels_step_ = steps_;
+  if (fragments_ && labels_step_ != steps_) {
+    if (cl_.profiling()) cl_.finish();  // time the labelling alone, not the steps queued before it
+    const auto start = std::chrono::steady_clock::now();
+    labels_ = fragments_->labels();
+    labels_step_ = steps_;
+    labels_broken_ = broken;
+    if (cl_.profiling()) {
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      cl_.add_host_time("fragment labelling (host wall, incl. flag reads and labels read back)", seconds);
+      // Rounds: the launches of fragment_shortcut in the kernel profile.
+    }
+  }
+  return labels_;
 }
 
 void Solver::enqueue_stress() { triangle_forces_.enqueue_stress(static_cast<int>(steps_)); }
@@ -285,6 +311,8 @@ void Solver::restore_checkpoint() {
   cl_.queue().enqueue_copy_buffer(saved_position_, arrays_.position, 0, 0, bytes);
   cl_.queue().enqueue_copy_buffer(saved_velocity_, arrays_.velocity, 0, 0, bytes);
   steps_ = checkpoint_step_;
+  labels_step_ = -1;
+  labels_broken_ = -1;
   cl_.finish();
 }
 

@@ -14,6 +14,7 @@
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include "engine/stages/contact_skin.hpp"
+#include "engine/stages/fragment_labels.hpp"
 #include "engine/stages/integrate.hpp"
 #include "engine/stages/lumped_mass.hpp"
 #include "engine/stages/monitor_ring.hpp"
@@ -112,6 +113,13 @@ class Solver {
   long contact_rebuilds() const { return rebuilds_; }
   ContactDetection* detection() { return detection_.get(); }
   CohesiveForces* cohesive() { return cohesive_.get(); }
+  // The pieces of the body now (models with CE4s; empty otherwise): per triangle, the
+  // smallest triangle index of its piece (FragmentLabels). Waits. The pieces depend only
+  // on which CE4s are broken, and CE4s never heal, so the labels are kept and reused at
+  // the same step, or when the caller passes `broken`, the number of broken CE4s now
+  // (it has read them anyway), and it equals the number at the last labelling.
+  const std::vector<int>& fragment_labels(long broken = -1);
+  FragmentLabels* fragments() { return fragments_.get(); }
   ContactForces* contact() { return contact_.get(); }
 
   // The whole state a run continues from (checkpoints): positions, velocities, every
@@ -135,6 +143,9 @@ class Solver {
   // The stages, each built once from what the model has, in this order: a stage is
   // handed the ones built before it that it reads or writes (engine/solver.cpp).
   std::unique_ptr<CohesiveForces> cohesive_;     // the model has CE4s
+  std::unique_ptr<FragmentLabels> fragments_;    // the model has CE4s (not in the step)
+  std::vector<int> labels_;
+  long labels_step_ = -1, labels_broken_ = -1;
   std::unique_ptr<MonitorRing> ring_;            // contact: the skin test's and the joins' ring
   std::unique_ptr<ContactDetection> detection_;  // contact
   std::unique_ptr<ContactSkin> skin_;            // contact with rebuild = "skin"

@@ -37,6 +37,8 @@ struct OutputConfig {
   std::vector<std::string> regions;  // extra regions whose mean displacement the history records
   double checkpoint_every = 0;  // [s] simulated time between checkpoints; 0: only at the end
   double energy_limit = 0.05;  // largest |energy_error| (history; fraction) a run accepts; > 0
+  bool float_frames = false;  // precision = "float": frame values stored as float (coordinates stay double)
+  bool compress = false;      // compress = true: netCDF-4 Exodus file, deflated frame values (not crash-safe)
 };
 
 enum class Elasticity { NeoHookean, Hyperelastic };

@@ -63,6 +63,8 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   if (r.has("regions")) o.regions = *r.strings("regions");
   o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
   o.checkpoint_every = r.number("checkpoint_every", kNonNegative).value_or(0.0);
+  o.float_frames = r.choice<bool>("precision", {{"double", false}, {"float", true}}).value_or(false);
+  o.compress = r.boolean("compress").value_or(false);
   return o;
 }
 

@@ -55,7 +55,7 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
                            const std::vector<double>& x, const std::vector<double>& y,
                            const std::vector<ExodusBlock>& blocks,
                            const std::vector<std::string>& nodal_var_names,
-                           const std::vector<std::string>& elem_var_names)
+                           const std::vector<std::string>& elem_var_names, const ExodusOptions& options)
     : file_("Exodus output", path),
       num_nodes_(x.size()),
       nodal_var_names_(nodal_var_names),
@@ -104,7 +104,7 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
 
   // A failure below leaves file_ to close the file: members are destroyed when a
   // constructor throws.
-  file_.create();
+  file_.create(options.compress);
   const int nc = file_.id();
   auto check = [&](int status, const std::string& what) { file_.check(status, what); };
 
@@ -169,6 +169,15 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
   const int var_coordy = def_var("coordy", NC_DOUBLE, {dim_nodes});
   const int var_coor_names = def_var("coor_names", NC_CHAR, {dim_num_dim, dim_len_name});
 
+  // A frame variable: float or double, deflated in a compressed file (shuffle helps
+  // deflate with floating-point bytes; level 1 is about as small as higher levels here
+  // and faster).
+  const nc_type value_type = options.float_values ? NC_FLOAT : NC_DOUBLE;
+  auto def_values = [&](const std::string& name, std::vector<int> dims) {
+    const int id = def_var(name, value_type, std::move(dims));
+    if (options.compress) check(nc_def_var_deflate(nc, id, 1, 1, 1), "compressing variable " + name);
+    return id;
+  };
   std::vector<int> var_connect(num_blocks);
   std::vector<int> dim_block_elems(num_blocks);
   for (size_t b = 0; b < num_blocks; ++b) {
@@ -184,8 +193,7 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
   if (!nodal_var_names.empty()) {
     var_name_nod_var = def_var("name_nod_var", NC_CHAR, {dim_nod_var, dim_len_name});
     for (size_t k = 0; k < nodal_var_names.size(); ++k)
-      nodal_var_ids_.push_back(def_var("vals_nod_var" + std::to_string(k + 1), NC_DOUBLE,
-                                       {dim_time, dim_nodes}));
+      nodal_var_ids_.push_back(def_values("vals_nod_var" + std::to_string(k + 1), {dim_time, dim_nodes}));
   }
   int var_name_elem_var = -1;
   int var_elem_var_tab = -1;
@@ -196,8 +204,8 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
     for (size_t k = 0; k < elem_var_names.size(); ++k)
       for (size_t b = 0; b < num_blocks; ++b)
         elem_var_ids_[k][b] =
-            def_var("vals_elem_var" + std::to_string(k + 1) + "eb" + std::to_string(b + 1),
-                    NC_DOUBLE, {dim_time, dim_block_elems[b]});
+            def_values("vals_elem_var" + std::to_string(k + 1) + "eb" + std::to_string(b + 1),
+                       {dim_time, dim_block_elems[b]});
   }
 
   check(nc_enddef(nc), "finishing the header definition");

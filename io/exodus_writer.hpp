@@ -15,6 +15,14 @@ struct ExodusBlock {
   std::vector<int> connectivity;  // 0-based node indices, nodes_per_elem per element
 };
 
+// How frame values (nodal and element variables) are stored; coordinates, connectivity
+// and times are always as they are (double, int). The default is the crash-safe classic
+// file of doubles.
+struct ExodusOptions {
+  bool float_values = false;  // [output] precision = "float": NC_FLOAT frame variables
+  bool compress = false;      // [output] compress: netCDF-4 (HDF5), shuffle + deflate level 1
+};
+
 class ExodusWriter {
  public:
   // Creates (overwrites) `path` and writes the fixed part: coordinates, blocks, names.
@@ -23,7 +31,7 @@ class ExodusWriter {
                const std::vector<double>& x, const std::vector<double>& y,
                const std::vector<ExodusBlock>& blocks,
                const std::vector<std::string>& nodal_var_names,
-               const std::vector<std::string>& elem_var_names);
+               const std::vector<std::string>& elem_var_names, const ExodusOptions& options = {});
   ExodusWriter(const ExodusWriter&) = delete;
   ExodusWriter& operator=(const ExodusWriter&) = delete;
 

@@ -21,7 +21,9 @@ class NetcdfFile {
   // Creates (overwrites) the file, in define mode. A path that exists and is not a
   // regular file (/dev/null, a FIFO) is refused first: nc_create unlinks the path when
   // creation fails (seen with netCDF-C 4.9.0).
-  void create();
+  // `netcdf4`: netCDF-4 (HDF5) instead, for compressed output ([output] compress); it is
+  // not crash-safe (a kill in the middle of a write can leave the file unreadable).
+  void create(bool netcdf4 = false);
   // Idempotent; throws OutputError when netCDF reports a failure. Never nc_abort:
   // aborting a file in define mode unlinks the path.
   void close();

@@ -95,4 +95,16 @@ int copy_exodus_frames(const std::string& from, ExodusWriter& to, double t_max,
   return frames;
 }
 
+int copy_fragment_frames(const std::string& from, FragmentWriter& to, double t_max,
+                         const std::function<bool(double)>& keep) {
+  const FragmentFrames in = read_fragment_file(from);
+  int frames = 0;
+  for (size_t f = 0; f < in.time.size() && kept(in.time[f], t_max); ++f) {
+    if (!keep(in.time[f])) continue;
+    ++frames;
+    to.write_frame(in.time[f], in.fragments[f]);
+  }
+  return frames;
+}
+
 }  // namespace fdem::io

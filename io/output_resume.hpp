@@ -6,6 +6,7 @@
 #include <string>
 
 #include "io/exodus_writer.hpp"
+#include "io/fragment_writer.hpp"
 #include "io/history_writer.hpp"
 
 namespace fdem::io {
@@ -20,5 +21,10 @@ int copy_history_rows(const std::string& from, HistoryWriter& to, double t_max,
 // `to` (the same mesh and variables). Returns the frames copied.
 int copy_exodus_frames(const std::string& from, ExodusWriter& to, double t_max,
                        const std::function<bool(double)>& keep);
+
+// Copies the frames of fragments file `from` up to time t_max whose time `keep` accepts
+// into `to` (frames renumbered from 0, as the copied Exodus frames). Returns the frames copied.
+int copy_fragment_frames(const std::string& from, FragmentWriter& to, double t_max,
+                         const std::function<bool(double)>& keep);
 
 }  // namespace fdem::io

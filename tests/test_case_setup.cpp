@@ -57,4 +57,25 @@ TEST_CASE("output.energy_limit: a fraction > 0, 0.05 when absent") {
         contains(":14: unknown key 'energy_limt' in [output] (did you mean 'energy_limit'?)"));
 }
 
+TEST_CASE("output.precision and output.compress: double and false when absent, near names suggested") {
+  CaseDir d;
+  const auto plain = read_case(d.write("a.toml", kBase)).output;
+  CHECK(!plain.float_frames);
+  CHECK(!plain.compress);
+  const auto chosen =
+      read_case(d.write("b.toml", kBase + "[output]\nprecision = \"float\"\ncompress = true\n")).output;
+  CHECK(chosen.float_frames);
+  CHECK(chosen.compress);
+  CHECK(!read_case(d.write("c.toml", kBase + "[output]\nprecision = \"double\"\n")).output.float_frames);
+  CHECK(read_case(d.write("d.toml", kBase), {"output.precision=float"}).output.float_frames);
+  CHECK(error_of(kBase + "[output]\nprecision = \"flaot\"\n") ==
+        contains(":14: output.precision = \"flaot\" is not valid (allowed: \"double\", \"float\") (did you mean "
+                 "\"float\"?)"));
+  CHECK(error_of(kBase + "[output]\ncompress = \"yes\"\n") == contains(":14: output.compress must be"));
+  CHECK(error_of(kBase + "[output]\nprecission = \"float\"\n") ==
+        contains(":14: unknown key 'precission' in [output] (did you mean 'precision'?)"));
+  CHECK(error_of(kBase + "[output]\ncompres = true\n") ==
+        contains(":14: unknown key 'compres' in [output] (did you mean 'compress'?)"));
+}
+
 }  // TEST_SUITE("case")

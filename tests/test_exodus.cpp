@@ -197,29 +197,30 @@ std::vector<std::vector<std::vector<double>>> elem_frame(size_t frame) {
   return elem;
 }
 
-void write_reference_exodus(const std::string& path, size_t frames) {
-  ExodusWriter w(path, "fdem-cl test mesh", kX, kY, kBlocks, kNodalNames, kElemNames);
+void write_reference_exodus(const std::string& path, size_t frames, const fdem::io::ExodusOptions& options = {}) {
+  ExodusWriter w(path, "fdem-cl test mesh", kX, kY, kBlocks, kNodalNames, kElemNames, options);
   for (size_t f = 0; f < frames; ++f) w.write_frame(kTimes[f], nodal_frame(f), elem_frame(f));
   CHECK(w.frames_written() == static_cast<int>(frames));
   w.close();
 }
 
-// Checks the first `frames` frames of a reference file: times and every value.
-void check_reference_frames(const NcReader& nc, size_t frames) {
+// Checks the first `frames` frames of a reference file: times and every value (each as
+// `stored` turns it, e.g. rounded to float).
+void check_reference_frames(const NcReader& nc, size_t frames, double (*stored)(double) = [](double v) { return v; }) {
   REQUIRE(nc.dim_len("time_step") == frames);
   CHECK(nc.doubles("time_whole", frames) == std::vector<double>(kTimes.begin(),
                                                                 kTimes.begin() + frames));
   for (size_t f = 0; f < frames; ++f) {
     for (size_t k = 0; k < kNodalNames.size(); ++k) {
       const auto v = nc.frame("vals_nod_var" + std::to_string(k + 1), f, kX.size());
-      for (size_t n = 0; n < kX.size(); ++n) CHECK(v[n] == nodal_value(k, f, n));
+      for (size_t n = 0; n < kX.size(); ++n) CHECK(v[n] == stored(nodal_value(k, f, n)));
     }
     for (size_t k = 0; k < kElemNames.size(); ++k)
       for (size_t b = 0; b < kBlocks.size(); ++b) {
         const size_t n = kBlocks[b].connectivity.size() / 3;
         const auto v = nc.frame(
             "vals_elem_var" + std::to_string(k + 1) + "eb" + std::to_string(b + 1), f, n);
-        for (size_t e = 0; e < n; ++e) CHECK(v[e] == elem_value(k, f, b, e));
+        for (size_t e = 0; e < n; ++e) CHECK(v[e] == stored(elem_value(k, f, b, e)));
       }
   }
 }
@@ -347,6 +348,50 @@ TEST_SUITE("exodus") {
     CHECK(nc.ints("elem_var_tab", 6) == std::vector<int>(6, 1));
 
     check_reference_frames(nc, 3);
+  }
+
+  TEST_CASE("precision float: frame values read back equal (float)value; coordinates and times stay double") {
+    TempDir tmp;
+    const std::string path = tmp.file("float.exo");
+    write_reference_exodus(path, 3, {true, false});
+    NcReader nc(path);
+    CHECK(nc.format() == NC_FORMAT_64BIT_OFFSET);  // still the crash-safe classic file
+    auto type = [&](const std::string& name) {
+      nc_type t = NC_NAT;
+      REQUIRE(nc_inq_vartype(nc.id, nc.var(name), &t) == NC_NOERR);
+      return t;
+    };
+    CHECK(type("vals_nod_var1") == NC_FLOAT);
+    CHECK(type("vals_elem_var3eb2") == NC_FLOAT);
+    CHECK(type("coordx") == NC_DOUBLE);
+    CHECK(type("coordy") == NC_DOUBLE);
+    CHECK(type("time_whole") == NC_DOUBLE);
+    CHECK(nc.doubles("coordx", 5) == kX);
+    // Some reference values (0.05 × frame × x) are not floats: the check sees the rounding.
+    CHECK(static_cast<double>(static_cast<float>(nodal_value(0, 1, 1))) != nodal_value(0, 1, 1));
+    check_reference_frames(nc, 3, [](double v) { return static_cast<double>(static_cast<float>(v)); });
+  }
+
+  TEST_CASE("compress: a netCDF-4 file with deflated frame variables, every value identical") {
+    TempDir tmp;
+    for (const bool float_values : {false, true}) {
+      CAPTURE(float_values);
+      const std::string path = tmp.file(float_values ? "cf.exo" : "c.exo");
+      write_reference_exodus(path, 3, {float_values, true});
+      NcReader nc(path);
+      CHECK(nc.format() == NC_FORMAT_NETCDF4);
+      int shuffle = 0, deflate = 0, level = 0;
+      REQUIRE(nc_inq_var_deflate(nc.id, nc.var("vals_elem_var1eb1"), &shuffle, &deflate, &level) == NC_NOERR);
+      CHECK(deflate == 1);
+      CHECK(shuffle == 1);
+      CHECK(nc.att_int(NC_GLOBAL, "floating_point_word_size") == 8);
+      CHECK(nc.ints("connect1", 6) == std::vector<int>{1, 2, 3, 1, 3, 4});
+      CHECK(nc.doubles("coordy", 5) == kY);
+      if (float_values)
+        check_reference_frames(nc, 3, [](double v) { return static_cast<double>(static_cast<float>(v)); });
+      else
+        check_reference_frames(nc, 3);
+    }
   }
 
   TEST_CASE("exodus file without nodal or element variables leaves their parts out") {

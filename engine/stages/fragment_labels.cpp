@@ -1,0 +1,63 @@
+#include "engine/stages/fragment_labels.hpp"
+
+#include <algorithm>
+
+#include "engine/device_arrays.hpp"
+#include "engine/errors.hpp"
+
+namespace fdem {
+
+MemoryPlan FragmentLabels::plan(size_t triangles, size_t nodes, size_t ce4) {
+  return MemoryPlan()
+      .add("fragment_label", (triangles + nodes) * sizeof(cl_int))
+      .add("fragment_ce4_triangles", 2 * ce4 * sizeof(cl_uint))
+      .add("fragment_changed", sizeof(cl_int));
+}
+
+FragmentLabels::FragmentLabels(ClContext& cl, size_t triangles, size_t nodes, compute::buffer& tri_nodes,
+                               const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer* status)
+    : cl_(cl), triangles_(triangles), vertices_(triangles + nodes), ce4_(ce4_triangles.size()) {
+  if (ce4_ && !status) throw DeviceError("fragment labels: CE4s without their status array");
+  const MemoryPlan arrays = plan(triangles, nodes, ce4_);
+  label_ = arrays.allocate(cl, "fragment_label");
+  pairs_ = arrays.allocate(cl, "fragment_ce4_triangles");
+  changed_ = arrays.allocate(cl, "fragment_changed");
+  std::vector<cl_uint> pairs;
+  for (const auto& t : ce4_triangles) {
+    if (t[0] < 0 || t[1] < 0 || size_t(t[0]) >= triangles || size_t(t[1]) >= triangles)
+      throw DeviceError("fragment labels: a CE4 names a triangle out of range");
+    pairs.insert(pairs.end(), {cl_uint(t[0]), cl_uint(t[1])});
+  }
+  if (!pairs.empty()) upload(cl, pairs_, pairs);
+
+  const compute::program program = cl.build(kernel_source::fragments);
+  init_ = compute::kernel(program, "fragment_init");
+  bind_args(init_)("n_vertices", cl_uint(vertices_))("label", label_).done();
+  hook_triangles_ = compute::kernel(program, "fragment_hook_triangles");
+  bind_args(hook_triangles_)("n_tri", cl_uint(triangles))("tri_nodes", tri_nodes)("label", label_)("changed", changed_)
+      .done();
+  hook_ce4_ = compute::kernel(program, "fragment_hook_ce4");
+  bind_args(hook_ce4_)("n_ce4", cl_uint(ce4_))("status", status ? *status : pairs_)("ce4_triangles", pairs_)(
+      "label", label_)("changed", changed_)
+      .done();
+  shortcut_ = compute::kernel(program, "fragment_shortcut");
+  bind_args(shortcut_)("n_vertices", cl_uint(vertices_))("label", label_).done();
+}
+
+std::vector<int> FragmentLabels::labels() {
+  rounds_ = 0;
+  if (triangles_ == 0) return {};
+  cl_.enqueue(init_, vertices_);
+  const cl_int zero = 0;
+  for (;;) {
+    ++rounds_;
+    cl_.queue().enqueue_fill_buffer(changed_, &zero, sizeof(zero), 0, sizeof(zero));
+    cl_.enqueue(hook_triangles_, triangles_);
+    if (ce4_) cl_.enqueue(hook_ce4_, ce4_);
+    cl_.enqueue(shortcut_, vertices_);
+    if (download<cl_int>(cl_, changed_, 1)[0] == 0) break;
+  }
+  return download<cl_int>(cl_, label_, triangles_);
+}
+
+}  // namespace fdem

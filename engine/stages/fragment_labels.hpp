@@ -1,0 +1,38 @@
+// Stage: fragment labelling (cl_kernels/fragments.cl). Not part of the step: run on
+// demand at output frames and history rows (engine/run.cpp, engine/history.cpp).
+#pragma once
+#include <array>
+#include <vector>
+
+#include "engine/cl_context.hpp"
+#include "engine/kernel_args.hpp"
+#include "engine/memory_plan.hpp"
+
+namespace fdem {
+
+class FragmentLabels {
+ public:
+  // The graph of `triangles` triangles whose corners `tri_nodes` (uint ×3 per triangle)
+  // name `nodes` nodes, and of the CE4 pairs `ce4_triangles`, intact while their entry
+  // of `status` (the CE4 stage's int2 (broken, mode)) has broken == 0. `status` may be
+  // null only when there are no CE4s.
+  FragmentLabels(ClContext& cl, size_t triangles, size_t nodes, compute::buffer& tri_nodes,
+                 const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer* status);
+  // The arrays the constructor allocates: one label per triangle and node, the CE4s'
+  // triangle pairs, the change flag.
+  static MemoryPlan plan(size_t triangles, size_t nodes, size_t ce4);
+
+  // Labels the pieces now: per triangle, the smallest triangle index of its piece.
+  // Waits: one flag read per round (rounds() says how many the last call took).
+  std::vector<int> labels();
+  int rounds() const { return rounds_; }
+
+ private:
+  ClContext& cl_;
+  size_t triangles_, vertices_, ce4_;
+  int rounds_ = 0;
+  compute::kernel init_, hook_triangles_, hook_ce4_, shortcut_;
+  compute::buffer label_, pairs_, changed_;
+};
+
+}  // namespace fdem
