@@ -17,11 +17,13 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "base/hash.hpp"
+#include "engine/fracture_events.hpp"
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/gmsh_reader.hpp"
 #include "io/checkpoint_file.hpp"
+#include "io/events_writer.hpp"
 #include "io/history_writer.hpp"
 #include "io/output_resume.hpp"
 
@@ -242,6 +244,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   p.steps = c.time.steps > 0 ? c.time.steps : std::max(1L, static_cast<long>(std::ceil(c.time.end / p.dt - 1e-9)));
   p.exodus_path = (fs::path(c.output.dir) / (c.output.name + ".exo")).string();
   p.history_path = (fs::path(c.output.dir) / (c.output.name + "_history.nc")).string();
+  p.events_path = (fs::path(c.output.dir) / (c.output.name + "_events.nc")).string();
   return p;
 }
 
@@ -296,6 +299,23 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const HistoryTable table(model, solver.masses(), points);
   io::HistoryWriter history(p.history_path + suffix, config.title, table.variables());
 
+  // The break catalogue (models with CE4s): appended with the history rows; a resumed run
+  // starts its file from the catalogue its checkpoint carries, so breaks written after
+  // the checkpoint before a crash are dropped like rows and frames.
+  CohesiveForces* const ce4 = solver.cohesive();
+  std::unique_ptr<io::EventsWriter> events;
+  auto with_triangles = [&](std::vector<io::BreakRecord> records) {
+    for (auto& b : records) b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
+    return records;
+  };
+  auto record_breaks = [&]() {
+    if (events) events->append(with_triangles(ce4->drain_breaks()));
+  };
+  if (ce4) {
+    events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
+    events->append(with_triangles(ce4->catalogue()));
+  }
+
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
@@ -313,6 +333,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     std::error_code ec;
     fs::rename(p.exodus_path + suffix, p.exodus_path, ec);
     if (!ec) fs::rename(p.history_path + suffix, p.history_path, ec);
+    if (!ec && events) {
+      fs::rename(p.events_path + suffix, p.events_path, ec);
+      events->moved_to(p.events_path);
+    }
     if (ec) throw OutputError("cannot put the continued output in place of " + p.exodus_path + ": " + ec.message());
   }
   const long check_stride = 200;
@@ -392,6 +416,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         throw NumericalError(what + saved);
       }
       bool stress_current = false;
+      if (history_due || checkpoint_due || stopping) record_breaks();
       if (history_due) {
         const EnergyTotals energy = solver.energy();
         const double error = solver.balance().error(energy);
@@ -483,6 +508,15 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   }
   exodus.close();
   history.close();
+  if (events) {
+    record_breaks();
+    const io::EventRule rule = event_rule(model, config.output.events_distance, config.output.events_window);
+    const auto all = with_triangles(ce4->catalogue());
+    const auto grouped = group_events(all, rule);
+    events->finish(all, grouped, rule);
+    summary.breaks = all.size();
+    summary.events = grouped.size();
+  }
   return summary;
 }
 

@@ -37,6 +37,10 @@ struct OutputConfig {
   std::vector<std::string> regions;  // extra regions whose mean displacement the history records
   double checkpoint_every = 0;  // [s] simulated time between checkpoints; 0: only at the end
   double energy_limit = 0.05;  // largest |energy_error| (history; fraction) a run accepts; > 0
+  // [output] events = { distance, window }: grouping of breaks into events; 0: the
+  // default from the mesh and the wave speed (engine/fracture_events.hpp).
+  double events_distance = 0;  // [m]
+  double events_window = 0;    // [s]
 };
 
 enum class Elasticity { NeoHookean, Hyperelastic };

@@ -63,6 +63,12 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   if (r.has("regions")) o.regions = *r.strings("regions");
   o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
   o.checkpoint_every = r.number("checkpoint_every", kNonNegative).value_or(0.0);
+  if (const toml::table* t = subtable(r, "events")) {
+    const TableReader events = subtable_reader(r, *t, "events");
+    events.check_keys(kOutputEventsKeys);
+    o.events_distance = events.number("distance", kPositive).value_or(0.0);
+    o.events_window = events.number("window", kPositive).value_or(0.0);
+  }
   return o;
 }
 
