@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
+#include "case_reader_fixture.hpp"
 #include "engine/fracture_events.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
@@ -94,6 +95,23 @@ io::BreakRecord at(double t, double x, double y, double energy, long ce4) {
 }  // namespace
 
 TEST_SUITE("breaks") {
+
+TEST_CASE("[output] events = { distance, window }: read, optional, positive, unknown keys named with the near one") {
+  test::case_reader::CaseDir d;
+  const auto c = io::read_case(d.write("c.toml", test::case_reader::kBase + "[output]\nevents = { distance = 0.01, window = 2e-6 }\n"));
+  CHECK(c.output.events_distance == 0.01);
+  CHECK(c.output.events_window == 2e-6);
+  const auto none = io::read_case(d.write("d.toml", test::case_reader::kBase));
+  CHECK(none.output.events_distance == 0.0);  // 0: the default from the model
+  CHECK(none.output.events_window == 0.0);
+  const auto half = io::read_case(d.write("e.toml", test::case_reader::kBase + "[output]\nevents = { window = 1e-5 }\n"));
+  CHECK(half.output.events_distance == 0.0);
+  CHECK(half.output.events_window == 1e-5);
+  CHECK(test::case_reader::error_of(test::case_reader::kBase + "[output]\nevents = { distance = -1.0 }\n") != "");
+  const std::string typo = test::case_reader::error_of(test::case_reader::kBase + "[output]\nevents = { distanse = 1.0 }\n").c_str();
+  CHECK(typo.find("distanse") != std::string::npos);
+  CHECK(typo.find("distance") != std::string::npos);
+}
 
 TEST_CASE("events: single linkage in space and time, transitive, with counts, centroids, energies, magnitudes") {
   // Chain A: 0-1-2 each 0.8 apart (distance 1) → one event although 0 and 2 are 1.6 apart.
