@@ -309,7 +309,12 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     return records;
   };
   auto record_breaks = [&]() {
-    if (events) events->append(with_triangles(ce4->drain_breaks()));
+    if (!events) return;
+    const auto began = std::chrono::steady_clock::now();
+    events->append(with_triangles(ce4->drain_breaks()));
+    if (cl.profiling())
+      cl.add_host_time("break catalogue (host wall: count and records read, sort, events file append)",
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   };
   if (ce4) {
     events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
