@@ -113,6 +113,13 @@ inline real coh_parabola_energy(real x, real xp, real peak) {
 // energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
 // energy it holds now, 0) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
+// Break catalogue (an append buffer, read by the host with the history rows): a CE4 that
+// breaks in this step takes slot k = atomic_inc(break_count) and writes break_ids[k] =
+// (e, mode) and break_records[k] = (time, midpoint x, midpoint y of its four nodes, its
+// fracture dissipation including this step). The capacity is the number of CE4s and a
+// CE4 breaks once, so no record can be lost; the slot order within a step depends on the
+// scheduling, so the host sorts what it reads by (time, CE4).
+
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
                               __global const real* restrict params,
@@ -126,7 +133,10 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real2* restrict slots,
                               __global real4* restrict last_gap,
                               __global real2* restrict last_chord,
-                              __global real4* restrict energy) {
+                              __global real4* restrict energy,
+                              __global uint* restrict break_count,
+                              __global int2* restrict break_ids,
+                              __global real4* restrict break_records) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   const uint4 nd = ce4_nodes[e];  // (i, j, j', i')
@@ -275,6 +285,14 @@ __kernel void cohesive_forces(const uint n_ce4,
     // on the elastic curves; the max keeps it from ever moving down.
     account.y = fmax(account.y, account.x - account.z);
     energy[e] = account;
+    if (st.x) {  // broke in this step: append its record (see the kernel's comment)
+      const uint k = atomic_inc(break_count);
+      if (k < n_ce4) {
+        const real2 mid = (real)0.25 * ((xi + xj) + (xj2 + xi2));
+        break_ids[k] = (int2)((int)e, st.y);
+        break_records[k] = (real4)(time, mid.x, mid.y, account.y);
+      }
+    }
     last_gap[e] = (real4)(gap_i, gap_j);
     last_chord[e] = chord;
   } else {

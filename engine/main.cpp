@@ -349,6 +349,8 @@ int run_command(const Arguments& a) {
             << (p.model.ce4.empty() ? std::string() : ", " + p.fragments_path) << " and "
             << s.checkpoint << " (" << mib(std::filesystem::file_size(s.checkpoint)) << ", written in " << std::fixed
             << std::setprecision(2) << s.checkpoint_seconds << " s)\n" << std::defaultfloat;
+  if (!p.model.ce4.empty())
+    std::cout << "break catalogue: " << s.breaks << " CE4s broken, " << s.events << " events, in " << p.events_path << "\n";
   if (a.profile) {
     cl.collect_profile();
     std::cout << "profile (device time per kernel; output and history steps included):\n";

@@ -17,6 +17,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "base/hash.hpp"
+#include "engine/fracture_events.hpp"
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "engine/fragments.hpp"
@@ -24,6 +25,7 @@
 #include "io/fragment_writer.hpp"
 #include "io/gmsh_reader.hpp"
 #include "io/checkpoint_file.hpp"
+#include "io/events_writer.hpp"
 #include "io/history_writer.hpp"
 #include "io/output_resume.hpp"
 
@@ -263,6 +265,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   p.exodus_path = (fs::path(c.output.dir) / (c.output.name + ".exo")).string();
   p.history_path = (fs::path(c.output.dir) / (c.output.name + "_history.nc")).string();
   p.fragments_path = (fs::path(c.output.dir) / (c.output.name + "_fragments.nc")).string();
+  p.events_path = (fs::path(c.output.dir) / (c.output.name + "_events.nc")).string();
   return p;
 }
 
@@ -320,6 +323,28 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   std::unique_ptr<io::FragmentWriter> fragments;
   if (!model.ce4.empty()) fragments = std::make_unique<io::FragmentWriter>(p.fragments_path + suffix, config.title);
 
+  // The break catalogue (models with CE4s): appended with the history rows; a resumed run
+  // starts its file from the catalogue its checkpoint carries, so breaks written after
+  // the checkpoint before a crash are dropped like rows and frames.
+  CohesiveForces* const ce4 = solver.cohesive();
+  std::unique_ptr<io::EventsWriter> events;
+  auto with_triangles = [&](std::vector<io::BreakRecord> records) {
+    for (auto& b : records) b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
+    return records;
+  };
+  auto record_breaks = [&]() {
+    if (!events) return;
+    const auto began = std::chrono::steady_clock::now();
+    events->append(with_triangles(ce4->drain_breaks()));
+    if (cl.profiling())
+      cl.add_host_time("break catalogue (host wall: count and records read, sort, events file append)",
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+  };
+  if (ce4) {
+    events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
+    events->append(with_triangles(ce4->catalogue()));
+  }
+
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
@@ -342,6 +367,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     fs::rename(p.exodus_path + suffix, p.exodus_path, ec);
     if (!ec) fs::rename(p.history_path + suffix, p.history_path, ec);
     if (!ec && fragments) fs::rename(p.fragments_path + suffix, p.fragments_path, ec);
+    if (!ec && events) {
+      fs::rename(p.events_path + suffix, p.events_path, ec);
+      events->moved_to(p.events_path);
+    }
     if (ec) throw OutputError("cannot put the continued output in place of " + p.exodus_path + ": " + ec.message());
   }
   const long check_stride = 200;
@@ -421,6 +450,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         throw NumericalError(what + saved);
       }
       bool stress_current = false;
+      if (history_due || checkpoint_due || stopping) record_breaks();
       if (history_due) {
         const EnergyTotals energy = solver.energy();
         const double error = solver.balance().error(energy);
@@ -513,6 +543,15 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   exodus.close();
   history.close();
   if (fragments) fragments->close();
+  if (events) {
+    record_breaks();
+    const io::EventRule rule = event_rule(model, config.output.events_distance, config.output.events_window);
+    const auto all = with_triangles(ce4->catalogue());
+    const auto grouped = group_events(all, rule);
+    events->finish(all, grouped, rule);
+    summary.breaks = all.size();
+    summary.events = grouped.size();
+  }
   return summary;
 }
 

@@ -22,6 +22,7 @@ struct PreparedCase {
   long steps = 0;                  // number of steps
   std::string exodus_path, history_path;
   std::string fragments_path;  // OUT/NAME_fragments.nc, written when the model has CE4s
+  std::string events_path;  // OUT/NAME_events.nc: break catalogue and events (models with CE4s only)
   std::vector<ProbeLocation> probes;  // [[probe]] points tied to their node and triangle
 };
 
@@ -45,6 +46,7 @@ struct RunSummary {
   std::string stop_reason;   // "SIGTERM", "--max-wall", ...
   std::string checkpoint;    // the last checkpoint written
   double checkpoint_seconds = 0;  // wall time the last checkpoint took (device read, file, sync)
+  size_t breaks = 0, events = 0;  // CE4s broken so far and the events they form (events file)
 };
 
 struct RunOptions {

@@ -39,6 +39,10 @@ struct OutputConfig {
   double energy_limit = 0.05;  // largest |energy_error| (history; fraction) a run accepts; > 0
   bool float_frames = false;  // precision = "float": frame values stored as float (coordinates stay double)
   bool compress = false;      // compress = true: netCDF-4 Exodus file, deflated frame values (not crash-safe)
+  // [output] events = { distance, window }: grouping of breaks into events; 0: the
+  // default from the mesh and the wave speed (engine/fracture_events.hpp).
+  double events_distance = 0;  // [m]
+  double events_window = 0;    // [s]
 };
 
 enum class Elasticity { NeoHookean, Hyperelastic };

@@ -23,8 +23,10 @@ std::string spelled(std::string_view name, Shape shape, bool top_level) {
 // Defined in dependency order: a table's schema after the schemas of its sub-tables.
 const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}, {"refine"}}};
 const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
+const Schema kOutputEventsKeys{{{"distance"}, {"window"}}};
 const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}, {"regions"},
-                          {"energy_limit"}, {"checkpoint_every"}, {"precision"}, {"compress"}}};
+                          {"energy_limit"}, {"checkpoint_every"}, {"precision"}, {"compress"},
+                          {"events", Shape::Table, &kOutputEventsKeys}}};
 const Schema kStiffnessKeys{
     {{"c11"}, {"c22"}, {"c12"}, {"c66"}, {"c16"}, {"c26"}, {"angle"}}};
 const Schema kPenaltyKeys{{{"opening"}, {"sliding"}, {"overlap"}}};

@@ -65,6 +65,12 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   o.checkpoint_every = r.number("checkpoint_every", kNonNegative).value_or(0.0);
   o.float_frames = r.choice<bool>("precision", {{"double", false}, {"float", true}}).value_or(false);
   o.compress = r.boolean("compress").value_or(false);
+  if (const toml::table* t = subtable(r, "events")) {
+    const TableReader events = subtable_reader(r, *t, "events");
+    events.check_keys(kOutputEventsKeys);
+    o.events_distance = events.number("distance", kPositive).value_or(0.0);
+    o.events_window = events.number("window", kPositive).value_or(0.0);
+  }
   return o;
 }
 

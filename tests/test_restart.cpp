@@ -119,6 +119,7 @@ TEST_CASE("a run to T and a run to T/2 restarted to T write the same bytes (hist
   CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
   CHECK(same_bytes(one + "/brazilian.exo", two + "/brazilian.exo"));
   CHECK(same_bytes(one + "/brazilian_fragments.nc", two + "/brazilian_fragments.nc"));
+  CHECK(same_bytes(one + "/brazilian_events.nc", two + "/brazilian_events.nc"));  // the break catalogue
   CHECK(fs::exists(two + "/brazilian.ckpt.prev"));
   // The state really moved: contact was detected again and CE4s broke, before the
   // checkpoint and after it.
@@ -148,6 +149,8 @@ TEST_CASE("a run killed with SIGKILL after a checkpoint, restarted, writes the s
   CHECK(same_bytes(one + "/brazilian_history.nc", two + "/brazilian_history.nc"));
   CHECK(same_bytes(one + "/brazilian.exo", two + "/brazilian.exo"));
   CHECK(same_bytes(one + "/brazilian_fragments.nc", two + "/brazilian_fragments.nc"));
+  // Breaks the killed run recorded after its checkpoint are dropped, those after it are the same.
+  CHECK(same_bytes(one + "/brazilian_events.nc", two + "/brazilian_events.nc"));
 }
 
 TEST_CASE("SIGTERM and --max-wall stop the run with exit 75, a checkpoint and the command that resumes it") {

@@ -46,7 +46,10 @@ MemoryPlan CohesiveForces::plan(size_t ce4) {
       .add("ce4_last_gap", ce4 * sizeof(real4))
       .add("ce4_last_chord", ce4 * sizeof(real2))
       .add("ce4_energy", ce4 * sizeof(real4))
-      .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2));
+      .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
+      .add("ce4_break_count", sizeof(cl_uint))
+      .add("ce4_break_ids", 2 * ce4 * sizeof(cl_int))
+      .add("ce4_break_records", ce4 * sizeof(real4));
 }
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
@@ -115,6 +118,10 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   last_chord_ = arrays.allocate(cl, "ce4_last_chord");
   energy_ = arrays.allocate(cl, "ce4_energy");
   partial_ = arrays.allocate(cl, "ce4_energy_partials");
+  break_count_ = arrays.allocate(cl, "ce4_break_count");
+  break_ids_ = arrays.allocate(cl, "ce4_break_ids");
+  break_records_ = arrays.allocate(cl, "ce4_break_records");
+  upload(cl, break_count_, std::vector<cl_uint>(1, 0));
   upload(cl, nodes_, nodes);
   upload(cl, params_buffer_, params_);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
@@ -133,7 +140,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
       "thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
   args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("output", output_)("slots", slots_)(
-      "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)
+      "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
+      "break_ids", break_ids_)("break_records", break_records_)
       .done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
@@ -153,6 +161,45 @@ std::vector<real> CohesiveForces::output_column(int k) {
   return column;
 }
 
+std::vector<io::BreakRecord> CohesiveForces::read_log(size_t first, size_t count) const {
+  std::vector<io::BreakRecord> out(count);
+  if (count == 0) return out;
+  std::vector<cl_int> ids(2 * count);
+  std::vector<real4> rec(count);
+  cl_.queue().enqueue_read_buffer(break_ids_, first * 2 * sizeof(cl_int), ids.size() * sizeof(cl_int), ids.data());
+  cl_.queue().enqueue_read_buffer(break_records_, first * sizeof(real4), count * sizeof(real4), rec.data());
+  for (size_t k = 0; k < count; ++k) {
+    auto& b = out[k];
+    b.ce4 = ids[2 * k];
+    b.mode = ids[2 * k + 1];
+    b.time = double(rec[k].x);
+    b.x = double(rec[k].y);
+    b.y = double(rec[k].z);
+    b.energy = double(rec[k].w);
+    b.length = double(params_[layout::COH_STRIDE * size_t(b.ce4) + layout::COH_H]);
+  }
+  std::sort(out.begin(), out.end(), [](const io::BreakRecord& a, const io::BreakRecord& b) {
+    return a.time != b.time ? a.time < b.time : a.ce4 < b.ce4;
+  });
+  return out;
+}
+
+std::vector<io::BreakRecord> CohesiveForces::drain_breaks() {
+  if (count_ == 0) return {};
+  cl_uint count = 0;
+  cl_.queue().enqueue_read_buffer(break_count_, 0, sizeof(cl_uint), &count);
+  // The kernel writes at most one record per CE4; a larger count would mean a CE4 broke
+  // twice, which the status forbids.
+  if (count > count_)
+    throw DeviceError("cohesive_forces: the break log counts " + std::to_string(count) + " breaks for " +
+                      std::to_string(count_) + " CE4s");
+  if (count <= drained_) return {};
+  auto fresh = read_log(drained_, count - drained_);
+  drained_ = count;
+  catalogue_.insert(catalogue_.end(), fresh.begin(), fresh.end());
+  return fresh;
+}
+
 void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
@@ -162,6 +209,20 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   out.buffer<real>("ce4_energy", energy_, count_, 4);
+  // The break log in catalogue order (the device's slot order is not reproducible).
+  cl_uint count = 0;
+  if (count_) cl_.queue().enqueue_read_buffer(break_count_, 0, sizeof(cl_uint), &count);
+  const auto log = read_log(0, count);
+  std::vector<cl_int> ids(2 * log.size());
+  std::vector<real> rec(4 * log.size());
+  for (size_t k = 0; k < log.size(); ++k) {
+    ids[2 * k] = cl_int(log[k].ce4), ids[2 * k + 1] = log[k].mode;
+    rec[4 * k] = real(log[k].time), rec[4 * k + 1] = real(log[k].x), rec[4 * k + 2] = real(log[k].y),
+            rec[4 * k + 3] = real(log[k].energy);
+  }
+  out.integer("ce4_break_count", static_cast<std::int64_t>(log.size()));
+  out.host<cl_int>("ce4_break_ids", ids.data(), ids.size());
+  out.host<real>("ce4_break_records", rec.data(), rec.size());
 }
 
 void CohesiveForces::load_state(StateReader& in) {
@@ -173,6 +234,25 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   in.buffer<real>("ce4_energy", energy_, count_, 4);
+  const std::int64_t n = in.integer("ce4_break_count");
+  if (n < 0 || size_t(n) > count_) throw InputError("checkpoint: ce4_break_count " + std::to_string(n) + " is out of range");
+  std::vector<cl_int> ids(2 * size_t(n));
+  std::vector<real> rec(4 * size_t(n));
+  in.host<cl_int>("ce4_break_ids", ids.data(), ids.size());
+  in.host<real>("ce4_break_records", rec.data(), rec.size());
+  const cl_uint count = static_cast<cl_uint>(n);
+  if (count_) {
+    cl_.queue().enqueue_write_buffer(break_count_, 0, sizeof(cl_uint), &count);
+    if (n) {
+      std::vector<real4> r(count);
+      for (size_t k = 0; k < count; ++k) r[k] = real4{rec[4 * k], rec[4 * k + 1], rec[4 * k + 2], rec[4 * k + 3]};
+      cl_.queue().enqueue_write_buffer(break_ids_, 0, ids.size() * sizeof(cl_int), ids.data());
+      cl_.queue().enqueue_write_buffer(break_records_, 0, r.size() * sizeof(real4), r.data());
+    }
+  }
+  // What the checkpointed run had recorded is the catalogue so far.
+  catalogue_ = read_log(0, count);
+  drained_ = count;
 }
 
 std::vector<real> CohesiveForces::damage() { return output_column(0); }

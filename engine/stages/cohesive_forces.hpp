@@ -9,6 +9,7 @@
 #include "engine/kernel_args.hpp"
 #include "engine/memory_plan.hpp"
 #include "engine/real.hpp"
+#include "io/events_writer.hpp"
 
 namespace fdem {
 
@@ -57,6 +58,16 @@ class CohesiveForces {
   // Both in one device pass: (fracture dissipation, stored energy).
   std::pair<double, double> energy_totals();
 
+  // The break catalogue (cl_kernels/cohesive_forces.cl appends a record for each CE4 in
+  // the step it breaks): reads the records appended since the last call (the counter and
+  // those records only; waits), sorts them by (time, CE4) so the order does not depend
+  // on the device's scheduling, adds them to catalogue() and returns them. Each record
+  // has the CE4, time, midpoint, initial length, mode and energy; the triangles are
+  // left at -1 (the Model has them). Called with the history rows.
+  std::vector<io::BreakRecord> drain_breaks();
+  // Every record drained so far (including those a checkpoint brought), in order.
+  const std::vector<io::BreakRecord>& catalogue() const { return catalogue_; }
+
   // Every CE4's state (Gauss points, status, outputs, last forces and gaps, energy), for checkpoints.
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
@@ -72,6 +83,12 @@ class CohesiveForces {
   KernelArg<real> time_;
   compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
+  // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
+  // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).
+  compute::buffer break_count_, break_ids_, break_records_;
+  size_t drained_ = 0;                       // log slots already in catalogue_
+  std::vector<io::BreakRecord> catalogue_;   // sorted by (time, CE4)
+  std::vector<io::BreakRecord> read_log(size_t first, size_t count) const;
 };
 
 }  // namespace fdem
