@@ -21,7 +21,7 @@ UCS_CURVE := stress-strain --test ucs --load-region platen_top --support-region 
 # Debian 12 packages the build, the tests and the tools need.
 DEBS := cmake g++ make pkg-config file ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd \
         libboost-dev libeigen3-dev libnetcdf-dev libtomlplusplus-dev doctest-dev gmsh \
-        python3-netcdf4 python3-matplotlib python3-numpy
+        python3-netcdf4 python3-matplotlib python3-numpy python3-xarray
 
 .PHONY: all deps build test validate demo clean
 
