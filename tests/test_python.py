@@ -176,6 +176,13 @@ class BValue(unittest.TestCase):
         self.assertEqual(counts.tolist(), [2, 0, 1, 0, 0, 0, 1])
         self.assertEqual(cumulative.tolist(), [4, 2, 2, 1, 1, 1, 1])
 
+    def test_magnitude_from_energy(self):
+        # log10 E = 1.5 M + 4.8: E = 10^4.8 J is magnitude 0, each factor 10^1.5 one more.
+        m = analytics.magnitude_from_energy([10 ** 4.8, 10 ** 6.3, 0.0, -1.0, np.inf])
+        self.assertAlmostEqual(m[0], 0.0, places=12)
+        self.assertAlmostEqual(m[1], 1.0, places=12)
+        self.assertTrue(np.all(np.isnan(m[2:])))
+
     def test_too_few_events(self):
         with self.assertRaisesRegex(ValueError, "too few events"):
             analytics.b_value([0.1, 0.2, 2.0], mc=1.0)
@@ -369,6 +376,10 @@ class OpenSynthetic(TempDirCase):
         b = float(text.split("Gutenberg-Richter b = ")[1].split()[0])
         self.assertAlmostEqual(b, analytics.b_value(mags, mc=-1.0).b, places=3)
         self.assertLess(abs(b - 1.0), 0.05, text)
+        # The single breaks' magnitudes from break_energy (uniform in [1, 2] J here).
+        rc, text = run_plot("events", self.dir, "--breaks", "-o", out)
+        self.assertEqual(rc, 0, text)
+        self.assertIn("15000 breaks; Gutenberg-Richter b = ", text)
         # Default output name, Mc by maximum curvature.
         rc, text = run_plot("events", os.path.join(self.dir, "syn"))
         self.assertEqual(rc, 0, text)
@@ -458,11 +469,26 @@ class OpenRealRun(TempDirCase):
         self.assertTrue(np.all((ev["break_time"].values >= 0) &
                                (ev["break_time"].values <= t_end * (1 + 1e-9))))
         self.assertTrue(set(np.unique(ev["break_mode"].values)) <= {1, 2, 3})
+        # The catalogue holds every CE4 broken in the last frame (the run's end), once.
+        broken = np.flatnonzero(self.output.block("cohesive")["BROKEN"].values[-1] > 0.5)
+        self.assertEqual(ev.sizes["break"], len(broken))
+        if "break_ce4" in ev:
+            self.assertEqual(sorted(ev["break_ce4"].values.tolist()), broken.tolist())
+        modes = self.output.block("cohesive")["MODE"].values[-1][broken].round()
+        for value in (1, 2, 3):
+            self.assertEqual(int(np.sum(ev["break_mode"].values == value)),
+                             int(np.sum(modes == value)), f"mode {value}")
         out = os.path.join(self.dir, "events.png")
         rc, text = run_plot("events", self.out, "-o", out)
         self.assertEqual(rc, 0, text)
         self.assertPng(out)
         self.assertIn(f"{ev.sizes['break']} breaks", text)
+        # Magnitude-frequency of the single breaks: the printed b is the package's.
+        rc, text = run_plot("events", self.out, "--breaks", "-o", out)
+        self.assertEqual(rc, 0, text)
+        mags = analytics.magnitude_from_energy(ev["break_energy"].values)
+        fit = analytics.b_value(mags)
+        self.assertIn(f"Gutenberg-Richter b = {fit.b:.4g} ", text)
 
     def test_fragments(self):
         frag = self.output.fragments

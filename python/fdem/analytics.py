@@ -37,7 +37,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["BValue", "b_value", "completeness_magnitude", "magnitude_frequency",
+__all__ = ["BValue", "b_value", "completeness_magnitude", "magnitude_from_energy",
+           "magnitude_frequency",
            "passing", "percentile_size", "RosinRammler", "Swebrec", "rosin_rammler_fit",
            "swebrec_fit", "SizeDistribution", "size_distribution", "equivalent_diameter"]
 
@@ -104,6 +105,17 @@ def b_value(magnitudes, mc: Optional[float] = None, dm: float = 0.0,
     b_error = 2.3 * b * b * float(np.sqrt(np.sum((above - mean) ** 2) / (n * (n - 1))))
     return BValue(b=b, b_error=b_error, a=float(np.log10(n) + b * mc), mc=float(mc),
                   dm=float(dm), n=n)
+
+
+def magnitude_from_energy(energy):
+    """Magnitude of a released energy E [J] by fdem-cl's event rule (the engine's
+    event_magnitude): M = 2/3 (log10 E - 4.8), the Gutenberg-Richter energy-magnitude
+    relation log10 E = 1.5 M + 4.8; NaN where E <= 0 or is not finite."""
+    e = np.asarray(energy, dtype=float)
+    out = np.full(e.shape, np.nan)
+    ok = np.isfinite(e) & (e > 0)
+    out[ok] = (2.0 / 3.0) * (np.log10(e[ok]) - 4.8)
+    return out
 
 
 def magnitude_frequency(magnitudes, bin_width: float = 0.1):

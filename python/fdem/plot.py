@@ -9,7 +9,7 @@
   fdem-plot cracks OUT.exo [--frame -1 | --time T] -o cracks.png
   fdem-plot compare VAR A_history.nc[:LABEL] B_history.nc[:LABEL] [--normalize] [--ms] -o c.png
   fdem-plot bench BENCH.csv[:LABEL] ... -o bench.png
-  fdem-plot events OUT [--mc MC] [--dm DM] [--bin-width 0.1] [-o OUT/NAME_events.png]
+  fdem-plot events OUT [--breaks] [--mc MC] [--dm DM] [--bin-width 0.1] [-o OUT/NAME_events.png]
   fdem-plot fragments OUT [--frame -1] [-o OUT/NAME_fragments.png]
 
 OUT is a run's output folder, OUT/NAME when it holds several runs, or one of its files.
@@ -546,7 +546,14 @@ def plot_events(args):
     bt = ev["break_time"].values
     bmode = (np.nan_to_num(ev["break_mode"].values).round().astype(int)
              if "break_mode" in ev else np.zeros(len(bx), dtype=int))
-    mags = ev["event_magnitude"].values if "event_magnitude" in ev else np.zeros(0)
+    if args.breaks:
+        # Each break alone, its magnitude by the engine's event rule.
+        energy = ev["break_energy"].values if "break_energy" in ev else np.zeros(0)
+        mags = analytics.magnitude_from_energy(energy)
+        what = "breaks"
+    else:
+        mags = ev["event_magnitude"].values if "event_magnitude" in ev else np.zeros(0)
+        what = "events"
     mags = mags[np.isfinite(mags)]
 
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.2))
@@ -574,23 +581,28 @@ def plot_events(args):
                               label=f"{name} ({int(chosen.sum())})"))
     axes[1].legend(handles=handles, loc="best", fontsize="small", title="failure mode")
     axes[1].set_title("breaks by failure mode")
-    if outline is not None or len(bx):
-        xs = np.concatenate([bx] + ([outline[1]] if outline is not None else []))
-        ys = np.concatenate([by] + ([outline[2]] if outline is not None else []))
-        if len(xs):
-            pad = 0.03 * max(np.ptp(xs), np.ptp(ys), 1e-12)
-            for ax in axes[:2]:
-                ax.set_xlim(xs.min() - pad, xs.max() + pad)
-                ax.set_ylim(ys.min() - pad, ys.max() + pad)
+    # The maps show where the breaks are (the outline, when there is one, for context);
+    # without breaks, the whole outline.
+    if len(bx):
+        xs, ys = bx, by
+    elif outline is not None and len(outline[0]):
+        xs, ys = outline[1][outline[0].ravel()], outline[2][outline[0].ravel()]
+    else:
+        xs = ys = np.zeros(0)
+    if len(xs):
+        pad = 0.1 * max(np.ptp(xs), np.ptp(ys), 1e-12)
+        for ax in axes[:2]:
+            ax.set_xlim(xs.min() - pad, xs.max() + pad)
+            ax.set_ylim(ys.min() - pad, ys.max() + pad)
 
     ax = axes[2]
     fit = None
-    line = f"{len(mags)} events"
+    line = f"{len(mags)} {what}"
     if len(mags):
         edges, counts, cumulative = analytics.magnitude_frequency(mags, args.bin_width)
         ax.semilogy(edges, cumulative, "o", color="tab:blue", ms=4, label="N(≥ M)")
         ax.bar(edges + 0.5 * args.bin_width, counts, width=args.bin_width * 0.9,
-               color="tab:gray", alpha=0.5, label=f"events per {args.bin_width:g} bin")
+               color="tab:gray", alpha=0.5, label=f"{what} per {args.bin_width:g} bin")
         try:
             fit = analytics.b_value(mags, mc=args.mc, dm=args.dm, bin_width=args.bin_width)
         except ValueError as exc:
@@ -599,16 +611,16 @@ def plot_events(args):
             m = np.linspace(fit.mc, float(np.max(mags)), 50)
             ax.semilogy(m, fit.count_at_least(m), "-", color="tab:red",
                         label=f"b = {fit.b:.3g} ± {fit.b_error:.2g} (Mc = {fit.mc:.3g}, "
-                              f"{fit.n} events)")
+                              f"{fit.n} {what})")
             ax.axvline(fit.mc, color="tab:red", ls=":", lw=1)
             line += (f"; Gutenberg-Richter b = {fit.b:.4g} ± {fit.b_error:.2g} "
-                     f"(Aki, Mc = {fit.mc:.4g}, dm = {fit.dm:g}, {fit.n} events at or above "
+                     f"(Aki, Mc = {fit.mc:.4g}, dm = {fit.dm:g}, {fit.n} {what} at or above "
                      f"Mc), a = {fit.a:.4g}")
         ax.legend(loc="best", fontsize="small")
     else:
-        ax.text(0.5, 0.5, "no events", transform=ax.transAxes, ha="center")
-    ax.set_xlabel("magnitude M")
-    ax.set_ylabel("number of events")
+        ax.text(0.5, 0.5, f"no {what}", transform=ax.transAxes, ha="center")
+    ax.set_xlabel("magnitude M" + (" of single breaks, 2/3 (log10 E - 4.8)" if args.breaks else ""))
+    ax.set_ylabel(f"number of {what}")
     ax.grid(True, which="both", alpha=0.3)
     ax.set_title("magnitude-frequency")
     fig.suptitle(args.title or f"{run.name}: breaks and events")
@@ -805,6 +817,9 @@ def parse_args(argv):
                         help="bin width the magnitudes are rounded to (0: continuous, default)")
     events.add_argument("--bin-width", type=float, default=0.1,
                         help="magnitude bins of the plot and of the maximum curvature (0.1)")
+    events.add_argument("--breaks", action="store_true",
+                        help="magnitude-frequency of the single breaks (magnitude of each "
+                             "break's break_energy by the events' rule) instead of the events")
     events.add_argument("--title", default="", help="plot title")
     events.add_argument("-o", "--output", default=None,
                         help="image file to write (default OUT/NAME_events.png)")
