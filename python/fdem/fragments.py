@@ -17,7 +17,7 @@ import numpy as np
 
 from . import analytics
 
-__all__ = ["frames", "at_frame", "sizes_and_masses", "summary"]
+__all__ = ["frames", "frame_of_records", "at_frame", "sizes_and_masses", "summary"]
 
 
 def _record_dim(ds) -> str:
@@ -28,7 +28,7 @@ def _record_dim(ds) -> str:
                      "fragment_area, fragment_diameter in it")
 
 
-def _frame_of_records(ds) -> np.ndarray:
+def frame_of_records(ds) -> np.ndarray:
     """Frame index of every record."""
     if "fragment_frame" in ds.variables:
         return np.asarray(ds["fragment_frame"].values, dtype=np.int64)
@@ -41,7 +41,7 @@ def _frame_of_records(ds) -> np.ndarray:
 
 def frames(ds) -> List[Tuple[int, float]]:
     """(frame index, time [s]) of every frame the file has records for, in order."""
-    frame = _frame_of_records(ds)
+    frame = frame_of_records(ds)
     time = (np.asarray(ds["fragment_time"].values, dtype=float)
             if "fragment_time" in ds.variables else np.full(len(frame), np.nan))
     out = []
@@ -67,7 +67,7 @@ def at_frame(ds, frame: int = -1):
         shown = ", ".join(map(str, indices[:12])) + (", ..." if len(indices) > 12 else "")
         raise ValueError(f"no fragments recorded at frame {frame}; frames: {shown}")
     dim = _record_dim(ds)
-    return ds.isel({dim: np.flatnonzero(_frame_of_records(ds) == frame)})
+    return ds.isel({dim: np.flatnonzero(frame_of_records(ds) == frame)})
 
 
 def sizes_and_masses(records):

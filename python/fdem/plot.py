@@ -651,7 +651,7 @@ def plot_fragments(args):
         table = fragments.summary(ds)
     except ValueError as exc:
         raise PlotError(f"{run.files['fragments']}: {exc}")
-    frame = int(fragments._frame_of_records(records)[0])
+    frame = int(fragments.frame_of_records(records)[0])
     t = float(records["fragment_time"].values[0]) if "fragment_time" in records else np.nan
     dist = analytics.size_distribution(size, mass)
     x, p = analytics.passing(size, mass)
