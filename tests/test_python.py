@@ -195,15 +195,20 @@ class FragmentSizes(unittest.TestCase):
         x, p = analytics.passing([4.0, 1.0, 3.0, 2.0], [1, 1, 1, 1])
         self.assertEqual(x.tolist(), [1, 2, 3, 4])
         self.assertEqual(p.tolist(), [0.25, 0.5, 0.75, 1.0])
-        self.assertAlmostEqual(analytics.percentile_size(x, [1] * 4, 0.5), 2.0, places=12)
-        # 0.8 lies a fifth of the way from 0.75 (size 3) to 1.0 (size 4), on log size.
-        self.assertAlmostEqual(analytics.percentile_size(x, [1] * 4, 0.8),
-                               3.0 * (4.0 / 3.0) ** 0.2, places=12)
-        # By mass, not by count: a quarter of the mass at 1, three quarters at 10.
-        self.assertAlmostEqual(analytics.percentile_size([1.0, 10.0], [1.0, 3.0], 0.5),
-                               10.0 ** (1.0 / 3.0), places=12)
+        self.assertEqual(analytics.percentile_size(x, [1] * 4, 0.5), 2.0)
+        # 75% of the mass is at 3 or finer, all of it at 4: P80 is 4.
+        self.assertEqual(analytics.percentile_size(x, [1] * 4, 0.8), 4.0)
+        self.assertEqual(analytics.percentile_size(x, [1] * 4, 0.75), 3.0)
+        # By mass, not by count: a quarter of the mass at 1, three quarters at 10; nine
+        # small pieces and one that holds 91% of the mass.
+        self.assertEqual(analytics.percentile_size([1.0, 10.0], [1.0, 3.0], 0.5), 10.0)
+        self.assertEqual(analytics.percentile_size([0.1] * 9 + [5.0], [1.0] * 9 + [91.0],
+                                                   0.5), 5.0)
         # The finest fragment alone holds more than half the mass.
         self.assertEqual(analytics.percentile_size([1.0, 10.0], [3.0, 1.0], 0.5), 1.0)
+        # Twelve equal masses of 0.1: the sixth running sum over the total is 0.5 less
+        # one unit of round-off, and must still count as half.
+        self.assertEqual(analytics.percentile_size(np.arange(1.0, 13.0), [0.1] * 12, 0.5), 6.0)
         # Fragments of zero mass or size do not count.
         self.assertEqual(analytics.passing([0.0, 1.0, 2.0], [5.0, 1.0, 0.0])[0].tolist(), [1.0])
 
@@ -230,8 +235,11 @@ class FragmentSizes(unittest.TestCase):
         fit = analytics.rosin_rammler_fit(x, mass)
         self.assertLess(abs(fit.xc / xc - 1), 0.02, fit)
         self.assertLess(abs(fit.n / n - 1), 0.02, fit)
-        self.assertLess(abs(analytics.percentile_size(x, mass, 0.5) /
-                            (xc * np.log(2.0) ** (1 / n)) - 1), 0.02)
+        # P50 is the first size class at which the curve reaches one half.
+        p50 = analytics.percentile_size(x, mass, 0.5)
+        step = x[1] / x[0]
+        self.assertTrue(xc * np.log(2.0) ** (1 / n) <= p50 < xc * np.log(2.0) ** (1 / n) * step,
+                        p50)
 
     def test_swebrec_sample(self):
         rng = np.random.default_rng(5)
@@ -393,6 +401,15 @@ class OpenSynthetic(TempDirCase):
         self.assertEqual(rc, 0, text)
         self.assertIn("frame 2, ", text)
         self.assertPng(os.path.join(self.dir, "syn_fragments.png"))
+        # Without the largest piece of each frame.
+        rc, text = run_plot("fragments", self.dir, "--frame", "1", "--without-largest", "-o",
+                            os.path.join(self.dir, "fr1.png"))
+        self.assertEqual(rc, 0, text)
+        self.assertIn("frame 1, t = 0.0005 s: 399 fragments (the largest, ", text)
+        self.assertPng(os.path.join(self.dir, "fr1.png"))
+        table = fragments.summary(fdem.open(self.dir).fragments, without_largest=True)
+        self.assertEqual(table["fragments"].values.tolist(), [0, 399, 399])
+        self.assertTrue(np.isnan(float(table["p50"][0])))
         # A frame with one fragment: no fit, still a plot.
         rc, text = run_plot("fragments", self.dir, "--frame", "0", "-o",
                             os.path.join(self.dir, "fr0.png"))
@@ -508,6 +525,13 @@ class OpenRealRun(TempDirCase):
         rc, text = run_plot("fragments", self.out, "-o", out)
         self.assertEqual(rc, 0, text)
         self.assertPng(out)
+        dist = analytics.size_distribution(size, mass)
+        self.assertIn(f"{len(size)} fragments, P50 = {dist.p50:.6g} m, P80 = {dist.p80:.6g} m",
+                      text)
+        if len(size) > 2:
+            rc, text = run_plot("fragments", self.out, "--without-largest", "-o", out)
+            self.assertEqual(rc, 0, text)
+            self.assertIn(f"{len(size) - 1} fragments (the largest", text)
 
 
 if __name__ == "__main__":

@@ -18,8 +18,10 @@ b-value (magnitude-frequency of events)
 Fragment size distribution (mass passing)
     P(x) is the mass fraction of fragments of size x or finer (the "passing" curve of a
     sieve analysis). `passing` gives it at each fragment size; `percentile_size(.., 0.5)`
-    is P50 and `(.., 0.8)` P80, by linear interpolation of P against log x between
-    fragments (the finest fragment's size when it alone holds more than the fraction).
+    is P50 and `(.., 0.8)` P80: the size of the fragment at which P first reaches the
+    fraction (the inverse of the step function P; no interpolation between fragment
+    sizes, since there is no mass between them: when one large piece holds most of the
+    mass, P50 is its size, not a size in the gap below it).
     Fits, by least squares on the curve's midpoints P_i - m_i / (2 M) (Hazen's plotting
     position, which keeps the largest fragment off P = 1):
       Rosin-Rammler  P(x) = 1 - exp(-(x/x_c)^n), a straight line ln(-ln(1-P)) =
@@ -163,19 +165,14 @@ def _midpoints(sizes, masses=None):
 
 
 def percentile_size(sizes, masses, fraction: float) -> float:
-    """Size with `fraction` of the mass finer (P50: 0.5, P80: 0.8), by linear
-    interpolation of the passing curve against log size."""
+    """Size with `fraction` of the mass at or below it (P50: 0.5, P80: 0.8): the smallest
+    fragment size x with P(x) >= fraction (module docstring)."""
     if not 0.0 < fraction <= 1.0:
         raise ValueError(f"fraction must be in (0, 1] (got {fraction})")
     x, p = passing(sizes, masses)
-    if fraction <= p[0]:
-        return float(x[0])
-    k = int(np.searchsorted(p, fraction, side="left"))  # p[k-1] < fraction <= p[k]
-    k = min(k, len(p) - 1)
-    if p[k] == p[k - 1]:
-        return float(x[k])
-    s = (fraction - p[k - 1]) / (p[k] - p[k - 1])
-    return float(np.exp(np.log(x[k - 1]) + s * (np.log(x[k]) - np.log(x[k - 1]))))
+    # Round-off of the cumulative sum (e.g. 0.1 + 0.2 + 0.2 < 0.5) must not skip a size.
+    k = int(np.searchsorted(p, fraction - 1e-12, side="left"))
+    return float(x[min(k, len(x) - 1)])
 
 
 @dataclass

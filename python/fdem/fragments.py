@@ -85,13 +85,17 @@ def sizes_and_masses(records):
     return size, np.ones_like(size)
 
 
-def summary(ds):
+def summary(ds, without_largest: bool = False):
     """Per frame: time, fragments, P50 and P80 [m] (mass passing), as an xarray.Dataset
-    on the dimension `frame`."""
+    on the dimension `frame`; with `without_largest`, each frame's largest piece (by
+    mass: the body the others broke off) left out (P50, P80 NaN where none is left)."""
     import xarray as xr
     rows = []
     for k, t in frames(ds):
         size, mass = sizes_and_masses(at_frame(ds, k))
+        if without_largest and len(size):
+            largest = int(np.argmax(mass))
+            size, mass = np.delete(size, largest), np.delete(mass, largest)
         try:
             p50 = analytics.percentile_size(size, mass, 0.5)
             p80 = analytics.percentile_size(size, mass, 0.8)

@@ -6,7 +6,7 @@ block, and variables are numbered rather than named. `load_exodus` undoes all th
 `load_history` reads the CF time-history file. Needs the netCDF4 and numpy modules
 (Debian: python3-netcdf4, for /usr/bin/python3).
 
-    from fdem_load import load_exodus
+    from fdem.load import load_exodus   # tools/fdem_load.py: the same, for old scripts
     exo = load_exodus("out.exo")
     exo.times, exo.x, exo.blocks[0].connectivity, exo.nodal["DISPLX"][-1]
     exo.element_values("SXX", frame=-1)   # all blocks, concatenated

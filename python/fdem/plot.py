@@ -10,7 +10,7 @@
   fdem-plot compare VAR A_history.nc[:LABEL] B_history.nc[:LABEL] [--normalize] [--ms] -o c.png
   fdem-plot bench BENCH.csv[:LABEL] ... -o bench.png
   fdem-plot events OUT [--breaks] [--mc MC] [--dm DM] [--bin-width 0.1] [-o OUT/NAME_events.png]
-  fdem-plot fragments OUT [--frame -1] [-o OUT/NAME_fragments.png]
+  fdem-plot fragments OUT [--frame -1] [--without-largest] [-o OUT/NAME_fragments.png]
 
 OUT is a run's output folder, OUT/NAME when it holds several runs, or one of its files.
 
@@ -653,6 +653,16 @@ def plot_fragments(args):
         raise PlotError(f"{run.files['fragments']}: {exc}")
     frame = int(fragments.frame_of_records(records)[0])
     t = float(records["fragment_time"].values[0]) if "fragment_time" in records else np.nan
+    left_out = ""
+    if args.without_largest:
+        if len(size) < 2:
+            raise PlotError(f"frame {frame} has {len(size)} fragment: nothing left without "
+                            f"the largest")
+        largest = int(np.argmax(mass))
+        left_out = (f" (the largest, {size[largest]:.4g} m and "
+                    f"{100 * mass[largest] / np.sum(mass):.3g}% of the mass, left out)")
+        size, mass = np.delete(size, largest), np.delete(mass, largest)
+        table = fragments.summary(ds, without_largest=True)
     dist = analytics.size_distribution(size, mass)
     x, p = analytics.passing(size, mass)
 
@@ -685,11 +695,15 @@ def plot_fragments(args):
     ax.set_ylabel("mass passing [%]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(loc="upper left", fontsize="small")
-    ax.set_title(f"frame {frame}, t = {t:.4g} s")
+    ax.set_title(f"frame {frame}, t = {t:.4g} s" +
+                 (": without the largest piece" if args.without_largest else ""))
 
     times = table["time"].values
+    scale, unit = (1e6, "µs") if np.nanmax(np.abs(times), initial=0) < 1e-3 else \
+        (1e3, "ms") if np.nanmax(np.abs(times), initial=0) < 1 else (1, "s")
+    times = times * scale
     ax2.plot(times, table["fragments"].values, "o-", color="k", ms=3)
-    ax2.set_xlabel("time [s]")
+    ax2.set_xlabel(f"time [{unit}]")
     ax2.set_ylabel("fragments")
     ax2.grid(True, alpha=0.3)
     ax3 = ax2.twinx()
@@ -703,7 +717,7 @@ def plot_fragments(args):
     output = default_output(run, args, f"fragments_frame{frame}" if args.frame != -1
                             else "fragments")
     save(fig, output)
-    print(f"frame {frame}, t = {t:.6g} s: {dist.n} fragments, P50 = {dist.p50:.6g} m, "
+    print(f"frame {frame}, t = {t:.6g} s: {dist.n} fragments{left_out}, P50 = {dist.p50:.6g} m, "
           f"P80 = {dist.p80:.6g} m; {'; '.join(notes)}")
     print(f"wrote {output}")
 
@@ -831,6 +845,9 @@ def parse_args(argv):
                       help="output folder (or OUT/NAME, or one of the run's files)")
     frag.add_argument("--frame", type=int, default=-1,
                       help="frame index, negative counts from the end (default -1)")
+    frag.add_argument("--without-largest", action="store_true",
+                      help="leave the largest piece (by mass) out of each frame: the "
+                           "body the fragments broke off")
     frag.add_argument("--title", default="", help="plot title")
     frag.add_argument("-o", "--output", default=None,
                       help="image file to write (default OUT/NAME_fragments.png, "
