@@ -374,6 +374,27 @@ class OpenSynthetic(TempDirCase):
         self.assertTrue(np.allclose(size, [1.0, 2.0]))
         self.assertTrue(np.allclose(mass, [np.pi / 4, np.pi]))
 
+    def test_plots_of_empty_files(self):
+        # A run that broke nothing yet: an events file with no records plots empty maps;
+        # a fragments file with its header only is refused, naming the file.
+        write_history(os.path.join(self.dir, "e_history.nc"), [0.0], {})
+        write_events(os.path.join(self.dir, "e_events.nc"),
+                     breaks={"break_time": (np.zeros(0), "s"), "break_x": (np.zeros(0), "m"),
+                             "break_y": (np.zeros(0), "m"),
+                             "break_mode": (np.zeros(0, dtype=np.int32), "1")})
+        rc, text = run_plot("events", self.dir, "-o", os.path.join(self.dir, "e.png"))
+        self.assertEqual(rc, 0, text)
+        self.assertIn("0 breaks (mode I 0, mode II 0, mixed 0), 0 events", text)
+        with netCDF4.Dataset(os.path.join(self.dir, "e_fragments.nc"), "w",
+                             format="NETCDF3_64BIT_OFFSET") as ds:
+            ds.createDimension("fragment_record", None)
+            for name in ("fragment_frame", "fragment_time", "fragment_diameter"):
+                ds.createVariable(name, "f8", ("fragment_record",))
+        rc, text = run_plot("fragments", self.dir, "-o", os.path.join(self.dir, "f.png"))
+        self.assertEqual(rc, 2, text)
+        self.assertIn("e_fragments.nc: the fragments file has no records yet", text)
+        self.assertEqual(fragments.summary(fdem.open(self.dir).fragments).sizes["frame"], 0)
+
     def test_plot_events_and_fragments(self):
         mags = self.make_run()
         out = os.path.join(self.dir, "ev.png")
@@ -468,6 +489,12 @@ class OpenRealRun(TempDirCase):
         exo = fdem.load.load_exodus(run.files["frames"])
         self.assertTrue(np.array_equal(frames["SXX"].values[-1], exo.element_values("SXX", -1)))
         self.assertTrue(np.array_equal(rock["connectivity"].values, exo.blocks[0].connectivity))
+        self.assertEqual(list(run.blocks), ["rock", "cohesive"])
+        self.assertEqual(run.blocks["rock"].sizes["elem"], exo.blocks[0].num_elem)
+        x, y = run.positions(-1)
+        self.assertTrue(np.array_equal(x.values, exo.x + exo.nodal["DISPLX"][-1]))
+        self.assertTrue(np.array_equal(y.values, exo.y + exo.nodal["DISPLY"][-1]))
+        self.assertEqual(x.attrs["units"], "m")
         broken = int(np.sum(ce4["BROKEN"].values[-1] > 0.5))
         self.assertGreater(broken, 0)
         with self.assertRaisesRegex(KeyError, "blocks: rock, cohesive"):

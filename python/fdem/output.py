@@ -101,7 +101,9 @@ class Run:
                with its `units` and `long_name` from the file
     frames     xarray.Dataset of the Exodus file (fdem.load.to_xarray): dimensions time,
                node, elem (blocks concatenated; coordinates `block`, `block_elem`);
-               DISPLX... on (time, node), SXX... on (time, elem), `connectivity`
+               DISPLX... on (time, node), SXX... on (time, elem), `connectivity`;
+               block(name) / blocks: the same for one element block's elements;
+               positions(frame): the current node coordinates
     events     xarray.Dataset of NAME_events.nc (dimension `break`: break_time, break_x,
                break_y, break_length, break_mode, break_energy...; dimension `event`:
                event_start, event_end, event_x, event_y, event_breaks, event_energy,
@@ -164,6 +166,20 @@ class Run:
                 if "elem" in da.dims and "time" in da.dims and da.size
                 and bool(np.all(np.isnan(da.values)))]
         return part.drop_vars(drop)
+
+    @property
+    def blocks(self):
+        """{block name: run.block(name)} for every element block, in file order."""
+        return self._cached("blocks", lambda: {b.name: self.block(b.name)
+                                               for b in self.exodus.blocks})
+
+    def positions(self, frame: int = -1):
+        """Current node coordinates at a frame: x + DISPLX, y + DISPLY (DataArrays on
+        `node`, m)."""
+        f = self.frames.isel(time=frame)
+        x, y = f["x"] + f["DISPLX"], f["y"] + f["DISPLY"]
+        return (x.rename("x_current").assign_attrs(units="m"),
+                y.rename("y_current").assign_attrs(units="m"))
 
     @property
     def events(self):
