@@ -542,6 +542,10 @@ def plot_events(args):
     if ev is None:
         raise PlotError(f"{run.files['events']}: no such file (the run wrote no events: "
                         f"a case without fracture, or a build before the events file)")
+    missing = [v for v in ("break_time", "break_x", "break_y") if v not in ev]
+    if missing:
+        raise PlotError(f"{run.files['events']}: not an events file (no "
+                        f"{', '.join(missing)})")
     bx, by = ev["break_x"].values, ev["break_y"].values
     bt = ev["break_time"].values
     bmode = (np.nan_to_num(ev["break_mode"].values).round().astype(int)
@@ -558,7 +562,8 @@ def plot_events(args):
 
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.2))
     outline = mesh_outline(run)
-    time_unit, time_scale = ("ms", 1e3) if len(bt) and np.nanmax(bt) >= 1e-3 else ("µs", 1e6)
+    last = float(np.nanmax(bt)) if len(bt) else 0.0
+    time_unit, time_scale = ("µs", 1e6) if last < 1e-3 else ("ms", 1e3) if last < 1 else ("s", 1.0)
     for ax in axes[:2]:
         if outline is not None:
             draw_segments(ax, outline[1], outline[2], outline[0], colors="0.55", linewidths=0.6)
