@@ -18,10 +18,16 @@ BRAZILIAN_CURVE := stress-strain --test brazilian --load-region platen_top --sup
 UCS_CURVE := stress-strain --test ucs --load-region platen_top --support-region platen_bottom \
   --size 0.1295 --width 0.0517 --thickness 1
 
+# Breaks, events and fragments of the run in folder $(1), into $(2)events.png and
+# $(2)fragments.png (extra `fdem-plot fragments` flags in $(3)), for a build whose runs
+# write the events and fragments files.
+FRACTURE_PLOTS = if ls $(1)/*_events.nc >/dev/null 2>&1; then $(PLOT) events $(1) -o $(2)events.png; fi && \
+  if ls $(1)/*_fragments.nc >/dev/null 2>&1; then $(PLOT) fragments $(1) $(3) -o $(2)fragments.png; fi
+
 # Debian 12 packages the build, the tests and the tools need.
 DEBS := cmake g++ make pkg-config file ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd \
         libboost-dev libeigen3-dev libnetcdf-dev libtomlplusplus-dev doctest-dev gmsh libmetis-dev \
-        python3-netcdf4 python3-matplotlib python3-numpy
+        python3-netcdf4 python3-matplotlib python3-numpy python3-xarray
 
 .PHONY: all deps build test validate demo clean
 
@@ -68,6 +74,7 @@ validate: build
 	  -o $(VALIDATE_OUT)/blasting_free_cracks.png
 	for f in 50 10 1; do $(PLOT) $(CRACKS) $(VALIDATE_OUT)/wave-penalty-$${f}E/wave-penalty.exo --frames 3 \
 	  --range -20 10 -o $(VALIDATE_OUT)/wave_penalty_$${f}E_900us.png || exit 1; done
+	for run in blasting blasting-free; do $(call FRACTURE_PLOTS,$(VALIDATE_OUT)/$$run,$(VALIDATE_OUT)/$${run}_,--without-largest) || exit 1; done
 	@cat $(VALIDATE_OUT)/wave-penalty.md
 	@echo "validation output, its figures (summary.md) and plots in $(VALIDATE_OUT)/"
 
@@ -81,6 +88,7 @@ demo: build
 	$(BUILD)/fdem run cases/brazilian/case.toml --set output.dir=$(DEMO_OUT) --set output.frames=16 "$$@"
 	$(PLOT) $(BRAZILIAN_CURVE) $(DEMO_OUT)/brazilian_history.nc -o $(DEMO_OUT)/brazilian_stress_strain.png
 	$(PLOT) $(CRACKS) $(DEMO_OUT)/brazilian.exo --frames 7 8 11 --range -5 2 -o $(DEMO_OUT)/brazilian_cracks.png
+	$(call FRACTURE_PLOTS,$(DEMO_OUT),$(DEMO_OUT)/brazilian_)
 	@echo "demo output in $(DEMO_OUT)/: brazilian.exo (open in ParaView), brazilian_history.nc, *.png"
 
 clean:
