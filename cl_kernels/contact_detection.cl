@@ -233,3 +233,61 @@ __kernel void find_couples(const uint n_triangles,
     }
   }
 }
+
+// Bitonic sort of buf[0 .. p) ascending (p a power of two), by the whole work-group.
+inline void bitonic_sort_local(__local ulong* buf, const uint p) {
+  const uint lid = get_local_id(0);
+  for (uint k = 2; k <= p; k <<= 1) {
+    for (uint j = k >> 1; j > 0; j >>= 1) {
+      for (uint i = lid; i < p; i += GROUP_SIZE) {
+        const uint l = i ^ j;
+        if (l > i) {
+          const ulong a = buf[i], b = buf[l];
+          const bool ascending = (i & k) == 0;
+          if ((a > b) == ascending) {
+            buf[i] = b;
+            buf[l] = a;
+          }
+        }
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+  }
+}
+
+// Smallest power of two >= n (n <= SMALL_SORT).
+inline uint sort_width(const uint n) {
+  uint p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+// Launched as ONE work-group (small models: n <= SMALL_SORT, a power of two). Sorts the
+// (hash, triangle) pairs by hash, ties by triangle (so the order a stable sort of the
+// hashes gives, the triangles being in order before): each pair as one ulong
+// hash << 32 | triangle in local memory, a bitonic network, written back. One launch
+// instead of a library sort's many (a small model's detection is launch-bound).
+__kernel void sort_small_pairs(const uint n, __global uint* restrict hash, __global uint* restrict tri) {
+  __local ulong buf[SMALL_SORT];
+  const uint p = sort_width(n);
+  for (uint i = get_local_id(0); i < p; i += GROUP_SIZE)
+    buf[i] = i < n ? ((ulong)hash[i] << 32) | (ulong)tri[i] : (ulong)0xffffffffffffffffUL;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  bitonic_sort_local(buf, p);
+  for (uint i = get_local_id(0); i < n; i += GROUP_SIZE) {
+    hash[i] = (uint)(buf[i] >> 32);
+    tri[i] = (uint)(buf[i] & 0xffffffffUL);
+  }
+}
+
+// Launched as ONE work-group (n <= SMALL_SORT): sorts the couple keys keys[0 .. n)
+// ascending in local memory (bitonic network; the keys are unique, so the order is the
+// one any sort gives).
+__kernel void sort_small_keys(const uint n, __global ulong* restrict keys) {
+  __local ulong buf[SMALL_SORT];
+  const uint p = sort_width(n);
+  for (uint i = get_local_id(0); i < p; i += GROUP_SIZE) buf[i] = i < n ? keys[i] : (ulong)0xffffffffffffffffUL;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  bitonic_sort_local(buf, p);
+  for (uint i = get_local_id(0); i < n; i += GROUP_SIZE) keys[i] = buf[i];
+}

@@ -274,6 +274,10 @@ int check_command(const Arguments& a) {
       std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size
                 << " m, " << couples << " initial candidate couples (boxes overlapping"
                 << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
+      std::cout << "          detection "
+                << (m.contact.rebuild_skin ? "when a node may have moved half the skin, skin " : "every step, skin ")
+                << m.contact.skin << " m" << (m.contact.skin_from_mesh ? " (0.2 x the mean edge: the default)" : "")
+                << "\n";
       // The figure above holds the contact lists at Solver::expected_couples; a first
       // list larger than that grows them further.
       const size_t group = cl.group_size(), expected = fdem::Solver::expected_couples(m);

@@ -50,11 +50,28 @@ struct EdgeOwner {
 
 std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
+}  // namespace
+
+double default_skin(const Model& model) {
+  double sum = 0;
+  size_t edges = 0;
+  for (const auto& tri : model.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      sum += std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]);
+      ++edges;
+    }
+  return edges ? kDefaultSkinFraction * sum / static_cast<double>(edges) : 0.0;
+}
+
+namespace {
+
 ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& config) {
   ContactModel contact;
   contact.enabled = true;
   contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
-  contact.skin = c.skin;
+  contact.skin = c.skin.value_or(0.0);  // a skin rebuild without `skin`: set from the mesh (default_skin)
+  contact.skin_from_mesh = contact.rebuild_skin && !c.skin;
   const size_t n = config.materials.size();
   auto row = [&](double pn, double ptan, double mu, const std::optional<io::ContactDampingConfig>& d) {
     const double T = d ? d->transition : std::numeric_limits<double>::infinity();
@@ -513,6 +530,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   }
   if (config.contact) {
     model.contact = build_contact(*config.contact, config);
+    if (model.contact.skin_from_mesh) model.contact.skin = default_skin(model);
     for (const auto& name : config.contact->regions) {
       int dim = 0;
       const auto nodes = region_nodes(name, config.path + ": contact.regions", &dim);

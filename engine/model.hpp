@@ -82,6 +82,7 @@ struct ContactModel {
   bool enabled = false;
   bool rebuild_skin = false;  // rebuild only when a node moved more than skin/2
   double skin = 0.0;          // [m]
+  bool skin_from_mesh = false;  // `skin` not given: default_skin(model)
   std::vector<double> pair_props;
   std::vector<uint32_t> pair_index;
   double max_normal_penalty = 0.0, max_tangential_penalty = 0.0;
@@ -135,6 +136,13 @@ struct Model {
 // prescribed velocities on one node. Notes (re-oriented triangles, dropped nodes) go to
 // `notes`.
 Model build_model(const io::Mesh& mesh, const io::CaseConfig& config, std::vector<std::string>& notes);
+
+// The contact skin when [contact] gives no `skin` and rebuilds by "skin" (the default):
+// kDefaultSkinFraction × the mean edge length of the model's triangles [m]. A fifth of an
+// element: candidates grow by about that much around each box, and the detection runs
+// again once a node has moved a tenth of an element (docs/case-format.md).
+constexpr double kDefaultSkinFraction = 0.2;
+double default_skin(const Model& model);
 
 // Stable time step estimate over all triangles (the smallest triangle height h over the
 // P-wave speed, reduced by the viscous damping ratio ξ: Δt = h/c (√(1+ξ²) − ξ)), and the

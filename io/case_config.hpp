@@ -149,8 +149,11 @@ struct ContactConfig {
   double friction = 0.0;            // Coulomb μ
   std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
   std::string activation = "all";   // "all" or "fractured"
-  ContactRebuild rebuild = ContactRebuild::Step;
-  double skin = 0.0;                // [m] margin added to the boxes; > 0 with Skin
+  ContactRebuild rebuild = ContactRebuild::Skin;  // the default: the fast path
+  // [m] margin added to the boxes (> 0 with Skin). nullopt: not given; with Skin the model
+  // takes kDefaultSkinFraction × the mean edge length of the mesh (engine/model.cpp), with
+  // Step the boxes are not enlarged.
+  std::optional<double> skin;
   std::vector<ContactPairConfig> pairs;
   // With activation = "fractured": regions (Gmsh physical groups) whose triangles are
   // contact candidates from the start.

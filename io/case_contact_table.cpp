@@ -53,14 +53,12 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
                           r.key_path("activation") + " = \"fractured\" (with \"all\" every "
                           "triangle takes part in contact from the start)");
   if (r.has("regions")) c.regions = *r.strings("regions");
+  // Default "skin": a user who writes neither key gets the fast path, with a margin the
+  // model takes from the mesh (engine/model.cpp) unless `skin` gives it.
   c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
                                                    {"skin", ContactRebuild::Skin}})
-                  .value_or(ContactRebuild::Step);
-  if (c.rebuild == ContactRebuild::Skin && !r.has("skin"))
-    r.fail("rebuild", r.key_path("rebuild") + " = \"skin\" needs " + r.key_path("skin") +
-                          " > 0 (the margin by which the boxes are enlarged)");
-  c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative)
-               .value_or(0.0);
+                  .value_or(ContactRebuild::Skin);
+  c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative);
 
   PairEntries seen;
   c.pairs = read_entries(r, "pair", "", [&](const TableReader& entry) {

@@ -86,8 +86,9 @@ TEST_CASE("contact: defaults, and damping with only an exponent") {
   CHECK(c.contact->friction == 0.0);
   CHECK_FALSE(c.contact->damping.has_value());
   CHECK(c.contact->activation == "all");
-  CHECK(c.contact->rebuild == fdem::io::ContactRebuild::Step);
-  CHECK(c.contact->skin == 0.0);
+  // The fast path by default: skin rebuilds, the margin taken from the mesh (nullopt here).
+  CHECK(c.contact->rebuild == fdem::io::ContactRebuild::Skin);
+  CHECK_FALSE(c.contact->skin.has_value());
   CHECK(c.contact->pairs.empty());
   CHECK(c.contact->regions.empty());
 
@@ -102,11 +103,22 @@ TEST_CASE("contact: defaults, and damping with only an exponent") {
   CHECK(empty.contact->damping->exponent == 1.0);
 
   // A skin with rebuild = "step" is a margin on the boxes; tangential_penalty 0 is allowed.
-  const CaseConfig step = read_case(
-      d.write("c.toml", kContact + "skin = 2e-3\ntangential_penalty = 0\nfriction = 0\n"));
+  const CaseConfig step = read_case(d.write(
+      "c.toml", kContact + "rebuild = \"step\"\nskin = 2e-3\ntangential_penalty = 0\nfriction = 0\n"));
   CHECK(step.contact->rebuild == fdem::io::ContactRebuild::Step);
   CHECK(step.contact->skin == 2e-3);
   CHECK(step.contact->tangential_penalty == 0.0);
+  // "step" alone: no margin; a skin alone is the skin rebuild's margin; "skin" alone takes
+  // its margin from the mesh.
+  const CaseConfig bare_step = read_case(d.write("c.toml", kContact + "rebuild = \"step\"\n"));
+  CHECK(bare_step.contact->rebuild == fdem::io::ContactRebuild::Step);
+  CHECK_FALSE(bare_step.contact->skin.has_value());
+  const CaseConfig skin_only = read_case(d.write("c.toml", kContact + "skin = 2e-3\n"));
+  CHECK(skin_only.contact->rebuild == fdem::io::ContactRebuild::Skin);
+  CHECK(skin_only.contact->skin == 2e-3);
+  const CaseConfig rebuild_only = read_case(d.write("c.toml", kContact + "rebuild = \"skin\"\n"));
+  CHECK(rebuild_only.contact->rebuild == fdem::io::ContactRebuild::Skin);
+  CHECK_FALSE(rebuild_only.contact->skin.has_value());
 }
 
 TEST_CASE("contact errors: [contact] keys") {
@@ -134,12 +146,12 @@ TEST_CASE("contact errors: [contact] keys") {
         contains(":21: unknown key 'exponnt' in contact.damping (did you mean 'exponent'?)"));
   CHECK(error_of(kContact + "damping = 2.0\n") ==
         contains(":21: contact.damping must be a table, found number 2"));
-  CHECK(error_of(kContact + "rebuild = \"skin\"\n") ==
-        contains(":21: contact.rebuild = \"skin\" needs contact.skin > 0"));
   CHECK(error_of(kContact + "rebuild = \"skin\"\nskin = 0\n") ==
         contains(":22: contact.skin = 0 is out of range (allowed: contact.skin > 0)"));
-  CHECK(error_of(kContact + "skin = -1e-3\n") ==
-        contains(":21: contact.skin = -0.001 is out of range (allowed: contact.skin >= 0)"));
+  CHECK(error_of(kContact + "skin = 0\n") ==
+        contains(":21: contact.skin = 0 is out of range (allowed: contact.skin > 0)"));
+  CHECK(error_of(kContact + "rebuild = \"step\"\nskin = -1e-3\n") ==
+        contains(":22: contact.skin = -0.001 is out of range (allowed: contact.skin >= 0)"));
   CHECK(error_of(kContact + "rebuild = \"steps\"\n") ==
         contains(":21: contact.rebuild = \"steps\" is not valid (allowed: \"step\", \"skin\") "
                  "(did you mean \"step\"?)"));

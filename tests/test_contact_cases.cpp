@@ -105,7 +105,7 @@ TEST_CASE("a settled stack: the base carries the total weight within 0.5%, overl
 }
 
 TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
-  test::TempDir every, skin, thin;
+  test::TempDir every, skin, thin, defaults;
   const std::string impact = test::source_path("cases/impact/case.toml");
   const std::vector<std::string> common = {"mesh.size=0.02", "time.end=0.0012", "contact.damping={exponent=2.0}",
                                            "contact.friction=0.3"};
@@ -114,23 +114,34 @@ TEST_CASE("skin rebuilds give the same physics as rebuilding every step") {
     extra.push_back("output.dir=\"" + dir.str() + "\"");
     return extra;
   };
-  test::run(impact, with(every, {}));
+  test::run(impact, with(every, {"contact.rebuild=\"step\""}));
   // A 2 mm skin is tested a few steps late (the host does not wait); a 2 µm skin is too
   // thin for the late test's margin at these speeds, so every step tests its own state.
   test::run(impact, with(skin, {"contact.rebuild=\"skin\"", "contact.skin=2e-3"}));
   test::run(impact, with(thin, {"contact.rebuild=\"skin\"", "contact.skin=2e-6"}));
+  // Neither key (the case as written): the default skin, a fifth of the mean edge.
+  test::run(impact, with(defaults, {}));
   for (const std::string var : {"kinetic_energy", "friction_dissipation", "contact_damping_dissipation", "contact_couples"}) {
     CAPTURE(var);
-    const auto a = history(every, "impact", var), b = history(skin, "impact", var), c = history(thin, "impact", var);
+    const auto a = history(every, "impact", var), b = history(skin, "impact", var), c = history(thin, "impact", var),
+               d = history(defaults, "impact", var);
     REQUIRE(a.size() == b.size());
     REQUIRE(a.size() == c.size());
+    REQUIRE(a.size() == d.size());
     CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
     CHECK(std::memcmp(a.data(), c.data(), a.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(a.data(), d.data(), a.size() * sizeof(double)) == 0);
   }
-  const auto rebuilds_skin = history(skin, "impact", "contact_rebuilds"), rebuilds_thin = history(thin, "impact", "contact_rebuilds");
-  MESSAGE("contact rebuilds: skin 2 mm " << rebuilds_skin.back() << ", skin 2 µm " << rebuilds_thin.back());
+  const auto rebuilds_skin = history(skin, "impact", "contact_rebuilds"), rebuilds_thin = history(thin, "impact", "contact_rebuilds"),
+             rebuilds_every = history(every, "impact", "contact_rebuilds"),
+             rebuilds_default = history(defaults, "impact", "contact_rebuilds");
+  MESSAGE("contact rebuilds: every step " << rebuilds_every.back() << ", skin 2 mm " << rebuilds_skin.back()
+                                          << ", skin 2 µm " << rebuilds_thin.back() << ", default skin "
+                                          << rebuilds_default.back());
   CHECK(rebuilds_skin.back() < rebuilds_thin.back());
+  CHECK(rebuilds_default.back() < rebuilds_every.back() / 4);  // the default is the fast path
   CHECK(history(skin, "impact", "contact_candidates").back() >= history(every, "impact", "contact_candidates").back());
+  CHECK(history(defaults, "impact", "contact_candidates").back() >= history(every, "impact", "contact_candidates").back());
 }
 
 }  // TEST_SUITE

@@ -257,6 +257,28 @@ TEST_CASE("the radix-sort path (Boost.Compute's GPU path) gives the same couples
   CHECK(b == brute_force(m, model_positions(m), 0.005));
 }
 
+TEST_CASE("small models: the one-work-group sorts give the couples of the brute force and of the library's sorts") {
+  auto& cl = test::context();
+  // 60 and 300 triangles: both sorts in local memory; 1500: the (hash, triangle) sort in
+  // local memory, the couples (more than kSmallSort) through Boost.Compute.
+  for (int n : {60, 300, 1500}) {
+    CAPTURE(n);
+    std::mt19937 rng(51 + n);
+    const Model m = varied_soup(n, rng);
+    DeviceArrays arrays(cl, m);
+    ContactDetection small(cl, arrays, 0.005);
+    ContactDetection library(cl, arrays, 0.005);
+    library.use_radix_sort(true);
+    const auto a = detect(cl, small);
+    MESSAGE(n << " triangles: " << a.size() << " couples");
+    CHECK(a.size() > 10);
+    CHECK(a == detect(cl, library));
+    CHECK(a == brute_force(m, model_positions(m), 0.005));
+    if (n == 300) CHECK(a.size() <= ContactDetection::kSmallSort);
+    if (n == 1500) CHECK(a.size() > ContactDetection::kSmallSort);
+  }
+}
+
 TEST_CASE("two runs, and two stages, give identical couple lists") {
   auto& cl = test::context();
   std::mt19937 rng(51);

@@ -441,3 +441,38 @@ TEST_CASE("mesh.refine: an integer >= 0, 0 when absent, settable with --set, mis
 }
 
 }  // TEST_SUITE("case")
+
+TEST_SUITE("case") {
+
+// [contact] without `rebuild` or `skin` (issue 13): rebuild "skin", the margin a fifth of
+// the mean edge length. The bar's cells are 0.5 × 0.25 m, each cut by a diagonal: every
+// triangle has edges 0.5, 0.25 and √(0.5² + 0.25²).
+TEST_CASE("contact defaults: skin rebuild, margin a fifth of the mean edge, halving per refine level") {
+  const Mesh mesh = bar_mesh();
+  const double mean_edge = (0.5 + 0.25 + std::sqrt(0.5 * 0.5 + 0.25 * 0.25)) / 3;
+  for (int n = 0; n <= 2; ++n) {
+    CAPTURE(n);
+    auto config = bar_config(n);
+    config.contact = fdem::io::ContactConfig{};
+    config.contact->normal_penalty = 1e9;
+    std::vector<std::string> notes;
+    const Model m = fdem::build_model(mesh, config, notes);
+    CHECK(m.contact.rebuild_skin);
+    CHECK(m.contact.skin_from_mesh);
+    CHECK(m.contact.skin == doctest::Approx(0.2 * mean_edge / (1 << n)).epsilon(1e-12));
+    // A given skin is kept; "step" without a skin does not enlarge the boxes.
+    config.contact->skin = 1e-3;
+    const Model given = fdem::build_model(mesh, config, notes);
+    CHECK(given.contact.rebuild_skin);
+    CHECK_FALSE(given.contact.skin_from_mesh);
+    CHECK(given.contact.skin == 1e-3);
+    config.contact->skin.reset();
+    config.contact->rebuild = fdem::io::ContactRebuild::Step;
+    const Model step = fdem::build_model(mesh, config, notes);
+    CHECK_FALSE(step.contact.rebuild_skin);
+    CHECK_FALSE(step.contact.skin_from_mesh);
+    CHECK(step.contact.skin == 0.0);
+  }
+}
+
+}  // TEST_SUITE("case")

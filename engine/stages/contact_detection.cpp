@@ -107,7 +107,8 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   upload(cl, dims_, std::vector<cl_uint>{1, 1, 1, 0});
 
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(group)},
-                                                            {"NO_PARTNER", std::to_string(kNoPartner) + "u"}};
+                                                            {"NO_PARTNER", std::to_string(kNoPartner) + "u"},
+                                                            {"SMALL_SORT", std::to_string(kSmallSort)}};
   if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
   const auto program = cl.build(kernel_source::contact_detection, defines);
   const cl_uint nt = static_cast<cl_uint>(count_);
@@ -137,6 +138,16 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   bind_args(range_kernel_)("n_triangles", nt)("sorted_hash", hash_)("cell_first", cell_first_)(
       "cell_last", cell_last_)
       .done();
+
+  small_pairs_kernel_ = compute::kernel(program, "sort_small_pairs");
+  bind_args(small_pairs_kernel_)("n", nt)("hash", hash_)("tri", tri_).done();
+  small_keys_kernel_ = compute::kernel(program, "sort_small_keys");
+  {
+    KernelArgs k(small_keys_kernel_);
+    small_keys_count_ = k.later("n", cl_uint(0));
+    small_keys_keys_ = k.later("keys", keys_);
+    k.done();
+  }
 
   couples_kernel_ = compute::kernel(program, "find_couples");
   KernelArgs couples(couples_kernel_);
@@ -181,6 +192,8 @@ size_t ContactDetection::run() {
   try {
     if (force_radix_)
       compute::detail::radix_sort_by_key(at<cl_uint>(hash_, 0), at<cl_uint>(hash_, count_), at<cl_uint>(tri_, 0), queue);
+    else if (count_ <= kSmallSort)
+      cl_.enqueue(small_pairs_kernel_, cl_.group_size());  // one work-group
     else
       compute::sort_by_key(at<cl_uint>(hash_, 0), at<cl_uint>(hash_, count_), at<cl_uint>(tri_, 0), queue);
   } catch (const compute::opencl_error& e) {
@@ -202,10 +215,15 @@ size_t ContactDetection::run() {
   // 6. Canonical order.
   if (found > 1) {
     try {
-      if (force_radix_)
+      if (force_radix_) {
         compute::detail::radix_sort(at<cl_ulong>(keys_, 0), at<cl_ulong>(keys_, found), queue);
-      else
+      } else if (found <= kSmallSort) {
+        small_keys_count_.set(static_cast<cl_uint>(found));
+        small_keys_keys_.set(keys_);
+        cl_.enqueue(small_keys_kernel_, cl_.group_size());  // one work-group
+      } else {
         compute::sort(at<cl_ulong>(keys_, 0), at<cl_ulong>(keys_, found), queue);
+      }
     } catch (const compute::opencl_error& e) {
       throw DeviceError(std::string("contact detection: sorting the couples failed: ") + e.what());
     }

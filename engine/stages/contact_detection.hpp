@@ -21,6 +21,9 @@ class ContactDetection {
   ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
                    const std::vector<std::array<int, 2>>& bonds = {});
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
+  // Sorts of at most this many entries run in one work-group's local memory (16 KiB of
+  // ulongs), not through Boost.Compute (use_radix_sort(true) still forces the library's).
+  static constexpr size_t kSmallSort = 2048;
   // The couples the output holds at first (initial_capacity 0: 8 per triangle), and the
   // capacity it grows to when a scan finds `needed` couples (×1.5).
   static size_t first_capacity(size_t triangles, size_t initial_capacity = 0) {
@@ -74,6 +77,11 @@ class ContactDetection {
   compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_;
   compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
   compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
+  // Sorts of up to kSmallSort entries: one work-group in local memory (a small model's
+  // detection would otherwise spend its time launching the library sort's passes).
+  compute::kernel small_pairs_kernel_, small_keys_kernel_;
+  KernelArg<cl_uint> small_keys_count_;
+  KernelArg<compute::buffer> small_keys_keys_;
   KernelArg<cl_uint> couples_capacity_;
   KernelArg<compute::buffer> couples_keys_;
 };

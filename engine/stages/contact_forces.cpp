@@ -19,8 +19,7 @@ constexpr int kHistory = layout::CONTACT_HISTORY;
 MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
   return MemoryPlan()
       .add("contact_keys", capacity * sizeof(cl_ulong))
-      .add("contact_history 0", capacity * kHistory * sizeof(real))
-      .add("contact_history 1", capacity * kHistory * sizeof(real))
+      .add("contact_history", capacity * kHistory * sizeof(real))
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
       .add("contact couple_stored", std::max<size_t>(1, capacity) * sizeof(real))
@@ -33,6 +32,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
       .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
       .add(couple_arrays(first_capacity(model.num_triangles()), group_size))
+      .add(ContactCarry::plan(model.num_triangles(), first_capacity(model.num_triangles()), group_size))
       .add("contact_pair_index", model.contact.pair_index.size() * sizeof(cl_uint))
       .add("contact_pair_props", model.contact.pair_props.size() * sizeof(real));
   if (own_mask)
@@ -41,7 +41,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active)
-    : cl_(cl), arrays_(a) {
+    : cl_(cl), arrays_(a), carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -71,8 +71,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
   capacity_ = first_capacity(a.num_triangles);
   keys_ = arrays.allocate(cl, "contact_keys");
-  history_[0] = arrays.allocate(cl, "contact_history 0");
-  history_[1] = arrays.allocate(cl, "contact_history 1");
+  history_ = arrays.allocate(cl, "contact_history");
   list_capacity_ = capacity_;
   allocate_list(arrays);
 
@@ -89,9 +88,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     ones_ = arrays.allocate(cl, "contact candidate mask (all)");
     upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
   }
+  active_ = active ? *active : ones_;
   const cl_uint none = 0;
   KernelArgs f(forces_);
-  forces_list_.bind_list(f, keys_, history_[0], history_[1]);
+  forces_list_.bind_list(f, keys_, history_, history_);
   f("tri_nodes", a.tri_nodes)("tri_material", a.tri_material)("n_materials", static_cast<cl_uint>(n_materials))(
       "pair_index", pair_index_)("pair_props", pair_props_)("position", a.position)("velocity", a.velocity)(
       "thickness", static_cast<real>(model.thickness));
@@ -103,12 +103,12 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_list_.live = f.later("live", live_);
   forces_energy_row_ = f.later("energy_row", none);
   forces_couple_stored_ = f.later("couple_stored", couple_stored_);
-  f("active", active ? *active : ones_);
+  f("active", active_);
   forces_joined_since_ = f.later("joined_since", none);
   f.done();
 
   KernelArgs c(classify_);
-  classify_list_.bind_list(c, keys_, history_[0], history_[1]);
+  classify_list_.bind_list(c, keys_, history_, history_);
   c("tri_nodes", a.tri_nodes)("position", a.position)("energy_scale", static_cast<real>(energy_scale_))(
       "energy", energy_);
   classify_list_.same_list = c.later("same_list", none);
@@ -124,7 +124,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   KernelArgs r(release_);
   release_previous_count_ = r.later("n_previous", none);
   release_previous_keys_ = r.later("previous_keys", keys_);
-  release_previous_history_ = r.later("previous_history", history_[0]);
+  release_previous_history_ = r.later("previous_history", history_);
   release_count_ = r.later("n_couples", none);
   release_keys_ = r.later("keys", keys_);
   r("energy_scale", static_cast<real>(energy_scale_))("energy", energy_).done();
@@ -153,18 +153,30 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
                             long step) {
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
-  const int next = new_list ? 1 - current_ : current_;
-  if (new_list && count > capacity_) {
-    // Grow the write side now; the previous list and history stay readable for this call.
-    history_[next] = couple_arrays(grown(count), cl_.group_size()).allocate(cl_, "contact_history " + std::to_string(next));
+  // Joins since the last list (activation runs before detection in a step, so a join in
+  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
+  const cl_uint joined_since = ContactActivation::join_stamp(last_list_step_ + 1);
+  // A new list: the couples of the last list that hold a history (and those next to a
+  // join) go to the carry list, where the new list finds them by key; the one history
+  // array is then rewritten in place (ContactCarry). Between detections the list and its
+  // history stay in place.
+  size_t carried = 0;
+  if (new_list) {
+    carried = carry_.carry(keys_, history_, live_, active_, count_, joined_since);
+    if (count > capacity_) {
+      capacity_ = grown(count);
+      const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
+      history_ = arrays.allocate(cl_, "contact_history");  // what it held is carried
+      keys_ = arrays.allocate(cl_, "contact_keys");
+    }
   }
-  if (new_list && count_ > 0) {
-    release_previous_count_.set(static_cast<cl_uint>(count_));
-    release_previous_keys_.set(keys_);
-    release_previous_history_.set(history_[current_]);
+  if (carried > 0) {
+    release_previous_count_.set(static_cast<cl_uint>(carried));
+    release_previous_keys_.set(carry_.keys());
+    release_previous_history_.set(carry_.history());
     release_count_.set(static_cast<cl_uint>(count));
     release_keys_.set(keys);
-    cl_.enqueue(release_, count_);
+    cl_.enqueue(release_, carried);
   }
   if (count > list_capacity_) {
     list_capacity_ = grown(count);
@@ -180,10 +192,10 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   for (ListArgs* list : {&classify_list_, &forces_list_}) {
     list->count.set(static_cast<cl_uint>(count));
     list->keys.set(list_keys);
-    list->previous_count.set(static_cast<cl_uint>(count_));
-    list->previous_keys.set(keys_);
-    list->previous_history.set(history_[current_]);
-    list->history.set(history_[next]);
+    list->previous_count.set(static_cast<cl_uint>(new_list ? carried : count_));
+    list->previous_keys.set(new_list ? carry_.keys() : keys_);
+    list->previous_history.set(new_list ? carry_.history() : history_);
+    list->history.set(history_);
     list->same_list.set(same_list);
     list->overlap_list.set(overlap_list_);
     list->live.set(live_);
@@ -192,9 +204,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_dt_.set(static_cast<real>(dt));
   forces_energy_row_.set(energy_row ? 1 : 0);
   forces_couple_stored_.set(couple_stored_);
-  // Joins since the last list (activation runs before detection in a step, so a join in
-  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
-  forces_joined_since_.set(ContactActivation::join_stamp(last_list_step_ + 1));
+  forces_joined_since_.set(joined_since);
   if (new_list) last_list_step_ = step;
   cl_.enqueue(forces_, count);
   if (energy_row) {
@@ -207,14 +217,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     }
   }
   if (new_list) {
-    if (count > capacity_) {
-      capacity_ = grown(count);
-      const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
-      keys_ = arrays.allocate(cl_, "contact_keys");  // the kernel holds the old one
-      history_[current_] = arrays.allocate(cl_, "contact_history " + std::to_string(current_));
-    }
     if (count) cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
-    current_ = next;
     count_ = count;
   }
 }
@@ -243,7 +246,7 @@ double ContactForces::dissipated_energy() {
   return static_cast<double>(e[layout::ENERGY_FRICTION] + e[layout::ENERGY_DAMPING]) / energy_scale_;
 }
 
-std::vector<real> ContactForces::history() { return download<real>(cl_, history_[current_], count_ * kHistory); }
+std::vector<real> ContactForces::history() { return download<real>(cl_, history_, count_ * kHistory); }
 std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
 std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, couple_stored_, count_); }
 
@@ -251,7 +254,7 @@ void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));
   out.integer("contact_last_list_step", static_cast<std::int64_t>(last_list_step_));
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
-  out.buffer<real>("contact_history", history_[current_], count_, kHistory);
+  out.buffer<real>("contact_history", history_, count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
   out.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
@@ -263,15 +266,14 @@ void ContactForces::load_state(StateReader& in) {
     capacity_ = grown(count_);
     const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
     keys_ = arrays.allocate(cl_, "contact_keys");
-    history_[0] = arrays.allocate(cl_, "contact_history 0");
-    history_[1] = arrays.allocate(cl_, "contact_history 1");
+    history_ = arrays.allocate(cl_, "contact_history");
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
     allocate_list(couple_arrays(list_capacity_, cl_.group_size()));
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
-  in.buffer<real>("contact_history", history_[current_], count_, kHistory);
+  in.buffer<real>("contact_history", history_, count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
   in.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }

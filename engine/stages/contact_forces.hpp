@@ -6,6 +6,7 @@
 #include "engine/device_arrays.hpp"
 #include "engine/kernel_args.hpp"
 #include "engine/model.hpp"
+#include "engine/stages/contact_carry.hpp"
 
 namespace fdem {
 
@@ -19,14 +20,14 @@ class ContactForces {
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
-  // about 170 bytes a couple; couples grow slowly once the first detection has run).
+  // about 120 bytes a couple; couples grow slowly once the first detection has run).
   static size_t first_capacity(size_t triangles) { return std::max<size_t>(1024, 4 * triangles); }
   static size_t grown(size_t count) { return count + count / 8 + 1024; }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `own_mask`: no candidate mask is given, the stage holds one of all ones).
   static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask);
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
-  // grows allocates again): keys, two histories, overlap list, live flags, stored energies.
+  // grows allocates again): keys, history, overlap list, live flags, stored energies.
   static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
@@ -73,9 +74,10 @@ class ContactForces {
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
   compute::kernel classify_, forces_, clear_, release_;
-  compute::buffer keys_, history_[2], energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
+  compute::buffer keys_, history_, energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
-  int current_ = 0;
+  ContactCarry carry_;      // the histories a new list carries over (one history array, in place)
+  compute::buffer active_;  // the candidate mask (the detection's, or ones_)
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
   // The arguments set at each enqueue, per kernel.

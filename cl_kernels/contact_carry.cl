@@ -1,0 +1,102 @@
+// Contact history carry-over at a new detection (engine/stages/contact_carry.hpp).
+// Only couples whose live flag is nonzero hold a history (a couple that stopped
+// overlapping had its history cleared by contact_forces.cl's forget_couple), so before
+// the detection rewrites the list, the keys and histories of those couples are copied,
+// in list order (so still sorted by key), to a compact carry list. The new list then
+// finds its couples' histories there by key, and the one history array of the contact
+// stage is rewritten in place. Also carried, with their (zero) history: couples of which
+// a triangle joined the candidates since the last list (mask value >= joined_since), so
+// that contact_forces still sees them as old couples (found), not as couples met over
+// an overlap because of the join (under "fractured" the two triangles of a CE4 are a
+// couple before either joins).
+//
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
+// Layout: CONTACT_HISTORY reals per couple (engine/layouts.hpp).
+
+// Exclusive prefix sum of `value` over the work-group (Hillis-Steele in local memory);
+// *total receives the group's sum. Every work-item of the group must call it.
+inline uint group_exclusive_scan(__local uint* scratch, const uint value, uint* total) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint offset = 1; offset < GROUP_SIZE; offset <<= 1) {
+    const uint add = lid >= offset ? scratch[lid - offset] : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    scratch[lid] += add;
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  const uint inclusive = scratch[lid];
+  *total = scratch[GROUP_SIZE - 1];
+  barrier(CLK_LOCAL_MEM_FENCE);  // scratch is free again
+  return inclusive - value;
+}
+
+// Whether couple c of the list is carried: live, or a triangle joined since the last list.
+inline uint carried(const uint c, const uint n_couples, __global const uchar* live, __global const ulong* keys,
+                    __global const uint* active, const uint joined_since) {
+  if (c >= n_couples) return 0u;
+  if (live[c] != 0) return 1u;
+  const ulong key = keys[c];
+  return (active[(uint)(key >> 32)] >= joined_since || active[(uint)(key & 0xffffffffu)] >= joined_since) ? 1u : 0u;
+}
+
+// One work-item per couple c of the current list: the number of carried couples in its
+// work-group goes to group_counts[group].
+__kernel void carry_count(const uint n_couples,
+                          __global const uchar* restrict live,
+                          __global const ulong* restrict keys,
+                          __global const uint* restrict active,
+                          const uint joined_since,
+                          __global uint* restrict group_counts) {
+  __local uint scratch[GROUP_SIZE];
+  const uint c = get_global_id(0);
+  const uint flag = carried(c, n_couples, live, keys, active, joined_since);
+  uint total;
+  group_exclusive_scan(scratch, flag, &total);
+  if (get_local_id(0) == 0) group_counts[get_group_id(0)] = total;
+}
+
+// Launched as ONE work-group. Replaces group_counts[0 .. n_groups) by their exclusive
+// prefix sums (work-item l takes a contiguous run of groups) and writes the number of
+// carried couples to carry_count[0].
+__kernel void carry_offsets(const uint n_groups,
+                            __global uint* restrict group_counts,
+                            __global uint* restrict carry_count) {
+  __local uint scratch[GROUP_SIZE];
+  const uint lid = get_local_id(0);
+  const uint per = (n_groups + GROUP_SIZE - 1) / GROUP_SIZE;
+  const uint first = min(lid * per, n_groups), last = min(first + per, n_groups);
+  uint sum = 0;
+  for (uint g = first; g < last; ++g) sum += group_counts[g];
+  uint total;
+  uint running = group_exclusive_scan(scratch, sum, &total);
+  for (uint g = first; g < last; ++g) {
+    const uint count = group_counts[g];
+    group_counts[g] = running;
+    running += count;
+  }
+  if (lid == 0) carry_count[0] = total;
+}
+
+// One work-item per couple c of the current list: a carried couple copies its key and
+// history to the carry list at its rank among the carried couples (group offset + rank
+// in the group), so the carry list keeps the list's (ascending key) order.
+__kernel void carry_scatter(const uint n_couples,
+                            __global const uchar* restrict live,
+                            __global const ulong* restrict keys,
+                            __global const uint* restrict active,
+                            const uint joined_since,
+                            __global const real* restrict history,
+                            __global const uint* restrict group_offsets,
+                            __global ulong* restrict carry_keys,
+                            __global real* restrict carry_history) {
+  __local uint scratch[GROUP_SIZE];
+  const uint c = get_global_id(0);
+  const uint flag = carried(c, n_couples, live, keys, active, joined_since);
+  uint total;
+  const uint rank = group_exclusive_scan(scratch, flag, &total);
+  if (!flag) return;
+  const uint slot = group_offsets[get_group_id(0)] + rank;
+  carry_keys[slot] = keys[c];
+  for (int h = 0; h < CONTACT_HISTORY; ++h) carry_history[CONTACT_HISTORY * slot + h] = history[CONTACT_HISTORY * c + h];
+}
