@@ -67,9 +67,11 @@ class ClContext {
   // The bytes allocate(bytes) takes: an empty array gets one real (OpenCL has no empty buffers).
   static std::size_t allocation_size(std::size_t bytes);
   // Bytes of the buffers allocate() made that are still alive (OpenCL destructor
-  // callbacks count them down), and the most there ever were.
+  // callbacks count them down), and the most there ever were (since the last
+  // restart_device_bytes_peak(), which sets the peak to what is in use now).
   std::size_t device_bytes_in_use() const { return live_->bytes.load(); }
   std::size_t device_bytes_peak() const { return live_->peak.load(); }
+  void restart_device_bytes_peak() { live_->peak.store(live_->bytes.load()); }
 
   void finish();  // waits for the queue; DeviceError on failure
 
