@@ -55,7 +55,8 @@ class MemoryPlan {
   // Device bytes the resident arrays hold (each as ClContext::allocate rounds it).
   std::size_t resident() const { return sum(Lifetime::Resident); }
   // Bytes allocated through ClContext while the Solver is built (resident + set-up arrays):
-  // ClContext::device_bytes_peak rises by this much during the construction.
+  // ClContext::device_bytes_peak rises by at most this much during the construction (by
+  // less when set-up arrays are counted out before the last resident ones are made).
   std::size_t construction_peak() const { return resident() + sum(Lifetime::SetUp); }
   // The largest transient array (set-up or scratch; no two of them exist at once).
   std::size_t largest_transient() const {
