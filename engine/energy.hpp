@@ -18,8 +18,9 @@ struct EnergyTotals {
   double viscous = 0, local_damping = 0, friction = 0, contact_damping = 0, fracture = 0, absorbed = 0;
   // Supplied [J], cumulative from t = 0.
   double boundary_work = 0, load_work = 0;
-  // Round-off of the stored terms [J]: the contact potentials are computed from absolute
-  // positions, each known to ε |x|, which bounds what the balance can resolve.
+  // Round-off of the stored terms [J]: the strain energy and the contact potentials are
+  // computed from absolute positions, each known to ε |x|, which bounds what the balance
+  // can resolve (Solver::energy; docs/case-format.md, energy_error).
   double resolution = 0;
 
   double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential; }

@@ -184,15 +184,19 @@ bool may_change(const std::string& key) {
   return key == "time.end" || key == "time.steps" || key.rfind("output.", 0) == 0 || key == "output";
 }
 
+// The version of what a checkpoint holds; a change of its contents changes it.
+const char* const kCheckpointFormat = "3";
+
 // Refuses a checkpoint that does not fit the case (InputError, exit 2).
 void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std::string& path) {
   const auto text = [&](const char* key) {
     const auto it = data.text.find(key);
     return it == data.text.end() ? std::string() : it->second;
   };
-  if (text("format_version") != "2")
-    throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") +
-                     "'; this fdem reads version 2");
+  // 3 (2026-12-02): the break catalogue, and contact histories in one array.
+  if (text("format_version") != kCheckpointFormat)
+    throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") + "'; this fdem reads version " +
+                     kCheckpointFormat + ": continue that run with the fdem that wrote it, or start it again");
   const std::string precision = kDoublePrecision ? "double" : "float";
   if (text("precision") != precision)
     throw InputError("checkpoint '" + path + "' was written by a " + text("precision") + "-precision build; this is a " +
@@ -388,7 +392,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     io::CheckpointData data;
     StateWriter out(cl, data);
     solver.save_state(out);
-    data.text["format_version"] = "2";
+    data.text["format_version"] = kCheckpointFormat;
     data.text["precision"] = kDoublePrecision ? "double" : "float";
     data.text["device"] = cl.description();
     data.text["case_path"] = config.path;

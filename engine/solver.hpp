@@ -157,6 +157,7 @@ class Solver {
   Integrate integrate_;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;
+  double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
   compute::buffer saved_position_, saved_velocity_;
