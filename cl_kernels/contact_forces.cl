@@ -110,7 +110,7 @@ inline void integrate_potential(const real l0[3], const real l1[3], const real r
     const real g = fmax((real)0, fmin(l0[0] + t * (l1[0] - l0[0]), fmin(l0[1] + t * (l1[1] - l0[1]), l0[2] + t * (l1[2] - l0[2]))));
     const real w = t - prev_s;
     i_all += w * (real)0.5 * (prev_g + g);
-    i_s += w * (prev_g * ((real)2 * prev_s + t) + g * (prev_s + (real)2 * t));  // × 6
+    i_s += w * (prev_g * ((real)2 * prev_s + t) + g * (prev_s + (real)2 * t)) / (real)6;
     // inside the other triangle on this piece: the potential's minimum at its middle is ≥ 0
     const real mid = (real)0.5 * (prev_s + t);
     const real gm = fmin(l0[0] + mid * (l1[0] - l0[0]), fmin(l0[1] + mid * (l1[1] - l0[1]), l0[2] + mid * (l1[2] - l0[2])));
@@ -118,8 +118,8 @@ inline void integrate_potential(const real l0[3], const real l1[3], const real r
     prev_s = t;
     prev_g = g;
   }
-  *I1 = i_s / (real)6;  // one division a pass, not seven
-  *I0 = i_all - *I1;
+  *I1 = i_s;
+  *I0 = i_all - i_s;
   *inside = length;
 }
 
@@ -373,12 +373,12 @@ inline void old_spring(real2 xo[2][3], real lvo[2][3][3], real2 v[2][3], const i
   const real s = I > (real)0 ? I1 / I : (real)0.5;  // I > 0 but for rounding: the pass held a force
   const real2 edge = xo[dir][(e + 1) % 3] - xo[dir][e];
   const real L = length(edge);
-  real2 vB3 = (real2)(0, 0);  // 3 × B's velocity at the acting point
+  real2 vB = (real2)(0, 0);
   for (int m = 0; m < 3; ++m)
-    vB3 += ((1 - s) * lvo[dir][e][(m + 1) % 3] + s * lvo[dir][(e + 1) % 3][(m + 1) % 3]) * v[B][m];
+    vB += ((1 - s) * lvo[dir][e][(m + 1) % 3] + s * lvo[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3 * v[B][m];
   const real2 vA = (1 - s) * v[dir][e] + s * v[dir][(e + 1) % 3];
   *k_prev = k_per_length * L;
-  *move = dot(vA - vB3 / (real)3, edge) / L * dt;
+  *move = dot(vA - vB, edge / L) * dt;
 }
 
 // One work-item per entry k of overlap_list (launched over all couples; those past the
@@ -581,7 +581,6 @@ __kernel void contact_forces(const uint n_couples,
 
   const bool friction = mu != (real)0 && Ptan != (real)0;
   const real kn = ratio * Pn * thickness;  // normal force per unit ∫φ ds
-  const real kn_third = kn / (real)3;      // lv are 3 × the barycentric weights
   real friction_lost = (real)0, pending = (real)0;
   // The last step's positions and barycentric values, for the work of the last step's
   // friction forces (old_spring); only where a spring holds a slip.
@@ -602,7 +601,7 @@ __kernel void contact_forces(const uint n_couples,
       const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
       const real2 edge = pb - pa;
       const real L = length(edge);
-      const real2 tangent = edge * ((real)1 / L);
+      const real2 tangent = edge / L;
       const real stiffness = Ptan * L * thickness;  // the slip spring: whole edge (header note)
       const real previous = hist[p];                // slip of the last step
       if (!(I > (real)0)) {
@@ -619,15 +618,14 @@ __kernel void contact_forces(const uint n_couples,
       // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
       const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
       real2 fA0 = -kn * I0[p] * nL, fA1 = -kn * I1[p] * nL, fB[3];
-      for (int m = 0; m < 3; ++m) fB[m] = kn_third * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) * nL;
+      for (int m = 0; m < 3; ++m) fB[m] = kn * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL;
 
       // Friction (Eq. 16): elastic slip at the normal force's acting point s*, returned to
       // the Coulomb cap μ F_n.
       if (friction) {
-        const real third = (real)1 / (real)3;
         const real s = I1[p] / I;
         real wB[3];
-        for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) * third;
+        for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
         const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
         const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
         const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
