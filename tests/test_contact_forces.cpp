@@ -139,10 +139,8 @@ class CoupleRunner {
  public:
   // `mask`: the candidate mask (activation "fractured": ContactActivation::join_stamp of
   // the step a triangle joined); empty: none (every triangle a candidate from the start).
-  explicit CoupleRunner(const Model& m, const std::vector<cl_uint>& mask = {},
-                        ContactForces::Classify classify = ContactForces::Classify::device_default)
-      : arrays_(test::context(), m), mask_(make_mask(mask)),
-        forces_(test::context(), arrays_, m, mask.empty() ? nullptr : &mask_, classify) {
+  explicit CoupleRunner(const Model& m, const std::vector<cl_uint>& mask = {})
+      : arrays_(test::context(), m), mask_(make_mask(mask)), forces_(test::context(), arrays_, m, mask.empty() ? nullptr : &mask_) {
     keys_ = test::context().allocate(sizeof(cl_ulong), "keys");
     upload(test::context(), keys_, std::vector<cl_ulong>{(cl_ulong(0) << 32) | 1u});
   }
@@ -380,37 +378,6 @@ TEST_CASE("friction on a deforming couple: each step's force does work on the mo
                                                << largest << " J");
   CHECK(r.friction > 0.5 * work);  // it slipped
   CHECK(largest < 1e-7 * work);
-}
-
-TEST_CASE("separation test inside contact_forces (CPU devices) and contact_classify with its list (GPUs) give the same result to the bit") {
-  // Random couples, apart, touching and overlapping, moved over several steps (a new list
-  // at each couple's first step, then the same list in place), with friction: the forces,
-  // history, energies and touching count of the two paths on this device agree exactly.
-  TwoTriangles two(1e10, 1e12, 0.5, 1e7, 1.5, 1e-3);  // damped (Eq. 15) as well
-  CoupleRunner separate(two.model, {}, ContactForces::Classify::separate);
-  CoupleRunner fused(two.model, {}, ContactForces::Classify::fused);
-  std::mt19937 rng(2024);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  int overlapping = 0, apart = 0;
-  for (int trial = 0; trial < 60; ++trial) {
-    const auto c = random_triangle(rng, Vector2d(0.2, 0.1), 1e-3);
-    const auto t = random_triangle(rng, Vector2d(0.2, 0.1) + 1.6e-3 * Vector2d(u(rng), u(rng)), 1e-3);
-    std::array<Vector2d, 6> x{c[0], c[1], c[2], t[0], t[1], t[2]}, v;
-    for (auto& w : v) w = 0.3 * Vector2d(u(rng), u(rng));
-    for (int s = 0; s < 6; ++s) {
-      const auto a = separate.step(x, v, 1e-5, s == 0, 1, s);
-      const auto b = fused.step(x, v, 1e-5, s == 0, 1, s);
-      for (int k = 0; k < 6; ++k) CHECK(a.force[k] == b.force[k]);
-      CHECK(a.history == b.history);
-      CHECK(a.dissipated == b.dissipated);
-      CHECK(a.stored == b.stored);
-      CHECK(a.touching == b.touching);
-      (a.touching ? overlapping : apart) += 1;
-      for (int k = 0; k < 6; ++k) x[k] += 1e-5 * v[k];
-    }
-  }
-  CHECK(overlapping > 30);
-  CHECK(apart > 30);
 }
 
 TEST_CASE("two-triangle normal force agrees with plain fine quadrature") {

@@ -40,8 +40,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   return p;
 }
 
-ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
-                             Classify classify)
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active)
     : cl_(cl), arrays_(a) {
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
@@ -57,7 +56,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
 
   std::map<std::string, std::string> defines;
-  fused_classify_ = classify == Classify::device_default ? !cl.info().is_gpu : classify == Classify::fused;
+  fused_classify_ = !cl.info().is_gpu;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
   // CPU devices: contact_forces runs the separation test itself, over every couple
   // (contact_forces.cl); GPUs classify first and evaluate the compact overlap list.

@@ -15,13 +15,7 @@ class ContactForces {
   // "fractured", ContactActivation): a new couple found overlapping because a triangle
   // joined since the last detection waits. Null: every triangle is a candidate from the
   // start and none ever joins.
-  // `classify`: how couples that are apart are sorted out. separate: contact_classify, then
-  // contact_forces over the compact list of the others (what GPUs take); fused:
-  // contact_forces over every couple, the separation test included (CPU devices,
-  // CONTACT_FUSED_CLASSIFY). Both give the same result to the bit; device_default picks.
-  enum class Classify { device_default, separate, fused };
-  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
-                Classify classify = Classify::device_default);
+  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
