@@ -383,13 +383,6 @@ inline void old_spring(real2 xo[2][3], real lvo[2][3][3], real2 v[2][3], const i
 
 // One work-item per entry k of overlap_list (launched over all couples; those past the
 // list's length return): the full evaluation of couple overlap_list[k].
-// With CONTACT_FUSED_CLASSIFY (the host sets it for CPU devices) there is no
-// contact_classify launch and no list: one work-item per couple c does the separation
-// test of classify_couple itself and, where the couple may overlap, goes on with the
-// positions it already holds. A CPU runs each work-item alone, so nothing idles beside
-// separated neighbours; the separate pass cost a second gather of every overlapping
-// couple's nodes, a locked increment per list entry and history reads in list order.
-// Per couple the same arithmetic either way, and the sums are integer: the same result.
 __kernel void contact_forces(const uint n_couples,
                              __global const ulong* restrict keys,
                              const uint n_previous,
@@ -417,32 +410,14 @@ __kernel void contact_forces(const uint n_couples,
                              __global real* restrict couple_stored,
                              __global const uint* restrict active,
                              const uint joined_since) {
-#ifdef CONTACT_FUSED_CLASSIFY
-  // CPU devices: one work-item per couple c of the list, classify included (see above).
-  const uint c = get_global_id(0);
-  if (c >= n_couples) return;
-  const ulong key = keys[c];
-  uint tri[2], nodes[2][3];
-  real2 x[2][3];
-  couple_nodes(key, tri_nodes, position, tri, nodes, x);
-  if (separated(x)) {
-    if (!same_list || live[c]) {  // as classify_couple
-      const int gone = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-      forget_couple(c, gone, previous_history, history, same_list, energy_scale, energy);
-      live[c] = 0;
-    }
-    return;
-  }
-#else
   const uint entry = get_global_id(0);
   if (entry >= n_couples || entry >= counters[1]) return;
   const uint c = overlap_list[entry];
   const ulong key = keys[c];
   uint tri[2], nodes[2][3];
   real2 x[2][3];
-  couple_nodes(key, tri_nodes, position, tri, nodes, x);
-#endif
   real lv[2][3][3];
+  couple_nodes(key, tri_nodes, position, tri, nodes, x);
   barycentric_values(x, lv);
   __global const real* props =
       pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];

@@ -56,11 +56,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
 
   std::map<std::string, std::string> defines;
-  fused_classify_ = !cl.info().is_gpu;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
-  // CPU devices: contact_forces runs the separation test itself, over every couple
-  // (contact_forces.cl); GPUs classify first and evaluate the compact overlap list.
-  if (fused_classify_) defines["CONTACT_FUSED_CLASSIFY"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
   const auto program = cl.build(kernel_source::contact_forces, defines);
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
@@ -192,7 +188,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list->overlap_list.set(overlap_list_);
     list->live.set(live_);
   }
-  if (!fused_classify_) cl_.enqueue(classify_, count);
+  cl_.enqueue(classify_, count);
   forces_dt_.set(static_cast<real>(dt));
   forces_energy_row_.set(energy_row ? 1 : 0);
   forces_couple_stored_.set(couple_stored_);

@@ -98,7 +98,6 @@ class ContactForces {
   KernelArg<cl_uint> stored_count_;
   KernelArg<compute::buffer> stored_values_, stored_slots_arg_;
   bool energy_row_requested_ = false;
-  bool fused_classify_ = false;  // CPU devices: no contact_classify launch (CONTACT_FUSED_CLASSIFY)
   // The overlap list, live flags, and the stored energy of each couple at the last energy
   // row with its per-work-group sums, from couple_arrays(list_capacity_).
   void allocate_list(const MemoryPlan& arrays);
