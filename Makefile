@@ -74,6 +74,7 @@ validate: build
 	  -o $(VALIDATE_OUT)/blasting_free_cracks.png
 	for f in 50 10 1; do $(PLOT) $(CRACKS) $(VALIDATE_OUT)/wave-penalty-$${f}E/wave-penalty.exo --frames 3 \
 	  --range -20 10 -o $(VALIDATE_OUT)/wave_penalty_$${f}E_900us.png || exit 1; done
+	for run in brazilian ucs; do $(call FRACTURE_PLOTS,$(VALIDATE_OUT)/$$run,$(VALIDATE_OUT)/$${run}_,) || exit 1; done
 	for run in blasting blasting-free; do $(call FRACTURE_PLOTS,$(VALIDATE_OUT)/$$run,$(VALIDATE_OUT)/$${run}_,--without-largest) || exit 1; done
 	@cat $(VALIDATE_OUT)/wave-penalty.md
 	@echo "validation output, its figures (summary.md) and plots in $(VALIDATE_OUT)/"
