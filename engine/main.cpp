@@ -354,7 +354,8 @@ int run_command(const Arguments& a) {
             << s.checkpoint << " (" << mib(std::filesystem::file_size(s.checkpoint)) << ", written in " << std::fixed
             << std::setprecision(2) << s.checkpoint_seconds << " s)\n" << std::defaultfloat;
   if (!p.model.ce4.empty())
-    std::cout << "break catalogue: " << s.breaks << " CE4s broken, " << s.events << " events, in " << p.events_path << "\n";
+    std::cout << "break catalogue: " << s.breaks << (s.breaks == 1 ? " CE4 broken, " : " CE4s broken, ") << s.events
+              << (s.events == 1 ? " event" : " events") << ", in " << p.events_path << "\n";
   if (a.profile) {
     cl.collect_profile();
     std::cout << "profile (device time per kernel; output and history steps included):\n";
