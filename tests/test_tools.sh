@@ -214,6 +214,27 @@ grep -q "largest miss of the linear fit 0.0%" "$work/bench.txt" || fail "bench l
 echo "x,y" >"$work/notbench.csv"
 expect_error "not an fdem bench CSV" "$plot" bench "$work/notbench.csv" -o "$work/x.png"
 
+# tools/compare-outputs: a tree against a copy of itself, then against a copy with one
+# history value changed and one variable added.
+mkdir -p "$work/cmp_old/run" "$work/cmp_new/run"
+cp "$work/tiny_history.nc" "$work/cmp_old/run/"
+cp "$work/tiny_history.nc" "$work/cmp_new/run/"
+"$repo/tools/compare-outputs" "$work/cmp_old" "$work/cmp_new" >"$work/cmp.txt" || fail "compare-outputs: identical trees: $(cat "$work/cmp.txt")"
+[ ! -s "$work/cmp.txt" ] || fail "compare-outputs printed for identical trees: $(cat "$work/cmp.txt")"
+/usr/bin/python3 - "$work/cmp_new/run/tiny_history.nc" <<'PY'
+import sys, netCDF4
+with netCDF4.Dataset(sys.argv[1], "a") as d:
+    v = d["kinetic_energy"]
+    v[-1] = v[-1] * 1.5 + 1.0
+    d.createVariable("added", "f8", ("time",))[:] = 0.0
+PY
+status=0
+"$repo/tools/compare-outputs" "$work/cmp_old" "$work/cmp_new" >"$work/cmp.txt" || status=$?
+[ "$status" -eq 1 ] || fail "compare-outputs: exit $status for differing trees, not 1"
+grep -q "kinetic_energy: max |difference|" "$work/cmp.txt" || fail "compare-outputs did not name kinetic_energy: $(cat "$work/cmp.txt")"
+grep -q "new variables: added" "$work/cmp.txt" || fail "compare-outputs did not name the new variable: $(cat "$work/cmp.txt")"
+if grep -q "strain_energy" "$work/cmp.txt"; then fail "compare-outputs named an unchanged variable: $(cat "$work/cmp.txt")"; fi
+
 if [ "$failures" -ne 0 ]; then
   echo "test_tools.sh: $failures failure(s)" >&2
   exit 1
