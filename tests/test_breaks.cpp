@@ -18,6 +18,7 @@
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
+#include "fracture_tables.hpp"
 
 using namespace fdem;
 
@@ -51,15 +52,7 @@ std::string bar_mesh(const test::TempDir& dir) {
   return dir.write("bar2.msh", m.str());
 }
 
-const char* kStrong = R"(
-[material.fracture]
-tensile_strength = 20e6
-cohesion = 40e6
-friction_angle = 30.0
-gf1 = 200.0
-gf2 = 2000.0
-penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
-)";
+const char* const kStrong = test::kStrongFracture;
 
 // Three pieces of the same rock bonded by two weak interfaces (x = 0.2 and 0.4 m), the
 // ends pulled apart at 0.5 m/s each: both weak sections break, the rock does not.

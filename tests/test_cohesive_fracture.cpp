@@ -9,20 +9,13 @@
 #include "case_files.hpp"
 #include "engine/run.hpp"
 #include "fixture.hpp"
+#include "fracture_tables.hpp"
 
 using namespace fdem;
 
 namespace {
 
-const char* kFracture = R"(
-[material.fracture]
-tensile_strength = 2e6
-cohesion = 10e6
-friction_angle = 30.0
-gf1 = 20.0
-gf2 = 200.0
-penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
-)";
+const char* const kFracture = test::kRockFracture;
 
 // The bar with critical viscosity for 2 ms, written to DIR/bar.toml; `material_extra`
 // goes into the rock's [[material]] (its fracture table), `extra` after it.

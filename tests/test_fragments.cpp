@@ -21,6 +21,7 @@
 #include "engine/run.hpp"
 #include "engine/stages/fragment_labels.hpp"
 #include "fixture.hpp"
+#include "fracture_tables.hpp"
 #include "io/fragment_writer.hpp"
 
 using namespace fdem;
@@ -163,15 +164,7 @@ std::string bar_mesh(const test::TempDir& dir) {
 // from the start), the ends pulled apart at ±`speed`.
 std::string bar_case(const test::TempDir& dir, bool weak_interfaces, double speed, double end,
                      const std::string& frames = "frames = 5\n", const std::string& out = "") {
-  const std::string strong = R"(
-[material.fracture]
-tensile_strength = 20e6
-cohesion = 40e6
-friction_angle = 30.0
-gf1 = 200.0
-gf2 = 2000.0
-penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
-)";
+  const std::string strong = test::kStrongFracture;
   std::ostringstream c;
   c << "title = \"three-part bar\"\n[mesh]\nfile = \"" << bar_mesh(dir) << "\"\nthickness = 0.1\n"
     << "[time]\ndt = \"auto\"\nend = " << end << "\n[output]\ndir = \"" << (out.empty() ? dir.str() : out)

@@ -15,6 +15,7 @@
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
+#include "fracture_tables.hpp"
 
 using namespace fdem;
 
@@ -139,15 +140,7 @@ std::string pulled_bar(const test::TempDir& dir) {
   test::BarCase c;
   c.time = "dt = \"auto\"\nsteps = 400\n";
   c.output = "dir = \"" + dir.str() + "\"\nframes = 2\n";
-  c.material = R"(viscosity = "critical"
-[material.fracture]
-tensile_strength = 2e6
-cohesion = 10e6
-friction_angle = 30.0
-gf1 = 20.0
-gf2 = 200.0
-penalty = { opening = 100e9, sliding = 100e9, overlap = 100e9 }
-)";
+  c.material = std::string("viscosity = \"critical\"\n") + test::kRockFracture;
   c.rest = R"(
 [gravity]
 g = [0.0, -9.81]
