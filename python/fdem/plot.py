@@ -33,6 +33,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.tri import Triangulation  # noqa: E402
 from mpl_toolkits.axes_grid1 import make_axes_locatable  # noqa: E402
 
+from . import figures  # noqa: E402
 from . import load as fdem_load  # noqa: E402
 
 
@@ -728,12 +729,7 @@ def plot_fragments(args):
 
 
 def save(fig, output):
-    try:
-        fig.savefig(output, dpi=150, bbox_inches="tight")
-    except OSError as exc:
-        raise PlotError(f"cannot write {output}: {exc.strerror or exc}")
-    finally:
-        plt.close(fig)
+    figures.save(fig, output, PlotError)
 
 
 def parse_args(argv):

@@ -40,6 +40,7 @@ import numpy as np  # noqa: E402
 
 import netCDF4  # noqa: E402
 
+from . import figures  # noqa: E402
 from . import load as fdem_load  # noqa: E402
 
 COHESIVE_BLOCK = "cohesive"
@@ -347,15 +348,6 @@ def pyplot():
     return plt
 
 
-def save(plt, fig, path):
-    try:
-        fig.savefig(path, dpi=150, bbox_inches="tight")
-    except OSError as exc:
-        raise WaveError(f"cannot write {path}: {exc.strerror or exc}")
-    finally:
-        plt.close(fig)
-
-
 def plot_arrival(args, rows, fit):
     plt = pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
@@ -381,7 +373,7 @@ def plot_arrival(args, rows, fit):
     right.legend(fontsize="small", loc="best")
     fig.suptitle(os.path.basename(args.file))
     fig.tight_layout()
-    save(plt, fig, args.png)
+    figures.save(fig, args.png, WaveError)
 
 
 def plot_reflection(args, series, name, t_arr, split, incident, reflected, at_split):
@@ -399,7 +391,7 @@ def plot_reflection(args, series, name, t_arr, split, incident, reflected, at_sp
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize="small", loc="best")
     fig.tight_layout()
-    save(plt, fig, args.png)
+    figures.save(fig, args.png, WaveError)
 
 
 # ---------------------------------------------------------------------------------------
