@@ -41,8 +41,23 @@
 // (the tension cut-off is Eq. 4's T_s and the mixed damage of Eq. 9). On a monotonic slip
 // at constant σ the envelope is the paper's, -σ tanφ + f c, once the friction has slipped
 // (|s - s_f| = tanφ|σ|/k_f); before that the pre-peak curve differs.
-// Breaking: when D_max = 1 at two or more of the three points the CE4 breaks for good and
-// carries no force from that step on. The time passed to the step is recorded.
+// Breaking: when D_max = 1 at two or more of the three points the CE4 breaks for good:
+// from that step on it has no strength (f = 0 at every point: no tension, no cohesion) but
+// it keeps its compression branch and its friction element, so the crack's two faces go
+// on resisting overlap and sliding exactly as they did an instant before (status.x = 1,
+// "closed"). Contact takes no part between the two triangles of a CE4 that is intact or
+// closed (cl_kernels/contact_forces.cl). The CE4 lets go for good (status.x = 2 + the
+// step, "released") when every point has opened (o ≥ 0: the branch then holds no energy
+// and carries no force, the friction's cap being 0), or when a point has slid past half
+// the initial length (the faces no longer face each other: the energy it still holds is
+// dissipated, counted in its fracture dissipation). From the next step the two triangles
+// are an ordinary contact couple; if they overlap then, the couple waits without force
+// until they part (contact_forces.cl), so the hand-over creates no energy. Before
+// 2026-12-02 a broken CE4 carried no force at all and its triangles were a contact couple
+// from the first step, intact or not: contact added its stiffness to every compressed
+// intact CE4 (the blast's P-wave at 50 × E ran 1% faster than the rock's own 5,000 m/s)
+// and cost a full overlap evaluation per compressed CE4 (docs/energy-notes.md).
+// The time passed to the step is recorded when it breaks.
 // Failure mode: at the step a point's D first reaches 1 it records the opening share of
 // Eq. 9, χ = a² / (a² + b²) (1: all opening, 0: all slip). The CE4's χ is the mean over
 // its points at D = 1 when it breaks: mode I if χ ≥ 0.9, mode II if χ ≤ 0.1, else mixed.
@@ -126,6 +141,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global const real2* restrict position,
                               const real thickness,
                               const real time,
+                              const int step,
                               __global real4* restrict gp_state,
                               __global real4* restrict gp_slip,
                               __global int2* restrict status,
@@ -168,7 +184,9 @@ __kernel void cohesive_forces(const uint n_ce4,
   real damage = 0;
   real2 f_i = (real2)(0, 0), f_j = (real2)(0, 0), f_m = (real2)(0, 0);
 
-  if (!st.x) {
+  // Intact (0) or closed (1): the law below. Released (≥ 2): no force.
+  if (st.x <= 1) {
+    const bool closed = st.x == 1;
     __global const real* p = params + COH_STRIDE * e;
     const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = p[COH_OT], stl = p[COH_ST];
     const real Ts = p[COH_TS], coh = p[COH_C], tanphi = p[COH_TANPHI];
@@ -180,6 +198,8 @@ __kernel void cohesive_forces(const uint n_ce4,
     real share_sum = 0;
     real held = 0;    // elastic energy per unit reference area, Σ w_g ψ_g
     real moment = 0;  // Σ w_g (τ o - σ s) per unit reference area [N/m]
+    bool opened = true;  // every point at o ≥ 0
+    real slid = 0;       // largest |s| over the points [m]
     real4 slip_f = gp_slip[e];
     real sf[3] = {slip_f.x, slip_f.y, slip_f.z};
 
@@ -194,18 +214,22 @@ __kernel void cohesive_forces(const uint n_ce4,
         D = fmin((real)1, sqrt(d2));
         share = a * a / d2;
       }
-      if (D >= (real)1 && gs.x < (real)1) gs.w = share;
-      gs.x = fmax(gs.x, D);
-      gs.y = fmax(gs.y, og);
-      gs.z = fmax(gs.z, sa);
-      gp_state[3 * e + g] = gs;
+      if (!closed) {  // a closed CE4's state is frozen: it has no strength left to lose
+        if (D >= (real)1 && gs.x < (real)1) gs.w = share;
+        gs.x = fmax(gs.x, D);
+        gs.y = fmax(gs.y, og);
+        gs.z = fmax(gs.z, sa);
+        gp_state[3 * e + g] = gs;
+      }
       damage = fmax(damage, gs.x);
       if (gs.x >= (real)1) {
         share_sum += gs.w;
         ++at_one;
       }
+      opened = opened && og >= (real)0;
+      slid = fmax(slid, sa);
 
-      const real f = coh_softening(gs.x, A, B, C);
+      const real f = closed ? (real)0 : coh_softening(gs.x, A, B, C);
       real sigma, held_n;
       if (og < (real)0) {
         sigma = (real)2 * og * Ts / oov;
@@ -260,14 +284,42 @@ __kernel void cohesive_forces(const uint n_ce4,
     // (m = M / |c|), which cancels the moment of the traction pairs exactly.
     f_m = (moment * scale / chord_length) * n;
 
-    if (at_one >= 2) {
+    bool broke_now = false;
+    if (!closed && at_one >= 2) {
+      // Breaks: this step's forces become the closed law's (f = 0 at every point: what the
+      // third point still held is released, so W - stored only grows).
       const real share = share_sum / (real)at_one;
       st = (int2)(1, share >= (real)0.9 ? 1 : (share <= (real)0.1 ? 2 : 3));
-      status[e] = st;
       broken_time = time;
+      broke_now = true;
+      f_i = f_j = (real2)(0, 0);
+      held = 0;
+      moment = 0;
+      for (int g = 0; g < 3; ++g) {
+        const real sigma = o[g] < (real)0 ? (real)2 * o[g] * Ts / oov : (real)0;
+        const real cap = tanphi * fmax(-sigma, (real)0);
+        real tau_f = k_fric * (s[g] - sf[g]);
+        if (fabs(tau_f) > cap) {
+          tau_f = tau_f > (real)0 ? cap : -cap;
+          sf[g] = s[g] - tau_f / k_fric;
+        }
+        held += gauss_w[g] * ((o[g] < (real)0 ? Ts * o[g] * o[g] / oov : (real)0) + (real)0.5 * tau_f * tau_f / k_fric);
+        moment += gauss_w[g] * (tau_f * o[g] - sigma * s[g]);
+        const real2 pg = (sigma * n + tau_f * t) * (gauss_w[g] * scale);
+        f_i += ((real)1 - gauss_xi[g]) * pg;
+        f_j += gauss_xi[g] * pg;
+      }
+      gp_slip[e] = (real4)(sf[0], sf[1], sf[2], (real)0);
+      f_m = (moment * scale / chord_length) * n;
+    }
+    // A closed CE4 (or one breaking now) lets go when all its points have opened (no force,
+    // nothing held) or one has slid past half its length (what it holds is dissipated).
+    if (st.x == 1 && (opened || slid > (real)0.5 * p[COH_H])) {
+      st.x = 2 + step;
       f_i = f_j = f_m = (real2)(0, 0);
       held = 0;
     }
+    if (st.x != status[e].x) status[e] = st;
 
     // Work of this step on the CE4 (trapezoid): with slot_i = A + m, slot_i' = -A + m,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
@@ -285,7 +337,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     // on the elastic curves; the max keeps it from ever moving down.
     account.y = fmax(account.y, account.x - account.z);
     energy[e] = account;
-    if (st.x) {  // broke in this step: append its record (see the kernel's comment)
+    if (broke_now) {  // broke in this step: append its record (see the kernel's comment)
       const uint k = atomic_inc(break_count);
       if (k < n_ce4) {
         const real2 mid = (real)0.25 * ((xi + xj) + (xj2 + xi2));

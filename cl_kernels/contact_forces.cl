@@ -290,17 +290,47 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
 }
 
-// Couple c: true when it may overlap (for the list); otherwise it is done here.
+#ifdef CE4_BONDS
+// The state word of the CE4 that joins triangles i and j (cohesive_forces.cl: 0 intact,
+// 1 broken and closed, 2 + n released at step n), or -1 when no CE4 joins them.
+// bond_ce4[3t .. 3t+2]: the CE4s on triangle t's edges (NO_BOND where none): a CE4
+// listed by both triangles is the one between them.
+inline int bond_state(const uint i, const uint j, __global const uint* bond_ce4, __global const int2* ce4_status) {
+  for (int a = 0; a < 3; ++a) {
+    const uint e = bond_ce4[3 * i + a];
+    if (e == NO_BOND) continue;
+    if (e == bond_ce4[3 * j] || e == bond_ce4[3 * j + 1] || e == bond_ce4[3 * j + 2]) return ce4_status[e].x;
+  }
+  return -1;
+}
+#define BOND_ARGS , __global const uint *restrict bond_ce4, __global const int2 *restrict ce4_status
+#define BOND_PASS , bond_ce4, ce4_status
+#else
+#define BOND_ARGS
+#define BOND_PASS
+#endif
+
+// Couple c: true when it may overlap (for the list); otherwise it is done here. The two
+// triangles of an intact or closed CE4 are not a contact couple: the CE4 carries their
+// overlap and sliding (its compression branch and friction element; cohesive_forces.cl).
 inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
-                            __global uchar* live) {
+                            __global uchar* live BOND_ARGS) {
   const ulong key = keys[c];
   uint tri[2], nodes[2][3];
   real2 x[2][3];
-  couple_nodes(key, tri_nodes, position, tri, nodes, x);
-  if (!separated(x)) return true;
+#ifdef CE4_BONDS
+  const int bond = bond_state((uint)(key >> 32), (uint)(key & 0xffffffffUL), bond_ce4, ce4_status);
+  const bool carried_by_ce4 = bond == 0 || bond == 1;
+#else
+  const bool carried_by_ce4 = false;
+#endif
+  if (!carried_by_ce4) {
+    couple_nodes(key, tri_nodes, position, tri, nodes, x);
+    if (!separated(x)) return true;
+  }
   if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
     const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
     forget_couple(c, found, previous_history, history, same_list, energy_scale, energy);
@@ -335,18 +365,19 @@ __kernel void contact_classify(const uint n_couples,
                                const uint same_list,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
-                               __global uchar* restrict live) {
+                               __global uchar* restrict live BOND_ARGS) {
   const uint c = get_global_id(0);
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, live))
+                                       position, energy_scale, energy, same_list, live BOND_PASS))
     overlap_list[atomic_inc(&counters[1])] = c;
 #else
   __local uint group_count, group_base;
   if (get_local_id(0) == 0) group_count = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
-                                                       tri_nodes, position, energy_scale, energy, same_list, live);
+                                                       tri_nodes, position, energy_scale, energy, same_list,
+                                                       live BOND_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
@@ -409,7 +440,8 @@ __kernel void contact_forces(const uint n_couples,
                              const uint energy_row,
                              __global real* restrict couple_stored,
                              __global const uint* restrict active,
-                             const uint joined_since) {
+                             const uint joined_since,
+                             const int step BOND_ARGS) {
   const uint entry = get_global_id(0);
   if (entry >= n_couples || entry >= counters[1]) return;
   const uint c = overlap_list[entry];
@@ -476,7 +508,15 @@ __kernel void contact_forces(const uint n_couples,
   // clears the history); then it is an ordinary couple (docs/energy-notes.md). Couples that
   // approached (both triangles in contact before) push at once as always.
   const bool joined = active[tri[0]] >= joined_since || active[tri[1]] >= joined_since;
-  if ((found < 0 && !same_list && joined) || hist[HIST_OVERLAP_MAX] < (real)0) {
+  // Likewise the two triangles of a CE4 released in the last step (the CE4 stage runs
+  // after this one in a step) that still overlap: the CE4 held that overlap's energy (and
+  // dissipated it when it let go), the contact potential there was never paid for.
+#ifdef CE4_BONDS
+  const bool released_now = bond_state(tri[0], tri[1], bond_ce4, ce4_status) == step + 1;  // 2 + (step − 1)
+#else
+  const bool released_now = false;
+#endif
+  if ((found < 0 && !same_list && joined) || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
     for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
     live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
     return;

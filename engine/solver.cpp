@@ -132,7 +132,10 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                                                         detection_->active_mask(), *ring_);
                            })),
       contact_(build_if(parts_.contact,
-                        [&] { return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask()); })),
+                        [&] {
+                          return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
+                                                                 cohesive_ ? &cohesive_->status() : nullptr);
+                        })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt),
@@ -203,7 +206,7 @@ void Solver::step(bool energy_row) {
   }
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
   triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
-  if (cohesive_) cohesive_->enqueue(t);
+  if (cohesive_) cohesive_->enqueue(t, steps_);
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);

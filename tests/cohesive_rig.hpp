@@ -47,6 +47,7 @@ struct Rig {
   std::vector<real2> ref;
   compute::buffer position, ref_position;
   std::unique_ptr<CohesiveForces> stage;
+  long steps = 0;  // steps taken (the stage records the step a CE4 is released)
   std::vector<rc::Law> laws;
 
   // One CE4 per (reference i, reference j, properties).
@@ -74,7 +75,7 @@ struct Rig {
   // Sets the positions (stored as real), runs one step and returns the slot forces.
   std::vector<real2> step(std::vector<real2>& x, double time) {
     upload(cl, position, x);
-    stage->enqueue(time);
+    stage->enqueue(time, steps++);
     return download<real2>(cl, stage->slots(), 4 * stage->size());
   }
 };

@@ -59,7 +59,8 @@ struct PointState {
 
 struct Ce4State {
   std::array<PointState, 3> point;
-  bool broken = false;
+  bool broken = false;    // closed (still pressing and rubbing) or released
+  bool released = false;  // let go for good: no force from then on
   int mode = kNone;
   double time = -1.0;
   double work = 0;        // work done on the CE4 so far [J]
@@ -171,6 +172,30 @@ inline void tractions(const Law& law, PointState& st, double o, double s, PointR
   r.tau = r.tau_c + tf;
 }
 
+// A broken CE4 that is still closed: no strength (no tension, no cohesion), the
+// compression branch and the friction element as before (state frozen).
+inline void closed_tractions(const Law& law, PointState& st, double o, double s, PointResult& r) {
+  r.compressed = o < 0;
+  r.normal_unloading = r.shear_unloading = r.softening = false;
+  r.sigma = o < 0 ? o / law.o_overlap * 2.0 * law.tensile : 0.0;
+  r.tau_c = 0;
+  const double k_f = 2.0 * law.cohesion / law.s_p;
+  const double cap = law.tan_phi * std::max(0.0, -r.sigma);
+  double tf = k_f * (s - st.slip_f);
+  if (std::fabs(tf) > cap) {
+    tf = tf > 0 ? cap : -cap;
+    st.slip_f = s - tf / k_f;
+  }
+  r.tau_f = tf;
+  r.tau = tf;
+}
+
+// What a closed CE4's point holds: the compression branch and the friction element.
+inline double closed_held_energy(const Law& law, double o, double tau_f) {
+  const double k_f = 2.0 * law.cohesion / law.s_p;
+  return (o < 0 ? law.tensile / law.o_overlap * o * o : 0.0) + 0.5 * tau_f * tau_f / k_f;
+}
+
 // One step of one CE4 at nodal positions x (order i, j, j', i').
 inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x, double thickness, double time) {
   static const double root = std::sqrt(15.0) / 10.0;
@@ -196,6 +221,7 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
     res.opening += weight[g] * p.o;
     res.slip += weight[g] * p.s;
     PointState& st = state.point[g];
+    if (state.broken && !state.released) closed_tractions(law, st, p.o, p.s, p);
     if (!state.broken) {
       const Trial trial = trial_damage(law, p.o, p.s);
       const double D = trial.D;
@@ -208,16 +234,26 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
     }
     res.damage = std::max(res.damage, st.D_max);
   }
-  if (state.broken) return res;
-  const bool breaks = at_one >= 2;
+  if (state.released) return res;
+  const bool breaks = !state.broken && at_one >= 2;
   if (breaks) {
     state.broken = true;
     state.time = time;
     double mean = 0;
     for (int k = 0; k < at_one; ++k) mean += share_of[k] / at_one;
     state.mode = mode_of_share(mean);
+    for (int g = 0; g < 3; ++g) closed_tractions(law, state.point[g], res.point[g].o, res.point[g].s, res.point[g]);
   }
-  // Forces (none from the breaking step on): the gradient of the potential
+  // A closed CE4 lets go when every point has opened or one has slid past h / 2.
+  bool opened = true;
+  double slid = 0;
+  for (const PointResult& p : res.point) {
+    opened = opened && p.o >= 0;
+    slid = std::max(slid, std::fabs(p.s));
+  }
+  const bool releases = state.broken && (opened || slid > 0.5 * law.h);
+  if (releases) state.released = true;
+  // Forces (none once released): the gradient of the potential
   // h t Σ_g w_g ψ_g(o_g, s_g) with the state frozen: the traction pairs at the points
   // plus the frame's term ±(M / |c|) n (M = h t Σ w (τ o - σ s)), which cancels the
   // traction pairs' moment.
@@ -228,16 +264,20 @@ inline Result step(const Law& law, Ce4State& state, const std::array<Vec, 4>& x,
     PointState& st = state.point[g];
     const Vec traction = p.sigma * n + p.tau * t;  // on face 1, towards face 2 when open
     Vec push = Vec::Zero();
-    if (!breaks) push = traction * (p.weight * area);
-    if (!breaks) held += p.weight * held_energy(law, st, p.o, p.s, p.sigma, p.tau_c, p.tau_f) * area;
-    moment += p.weight * area * (p.tau * p.o - p.sigma * p.s);
+    if (!releases) {
+      push = traction * (p.weight * area);
+      held += p.weight * area *
+              (state.broken ? closed_held_energy(law, p.o, p.tau_f)
+                            : held_energy(law, st, p.o, p.s, p.sigma, p.tau_c, p.tau_f));
+      moment += p.weight * area * (p.tau * p.o - p.sigma * p.s);
+    }
     const double N_i = 1.0 - xi[g], N_j = xi[g];
     res.force[0] += N_i * push;
     res.force[1] += N_j * push;
     res.force[2] -= N_j * push;
     res.force[3] -= N_i * push;
   }
-  if (!breaks) {
+  if (!releases) {
     const Vec m = moment / sum.norm() * n;
     res.force[0] += m;
     res.force[1] -= m;

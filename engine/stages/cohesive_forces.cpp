@@ -1,5 +1,7 @@
 #include "engine/stages/cohesive_forces.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -139,6 +141,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("position", position)(
       "thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
+  step_ = args.later("step", cl_int(0));
   args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("output", output_)("slots", slots_)(
       "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
       "break_ids", break_ids_)("break_records", break_records_)
@@ -149,8 +152,11 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
       .done();
 }
 
-void CohesiveForces::enqueue(double time) {
+void CohesiveForces::enqueue(double time, long step) {
   time_.set(static_cast<real>(time));
+  // A released CE4 records 2 + its step in a 32-bit status word (the contact stage tells
+  // the release of the last step from older ones); past 2³¹ − 3 steps the word saturates.
+  step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
   cl_.enqueue(kernel_, count_);
 }
 
@@ -263,7 +269,7 @@ std::vector<real> CohesiveForces::broken_time() { return output_column(3); }
 std::vector<int> CohesiveForces::broken() {
   const auto s = download<cl_int>(cl_, status_, 2 * count_);
   std::vector<int> out(count_);
-  for (size_t e = 0; e < count_; ++e) out[e] = s[2 * e];
+  for (size_t e = 0; e < count_; ++e) out[e] = s[2 * e] != 0 ? 1 : 0;  // closed (1) or released (2 + step)
   return out;
 }
 

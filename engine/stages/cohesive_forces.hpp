@@ -25,11 +25,14 @@ class CohesiveForces {
   static MemoryPlan plan(size_t ce4);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
-  // test; `time` [s] is recorded for the CE4s that break in this step. Never waits.
-  void enqueue(double time);
+  // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
+  // that are released (a broken CE4 stays closed until its faces open). Never waits.
+  void enqueue(double time, long step);
 
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
-  compute::buffer& status() { return status_; }  // int2 per CE4: (broken, mode)
+  // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
+  // released at step n (cl_kernels/cohesive_forces.cl).
+  compute::buffer& status() { return status_; }
   size_t size() const { return count_; }
   const std::vector<real>& parameters() const { return params_; }  // layout::COH_STRIDE per CE4 (COH_*)
 
@@ -81,6 +84,7 @@ class CohesiveForces {
   std::vector<real> params_;
   compute::kernel kernel_, partials_kernel_;
   KernelArg<real> time_;
+  KernelArg<cl_int> step_;
   compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per

@@ -3,10 +3,12 @@
 #include "engine/stages/contact_activation.hpp"
 
 #include "engine/energy.hpp"
+#include "base/errors.hpp"
 #include "engine/kernel_args.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -37,11 +39,27 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
       .add("contact_pair_props", model.contact.pair_props.size() * sizeof(real));
   if (own_mask)
     p.add("contact candidate mask (all)", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_uint));
+  if (!model.ce4_triangles.empty()) p.add("contact bond CE4s", 3 * model.num_triangles() * sizeof(cl_uint));
   return p;
 }
 
-ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active)
+std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
+  std::vector<cl_uint> bonds(3 * model.num_triangles(), kNoBond);
+  for (size_t e = 0; e < model.ce4_triangles.size(); ++e)
+    for (const int t : model.ce4_triangles[e]) {
+      cl_uint* slot = &bonds[3 * size_t(t)];
+      int k = 0;
+      while (k < 3 && slot[k] != kNoBond) ++k;
+      if (k == 3) throw InputError("triangle " + std::to_string(t) + " has more than three CE4s on its edges");
+      slot[k] = static_cast<cl_uint>(e);
+    }
+  return bonds;
+}
+
+ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
+                             const compute::buffer* ce4_status)
     : cl_(cl), arrays_(a), carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
+  const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -58,6 +76,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   std::map<std::string, std::string> defines;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
+  if (bonds) {
+    defines["CE4_BONDS"] = "1";
+    defines["NO_BOND"] = std::to_string(kNoBond) + "u";
+  }
   const auto program = cl.build(kernel_source::contact_forces, defines);
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
@@ -89,6 +111,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     upload(cl, ones_, std::vector<cl_uint>(std::max<size_t>(1, a.num_triangles), 1u));
   }
   active_ = active ? *active : ones_;
+  if (bonds) {
+    bond_ce4_ = arrays.allocate(cl, "contact bond CE4s");
+    upload(cl, bond_ce4_, bond_ce4(model));
+  }
   const cl_uint none = 0;
   KernelArgs f(forces_);
   forces_list_.bind_list(f, keys_, history_, history_);
@@ -105,6 +131,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_couple_stored_ = f.later("couple_stored", couple_stored_);
   f("active", active_);
   forces_joined_since_ = f.later("joined_since", none);
+  forces_step_ = f.later("step", cl_int(0));
+  if (bonds) f("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   f.done();
 
   KernelArgs c(classify_);
@@ -115,6 +143,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   c("counters", counters_);
   classify_list_.overlap_list = c.later("overlap_list", overlap_list_);
   classify_list_.live = c.later("live", live_);
+  if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   c.done();
 
   bind_args(clear_)("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)(
@@ -205,6 +234,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_energy_row_.set(energy_row ? 1 : 0);
   forces_couple_stored_.set(couple_stored_);
   forces_joined_since_.set(joined_since);
+  forces_step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
   if (new_list) last_list_step_ = step;
   cl_.enqueue(forces_, count);
   if (energy_row) {

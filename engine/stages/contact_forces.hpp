@@ -16,7 +16,12 @@ class ContactForces {
   // "fractured", ContactActivation): a new couple found overlapping because a triangle
   // joined since the last detection waits. Null: every triangle is a candidate from the
   // start and none ever joins.
-  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr);
+  // `ce4_status`: the CE4 stage's status words (CohesiveForces::status()), given when the
+  // model has CE4s: the two triangles of an intact or closed CE4 are then no contact
+  // couple (the CE4 carries them), and a couple whose CE4 was released in the last step
+  // waits while it still overlaps, like a join's.
+  ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
+                const compute::buffer* ce4_status = nullptr);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
@@ -26,6 +31,9 @@ class ContactForces {
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `own_mask`: no candidate mask is given, the stage holds one of all ones).
   static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask);
+  // The CE4s on each triangle's edges, 3 per triangle (kNoBond where none).
+  static std::vector<cl_uint> bond_ce4(const Model& model);
+  static constexpr cl_uint kNoBond = 0xffffffffu;
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
   // grows allocates again): keys, history, overlap list, live flags, stored energies.
   static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
@@ -78,6 +86,7 @@ class ContactForces {
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
   ContactCarry carry_;      // the histories a new list carries over (one history array, in place)
   compute::buffer active_;  // the candidate mask (the detection's, or ones_)
+  compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
   // The arguments set at each enqueue, per kernel.
@@ -93,6 +102,7 @@ class ContactForces {
   };
   ListArgs classify_list_, forces_list_;
   KernelArg<cl_uint> forces_energy_row_, forces_joined_since_;
+  KernelArg<cl_int> forces_step_;
   KernelArg<compute::buffer> forces_couple_stored_;
   KernelArg<real> forces_dt_;
   KernelArg<cl_uint> release_previous_count_, release_count_;
