@@ -185,7 +185,7 @@ bool may_change(const std::string& key) {
 }
 
 // The version of what a checkpoint holds; a change of its contents changes it.
-const char* const kCheckpointFormat = "3";
+const char* const kCheckpointFormat = "4";
 
 // Refuses a checkpoint that does not fit the case (InputError, exit 2).
 void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std::string& path) {
@@ -193,7 +193,8 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
     const auto it = data.text.find(key);
     return it == data.text.end() ? std::string() : it->second;
   };
-  // 3 (2026-12-02): the break catalogue, and contact histories in one array.
+  // 3 (2026-12-02): the break catalogue, and contact histories in one array. 4 (2026-12-02,
+  // later): a broken CE4 is closed (1) or released (2 + step); version 3 had 1 for both.
   if (text("format_version") != kCheckpointFormat)
     throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") + "'; this fdem reads version " +
                      kCheckpointFormat + ": continue that run with the fdem that wrote it, or start it again");
