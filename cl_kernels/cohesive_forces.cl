@@ -98,7 +98,8 @@
 //   that noise from ever making the dissipation go down (test_cohesive_energy checks
 //   W = stored + dissipation to 1e-4 of the CE4's energy scale along random paths).
 
-// The per-CE4 parameter row (COH_*, COH_STRIDE) is defined in engine/layouts.hpp.
+// The per-CE4 parameter row (COH_*, COH_STRIDE) and the per-property row (COHP_*,
+// COHP_STRIDE; `property[e]` names a CE4's) are defined in engine/layouts.hpp.
 
 // f(D) of Eq. 10.
 inline real coh_softening(real D, real A, real B, real C) {
@@ -138,6 +139,8 @@ inline real coh_parabola_energy(real x, real xp, real peak) {
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
                               __global const real* restrict params,
+                              __global const uint* restrict property,
+                              __global const real* restrict property_rows,
                               __global const real2* restrict position,
                               const real thickness,
                               const real time,
@@ -193,9 +196,10 @@ __kernel void cohesive_forces(const uint n_ce4,
   if (st.x <= 1) {
     const bool closed = st.x == 1;
     __global const real* p = params + COH_STRIDE * e;
-    const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = p[COH_OT], stl = p[COH_ST];
-    const real Ts = p[COH_TS], coh = p[COH_C], tanphi = p[COH_TANPHI];
-    const real A = p[COH_A], B = p[COH_B], C = p[COH_CEXP];
+    __global const real* q = property_rows + COHP_STRIDE * property[e];
+    const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = q[COHP_OT], stl = q[COHP_ST];
+    const real Ts = q[COHP_TS], coh = q[COHP_C], tanphi = q[COHP_TANPHI];
+    const real A = q[COHP_A], B = q[COHP_B], C = q[COHP_CEXP];
     // Reference area h t: tractions are per unit reference area (see the header).
     const real scale = p[COH_H] * thickness;
     const real k_fric = (real)2 * coh / sp;  // stiffness of the friction element = P_tan / h [Pa/m]

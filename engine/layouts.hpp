@@ -40,21 +40,27 @@ namespace fdem::layout {
   X(RING_JOINED, 2)  /* 1: triangles joined the contact candidates this step */               \
   X(RING_WORDS, 4)
 
-// Per-CE4 parameter row (CohesiveForces computes it on the host): COH_STRIDE reals.
+// Per-CE4 parameter row (CohesiveForces computes it on the host): COH_STRIDE reals, the
+// ones that depend on the CE4's own length.
 #define FDEM_COHESIVE_LAYOUT(X)                                                              \
   X(COH_OP, 0)      /* o_p = 2 h T_s / P_f [m] (Eq. 6) */                                    \
   X(COH_SP, 1)      /* s_p = 2 h c / P_tan [m] (Eq. 7) */                                    \
   X(COH_OOV, 2)     /* o_overlap = 2 h T_s / P_overlap [m] (Eq. 8) */                        \
-  X(COH_OT, 3)      /* o_t = G_fI / (T_s I_f) [m] */                                         \
-  X(COH_ST, 4)      /* s_t = G_fII / (c I_f) [m] */                                          \
-  X(COH_TS, 5)      /* tensile strength T_s [Pa] */                                          \
-  X(COH_C, 6)       /* cohesion c [Pa] */                                                    \
-  X(COH_TANPHI, 7)  /* tan φ */                                                              \
-  X(COH_A, 8)       /* softening shape A, B, C (Eq. 10) */                                   \
-  X(COH_B, 9)                                                                                \
-  X(COH_CEXP, 10)                                                                            \
-  X(COH_H, 11)      /* initial edge length h [m]: the reference length of the tractions */   \
-  X(COH_STRIDE, 12)
+  X(COH_H, 3)       /* initial edge length h [m]: the reference length of the tractions */   \
+  X(COH_STRIDE, 4)
+
+// Per fracture property set (a fracturable material or an interface; each CE4 names one):
+// COHP_STRIDE reals. Shared by all its CE4s, so a CE4 reads 4 reals of its own, not 12.
+#define FDEM_COHESIVE_PROPERTY_LAYOUT(X)                                                     \
+  X(COHP_OT, 0)      /* o_t = G_fI / (T_s I_f) [m] */                                        \
+  X(COHP_ST, 1)      /* s_t = G_fII / (c I_f) [m] */                                         \
+  X(COHP_TS, 2)      /* tensile strength T_s [Pa] */                                         \
+  X(COHP_C, 3)       /* cohesion c [Pa] */                                                   \
+  X(COHP_TANPHI, 4)  /* tan φ */                                                             \
+  X(COHP_A, 5)       /* softening shape A, B, C (Eq. 10) */                                  \
+  X(COHP_B, 6)                                                                               \
+  X(COHP_CEXP, 7)                                                                            \
+  X(COHP_STRIDE, 8)
 
 // Per contact couple: CONTACT_HISTORY reals; 0-5 the slip of each edge pass, then these.
 #define FDEM_CONTACT_HISTORY_LAYOUT(X)                                                       \
@@ -95,6 +101,7 @@ enum Material : int { FDEM_MATERIAL_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum Condition : int { FDEM_CONDITION_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum Ring : int { FDEM_RING_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum Cohesive : int { FDEM_COHESIVE_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
+enum CohesiveProperty : int { FDEM_COHESIVE_PROPERTY_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum ContactHistory : int { FDEM_CONTACT_HISTORY_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum ContactProps : int { FDEM_CONTACT_PROPS_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
 enum ContactEnergy : int { FDEM_CONTACT_ENERGY_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };
@@ -110,6 +117,7 @@ inline const std::map<std::string, std::string>& defines() {
     FDEM_CONDITION_LAYOUT(FDEM_LAYOUT_DEFINE)
     FDEM_RING_LAYOUT(FDEM_LAYOUT_DEFINE)
     FDEM_COHESIVE_LAYOUT(FDEM_LAYOUT_DEFINE)
+    FDEM_COHESIVE_PROPERTY_LAYOUT(FDEM_LAYOUT_DEFINE)
     FDEM_CONTACT_HISTORY_LAYOUT(FDEM_LAYOUT_DEFINE)
     FDEM_CONTACT_PROPS_LAYOUT(FDEM_LAYOUT_DEFINE)
     FDEM_CONTACT_ENERGY_LAYOUT(FDEM_LAYOUT_DEFINE)

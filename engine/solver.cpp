@@ -70,7 +70,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   const Parts p = parts(model, account);
   const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
   MemoryPlan plan = DeviceArrays::plan(model);
-  if (p.ce4) plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0));
+  if (p.ce4)
+    plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0, model.fracture.size()));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());

@@ -38,13 +38,15 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 
 }  // namespace
 
-MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes) {
+MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets) {
   MemoryPlan p;
+  p.add("ce4_property_rows", layout::COHP_STRIDE * std::max<size_t>(1, property_sets) * sizeof(real));
   if (mesh_nodes > 0)
     p.add("ce4_mesh_nodes", 2 * ce4 * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
   return p
       .add("ce4_nodes", 4 * ce4 * sizeof(cl_uint))
       .add("ce4_params", layout::COH_STRIDE * ce4 * sizeof(real))
+      .add("ce4_property", ce4 * sizeof(cl_uint))
       .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
       .add("ce4_friction_slip", ce4 * sizeof(real4))
       .add("ce4_status", 2 * ce4 * sizeof(cl_int))
@@ -80,6 +82,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   std::vector<real4> gaps(count_);   // end gaps at the start (zero for CE4s from a split mesh)
   std::vector<real2> chords(count_); // chords (x_j - x_i) + (x_j' - x_i') at the start
   params_.assign(layout::COH_STRIDE * count_, real(0));
+  std::vector<cl_uint> property(count_);
   const double deg = std::acos(-1.0) / 180.0;
   for (size_t e = 0; e < count_; ++e) {
     for (int k = 0; k < 4; ++k) {
@@ -102,15 +105,21 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     row[layout::COH_OP] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
     row[layout::COH_SP] = real(2.0 * h * f.cohesion / f.penalty_sliding);
     row[layout::COH_OOV] = real(2.0 * h * f.tensile_strength / f.penalty_overlap);
-    row[layout::COH_OT] = real(f.gf1 / (f.tensile_strength * integral[prop]));
-    row[layout::COH_ST] = real(f.gf2 / (f.cohesion * integral[prop]));
-    row[layout::COH_TS] = real(f.tensile_strength);
-    row[layout::COH_C] = real(f.cohesion);
-    row[layout::COH_TANPHI] = real(std::tan(f.friction_angle * deg));
-    row[layout::COH_A] = real(f.a);
-    row[layout::COH_B] = real(f.b);
-    row[layout::COH_CEXP] = real(f.c);
     row[layout::COH_H] = real(h);
+    property[e] = static_cast<cl_uint>(prop);
+  }
+  std::vector<real> property_rows(layout::COHP_STRIDE * std::max<size_t>(1, model.fracture.size()), real(0));
+  for (size_t k = 0; k < model.fracture.size(); ++k) {
+    const auto& f = model.fracture[k];
+    real* row = &property_rows[layout::COHP_STRIDE * k];
+    row[layout::COHP_OT] = real(f.gf1 / (f.tensile_strength * integral[k]));
+    row[layout::COHP_ST] = real(f.gf2 / (f.cohesion * integral[k]));
+    row[layout::COHP_TS] = real(f.tensile_strength);
+    row[layout::COHP_C] = real(f.cohesion);
+    row[layout::COHP_TANPHI] = real(std::tan(f.friction_angle * deg));
+    row[layout::COHP_A] = real(f.a);
+    row[layout::COHP_B] = real(f.b);
+    row[layout::COHP_CEXP] = real(f.c);
   }
 
   fans_ = !model.vertex_bonded.empty();
@@ -118,7 +127,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.vertices.size()) +
                      " mesh node pairs");
   mesh_nodes_ = model.vertex_bonded.size();
-  const MemoryPlan arrays = plan(count_, mesh_nodes_);
+  const MemoryPlan arrays = plan(count_, mesh_nodes_, model.fracture.size());
   if (fans_) {
     std::vector<cl_uint> pairs(2 * count_);
     for (size_t e = 0; e < count_; ++e)
@@ -137,6 +146,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   }
   nodes_ = arrays.allocate(cl, "ce4_nodes");
   params_buffer_ = arrays.allocate(cl, "ce4_params");
+  property_ = arrays.allocate(cl, "ce4_property");
+  property_rows_ = arrays.allocate(cl, "ce4_property_rows");
   gp_state_ = arrays.allocate(cl, "ce4_gauss_state");
   gp_slip_ = arrays.allocate(cl, "ce4_friction_slip");
   status_ = arrays.allocate(cl, "ce4_status");
@@ -152,6 +163,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, break_count_, std::vector<cl_uint>(1, 0));
   upload(cl, nodes_, nodes);
   upload(cl, params_buffer_, params_);
+  upload(cl, property_, property);
+  upload(cl, property_rows_, property_rows);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
   upload(cl, gp_slip_, std::vector<real4>(count_));
   upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
@@ -166,7 +179,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   const auto program = cl.build(kernel_source::cohesive_forces, defines);
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
-  args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("position", position)(
+  args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("property", property_)("property_rows", property_rows_)("position", position)(
       "thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
   step_ = args.later("step", cl_int(0));

@@ -23,7 +23,8 @@ class CohesiveForces {
                  compute::buffer& ref_position);
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
   // bonded fans' state: CohesiveModel::vertex_bonded).
-  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0);
+  // `property_sets`: the fracture property sets (CohesiveModel::fracture).
+  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -88,6 +89,7 @@ class CohesiveForces {
   std::vector<real> params_;
   compute::kernel kernel_, partials_kernel_;
   KernelArg<real> time_;
+  compute::buffer property_, property_rows_;  // per CE4 its property set; the sets' rows (COHP_*)
   bool fans_ = false;
   size_t mesh_nodes_ = 0;
   compute::buffer mesh_pairs_, mesh_state_;
