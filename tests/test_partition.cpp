@@ -11,6 +11,7 @@
 #include <memory>
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "engine/halo.hpp"
 #include "engine/partition.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
@@ -166,7 +167,7 @@ TEST_SUITE("partition") {
   // elements plus every element that uses one of its nodes, in the global order, so its
   // own nodes' forces are summed as one rank sums them; only ghost nodes' positions and
   // velocities travel, once a step. Here the ranks run one after another in one process
-  // and the exchange goes through the host.
+  // and the exchange is the engine's (engine/halo.*) over in-process transports.
   TEST_CASE("ranks emulated in one process: every owned node bitwise as one rank, CE4s breaking") {
     test::TempDir dir;
     const PreparedCase p = prepare_case(pulled_bar(dir), {});
@@ -190,32 +191,38 @@ TEST_SUITE("partition") {
           CHECK(!locals.back().ghost_nodes.empty());
           ranks.push_back(std::make_unique<Solver>(cl, locals.back().model, p.dt));
         }
-        std::vector<real2> x(p.model.num_nodes()), v(p.model.num_nodes());
+        // The engine's exchange (engine/halo.*) through in-process transports: every
+        // rank posts its owned boundary nodes, then every rank takes its ghosts.
+        InProcessHub hub(parts);
+        std::vector<std::unique_ptr<HaloExchange>> halos;
+        auto make_halos = [&] {
+          halos.clear();
+          for (int r = 0; r < parts; ++r)
+            halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(p.model, partition, locals[r], r),
+                                                           hub.rank(r)));
+        };
+        make_halos();
+        for (int r = 0; r < parts; ++r) {
+          // Every ghost is received from its owner, and what one rank sends another receives.
+          CHECK(halos[r]->plan().received() == locals[r].ghost_nodes.size());
+          for (int q = 0; q < parts; ++q)
+            CHECK(halos[r]->plan().send[q].size() == halos[q]->plan().receive[r].size());
+        }
         auto step_all = [&](bool exchange) {
           for (auto& s : ranks) s->step();
           if (!exchange) return;
-          for (int r = 0; r < parts; ++r) {  // owners publish
-            const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-            for (size_t i = 0; i < xl.size(); ++i)
-              if (locals[r].node_owner[i] == r) x[locals[r].node_global[i]] = xl[i], v[locals[r].node_global[i]] = vl[i];
-          }
-          for (int r = 0; r < parts; ++r) {  // ghosts take their owners' values
-            auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-            for (int i : locals[r].ghost_nodes) xl[i] = x[locals[r].node_global[i]], vl[i] = v[locals[r].node_global[i]];
-            upload(cl, ranks[r]->arrays().position, xl);
-            upload(cl, ranks[r]->arrays().velocity, vl);
-          }
+          for (auto& h : halos) h->send();
+          for (auto& h : halos) h->receive();
         };
         for (long k = 0; k < steps; ++k) step_all(true);
         size_t owned = 0, differ = 0, broken_owned = 0;
         for (int r = 0; r < parts; ++r) {
           const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-          for (size_t i = 0; i < xl.size(); ++i)
-            if (locals[r].node_owner[i] == r) {
-              ++owned;
-              const int g = locals[r].node_global[i];
-              differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
-            }
+          for (size_t i = 0; i < xl.size(); ++i) {  // owned nodes, and ghosts after the last exchange
+            owned += locals[r].node_owner[i] == r;
+            const int g = locals[r].node_global[i];
+            differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
+          }
           const auto b = ranks[r]->cohesive()->broken();
           for (size_t c = 0; c < b.size(); ++c)
             broken_owned += b[c] && partition.triangle_part[p.model.ce4_triangles[locals[r].ce4_global[c]][0]] == r;
@@ -226,6 +233,7 @@ TEST_SUITE("partition") {
         // Without the exchange the ghosts drift and the owned nodes next to them with them.
         if (method == PartitionMethod::Bisection && parts == 2) {
           for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
+          make_halos();
           for (long k = 0; k < steps; ++k) step_all(false);
           size_t drift = 0;
           for (int r = 0; r < parts; ++r) {
