@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/device_arrays.hpp"
+#include "engine/transport.hpp"
 
 namespace fdem {
 
@@ -57,6 +58,50 @@ std::array<double, 4> sum_group_slots(ClContext& cl, const compute::buffer& slot
   for (std::size_t g = 0; g < groups; ++g)
     for (int k = 0; k < width; ++k) total[k] += static_cast<double>(values[g * width + k]);
   return total;
+}
+
+}  // namespace fdem
+
+namespace fdem {
+
+std::vector<double> ordered_sums(const std::vector<double>& values, int width, ItemKind kind, const ItemScope* scope) {
+  std::vector<double> sum(static_cast<size_t>(width), 0.0);
+  const size_t count = values.size() / static_cast<size_t>(width);
+  if (!scope || !scope->transport) {
+    for (size_t i = 0; i < count; ++i)
+      for (int k = 0; k < width; ++k) sum[k] += values[i * width + k];
+    return sum;
+  }
+  const int kind_index = static_cast<int>(kind);
+  const auto& global = scope->global[kind_index];
+  const auto& owned = scope->owned[kind_index];
+  // (global index, values) of the owned items, as doubles.
+  std::vector<double> mine;
+  for (size_t i = 0; i < count; ++i)
+    if (owned[i]) {
+      mine.push_back(static_cast<double>(global[i]));
+      mine.insert(mine.end(), values.begin() + i * width, values.begin() + (i + 1) * width);
+    }
+  Transport& t = *scope->transport;
+  const auto all = t.gather(to_bytes(mine));
+  if (t.rank() == 0) {
+    const size_t n = scope->global_count[kind_index];
+    std::vector<double> ordered(n * width, 0.0);
+    std::vector<char> seen(n, 0);
+    for (const auto& b : all) {
+      const auto v = from_bytes<double>(b);
+      for (size_t at = 0; at + width < v.size() + 1; at += width + 1) {
+        const size_t g = static_cast<size_t>(v[at]);
+        seen[g] = 1;
+        std::copy(v.begin() + at + 1, v.begin() + at + 1 + width, ordered.begin() + g * width);
+      }
+    }
+    if (std::count(seen.begin(), seen.end(), 0) != 0)
+      throw std::logic_error("ordered_sums: an item is owned by no rank");
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < width; ++k) sum[k] += ordered[i * width + k];
+  }
+  return from_bytes<double>(t.broadcast(to_bytes(sum)));
 }
 
 }  // namespace fdem

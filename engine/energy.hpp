@@ -7,6 +7,9 @@
 #include <cstddef>
 #include <string>
 
+#include <functional>
+#include <vector>
+
 #include "engine/cl_context.hpp"
 
 namespace fdem {
@@ -56,6 +59,33 @@ class EnergyBalance {
   bool started_ = false;
   double initial_stored_ = 0, peak_kinetic_ = 0;
 };
+
+// Sums of per-item values that do not depend on how the model is split over ranks: each
+// term of the account is a sum over items (nodes, triangles, loaded edges, CE4s) of the
+// item's own value, added in the global item order on one rank (double, left to
+// right), so one rank and any number of ranks give the same bits (ARCHITECTURE.md,
+// "Scale-out").
+enum class ItemKind { Node = 0, Triangle = 1, LoadedEdge = 2, Ce4 = 3 };
+// values: count × width, item-major; returns the `width` column sums.
+using ItemSums = std::function<std::vector<double>(const std::vector<double>& values, int width, ItemKind kind)>;
+
+class Transport;
+// One rank's items in the whole model, per kind: local → global index, whether this rank
+// accounts for the item (owns it), and the global count.
+struct ItemScope {
+  Transport* transport = nullptr;
+  std::array<std::vector<int>, 4> global;
+  std::array<std::vector<char>, 4> owned;
+  std::array<size_t, 4> global_count{};
+};
+// The column sums of `values` over every rank's owned items in global order, on every
+// rank (collective when `scope` is given); without a scope, over all items in order.
+std::vector<double> ordered_sums(const std::vector<double>& values, int width, ItemKind kind, const ItemScope* scope);
+
+// ordered_sums over all of one rank's items, for stages used alone (tests).
+inline std::vector<double> all_items(const std::vector<double>& values, int width, ItemKind kind) {
+  return ordered_sums(values, width, kind, nullptr);
+}
 
 // Sums the per-work-group energy slots of a stage (`width` reals per group: real2 or
 // real4) in group order, on the host, in double: the same order on every run.

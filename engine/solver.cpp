@@ -218,12 +218,22 @@ EnergyTotals Solver::energy() {
   EnergyTotals e;
   // Each step's forces carry that round-off too, and their work adds up step after step.
   e.resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
-  integrate_.add_energy(e);
-  triangle_forces_.add_energy(e);
-  boundary_loads_.add_energy(e);
+  // Every term is a sum of per-item values in global item order (ordered_sums), so a
+  // split run gives the bits of one rank.
+  const ItemScope* scope = scope_;
+  const ItemSums sums = [scope](const std::vector<double>& values, int width, ItemKind kind) {
+    return ordered_sums(values, width, kind, scope);
+  };
+  integrate_.add_energy(e, sums);
+  triangle_forces_.add_energy(e, sums);
+  boundary_loads_.add_energy(e, sums);
   if (cohesive_) {
-    e.fracture += cohesive_->fracture_dissipation();
-    e.cohesive_stored += cohesive_->stored_energy();
+    const auto dissipated = cohesive_->dissipated(), stored = cohesive_->stored();
+    std::vector<double> values(2 * dissipated.size());
+    for (size_t c = 0; c < dissipated.size(); ++c) values[2 * c] = dissipated[c], values[2 * c + 1] = stored[c];
+    const auto sum = sums(values, 2, ItemKind::Ce4);
+    e.fracture += sum[0];
+    e.cohesive_stored += sum[1];
   }
   if (contact_) {
     // Each touching couple's potential is P_n t times areas whose vertices are known to
