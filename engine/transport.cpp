@@ -128,7 +128,9 @@ void MpiTransport::abort(int code, const std::string& message) {
 }
 
 MpiSession::MpiSession(int* argc, char*** argv) {
-  if (launcher_ranks() <= 1 && !std::getenv("OMPI_COMM_WORLD_RANK") && !std::getenv("PMI_RANK")) return;
+  // Only under a real launch (Open MPI's PMIx or ORTE contact, MPICH's PMI): MPI_Init in a
+  // process that merely has OMPI_COMM_WORLD_SIZE set would wait for a launcher.
+  if (!std::getenv("PMIX_RANK") && !std::getenv("OMPI_MCA_orte_hnp_uri") && !std::getenv("PMI_RANK")) return;
   MPI_Init(argc, argv);
   active_ = true;
   MPI_Comm_size(MPI_COMM_WORLD, &size_);

@@ -1,0 +1,152 @@
+#include "engine/scale_out.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <numeric>
+
+#include "base/errors.hpp"
+
+namespace fdem {
+
+SplitRun::SplitRun(const Model& global, Transport& transport, PartitionMethod method)
+    : transport_(transport), global_(global) {
+  partition_ = partition_model(global, transport.size(), method);
+  local_ = fdem::local_model(global, partition_, transport.rank());
+  const int rank = transport.rank();
+  const auto owner = node_owners(global, partition_);
+  auto set = [&](ItemKind kind, std::vector<int> global_index, size_t global_count, auto owned) {
+    const int k = static_cast<int>(kind);
+    scope_.owned[k].resize(global_index.size());
+    for (size_t i = 0; i < global_index.size(); ++i) scope_.owned[k][i] = owned(global_index[i]) ? 1 : 0;
+    scope_.global[k] = std::move(global_index);
+    scope_.global_count[k] = global_count;
+  };
+  set(ItemKind::Node, local_.node_global, global.num_nodes(), [&](int g) { return owner[g] == rank; });
+  set(ItemKind::Triangle, local_.triangle_global, global.num_triangles(),
+      [&](int g) { return partition_.triangle_part[g] == rank; });
+  set(ItemKind::LoadedEdge, local_.edge_global, global.loaded_edges.size(),
+      [&](int g) { return owner[global.loaded_edges[g].a] == rank; });
+  set(ItemKind::Ce4, local_.ce4_global, global.ce4.size(),
+      [&](int g) { return partition_.triangle_part[global.ce4_triangles[g][0]] == rank; });
+  scope_.transport = &transport;
+}
+
+void SplitRun::attach(ClContext& cl, Solver& solver) {
+  halo_ = std::make_unique<HaloExchange>(cl, solver.arrays(), halo_plan(global_, partition_, local_, transport_.rank()),
+                                         transport_);
+  solver.set_scope(&scope_);
+}
+
+Conditions SplitRun::conditions(Solver& solver) {
+  const Conditions c = solver.conditions();
+  auto word = [](int v) { return v < 0 ? int64_t(INT_MAX) : int64_t(v); };
+  const std::vector<int64_t> mine{
+      c.bad_node < 0 ? INT_MAX : local_.node_global[c.bad_node], word(c.bad_node_step),
+      c.inverted_triangle < 0 ? INT_MAX : local_.triangle_global[c.inverted_triangle], word(c.inverted_step)};
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<int64_t> least(4, INT_MAX);
+  for (const auto& b : all) {
+    const auto v = from_bytes<int64_t>(b);
+    for (int k = 0; k < 4; ++k) least[k] = std::min(least[k], v[k]);
+  }
+  least = from_bytes<int64_t>(transport_.broadcast(to_bytes(least)));
+  auto value = [](int64_t w) { return w == INT_MAX ? -1 : static_cast<int>(w); };
+  return {value(least[0]), value(least[1]), value(least[2]), value(least[3])};
+}
+
+std::vector<io::BreakRecord> SplitRun::drain_breaks(CohesiveForces& ce4) {
+  std::vector<io::BreakRecord> mine;
+  for (auto b : ce4.drain_breaks()) {
+    const int g = local_.ce4_global[b.ce4];
+    if (partition_.triangle_part[global_.ce4_triangles[g][0]] != transport_.rank()) continue;
+    b.ce4 = g;
+    mine.push_back(b);
+  }
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<io::BreakRecord> out;
+  for (const auto& bytes : all) {
+    const auto v = from_bytes<io::BreakRecord>(bytes);
+    out.insert(out.end(), v.begin(), v.end());
+  }
+  std::sort(out.begin(), out.end(), [](const io::BreakRecord& a, const io::BreakRecord& b) {
+    return a.time != b.time ? a.time < b.time : a.ce4 < b.ce4;
+  });
+  return out;
+}
+
+std::vector<int> host_fragment_labels(const Model& model, const std::vector<int>& broken) {
+  // Union-find over triangles and nodes (triangles first), the root of each set its
+  // smallest member.
+  const size_t nt = model.num_triangles();
+  std::vector<int> parent(nt + model.num_nodes());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  auto join = [&](int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  for (size_t t = 0; t < nt; ++t)
+    for (int v : model.triangles[t]) join(static_cast<int>(t), static_cast<int>(nt) + v);
+  for (size_t c = 0; c < model.ce4_triangles.size(); ++c)
+    if (!broken[c]) join(model.ce4_triangles[c][0], model.ce4_triangles[c][1]);
+  std::vector<int> labels(nt);
+  for (size_t t = 0; t < nt; ++t) labels[t] = find(static_cast<int>(t));
+  return labels;
+}
+
+int exit_code_of(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e)) return 2;
+  if (dynamic_cast<const NumericalError*>(&e)) return 3;
+  if (dynamic_cast<const OutputError*>(&e)) return 5;
+  return 4;
+}
+
+bool& failure_agreed() {
+  static bool agreed = false;
+  return agreed;
+}
+
+void agree(Transport& transport, std::exception_ptr failure) {
+  int code = 0;
+  std::string message;
+  if (failure) {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      code = exit_code_of(e);
+      message = e.what();
+    } catch (...) {
+      code = 4;
+      message = "unknown error";
+    }
+  }
+  std::vector<char> mine(sizeof(int));
+  std::memcpy(mine.data(), &code, sizeof(int));
+  mine.insert(mine.end(), message.begin(), message.end());
+  const auto all = transport.gather(mine);
+  Bytes first(sizeof(int), 0);
+  for (const auto& b : all) {
+    int c = 0;
+    std::memcpy(&c, b.data(), sizeof(int));
+    if (c != 0) {
+      first = b;
+      break;
+    }
+  }
+  const Bytes agreed = transport.broadcast(first);
+  std::memcpy(&code, agreed.data(), sizeof(int));
+  if (code == 0) return;
+  message.assign(agreed.begin() + sizeof(int), agreed.end());
+  failure_agreed() = true;
+  switch (code) {
+    case 2: throw InputError(message);
+    case 3: throw NumericalError(message);
+    case 5: throw OutputError(message);
+    default: throw DeviceError(message);
+  }
+}
+
+}  // namespace fdem
