@@ -44,6 +44,9 @@ class HistoryRow {
     positions_ = std::move(positions), forces_ = std::move(forces), broken_ = std::move(broken), mode_ = std::move(mode);
     labels_ = std::move(labels);
   }
+  // A split run: the probes' values gathered on rank 0 (SplitRun::probe_values), the
+  // stress having been evaluated on every rank.
+  void provide_probes(std::vector<double> values) { probe_values_ = std::move(values); }
 
   const EnergyTotals energy;
   const double energy_error, energy_ratio;

@@ -272,9 +272,6 @@ void refuse_split(const PreparedCase& p, const RunOptions& options, int ranks) {
   if (p.model.contact.enabled)
     throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
                             "global detection and couples owned by one rank are not built): run it as one process");
-  if (!p.probes.empty())
-    throw InputError(head + "[[probe]] points cannot be read over several ranks yet: run it as one process, or "
-                            "remove the probes");
   if (!options.restart.empty())
     throw InputError(head + "--restart cannot continue a run over several ranks (a split run writes no checkpoint): "
                             "run it as one process");
@@ -581,6 +578,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
           std::vector<int> labels;
           if (ce4 && root) labels = host_fragment_labels(model, broken);
           row.provide(std::move(x), std::move(f), std::move(broken), std::move(mode), std::move(labels));
+          if (!points.empty()) row.provide_probes(split->probe_values(solver, p.probes));
         }
         if (root) {
           last_row = table_holder->values(row);

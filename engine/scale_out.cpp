@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <numeric>
 
 #include "base/errors.hpp"
@@ -52,6 +53,43 @@ Conditions SplitRun::conditions(Solver& solver) {
   least = from_bytes<int64_t>(transport_.broadcast(to_bytes(least)));
   auto value = [](int64_t w) { return w == INT_MAX ? -1 : static_cast<int>(w); };
   return {value(least[0]), value(least[1]), value(least[2]), value(least[3])};
+}
+
+std::vector<double> SplitRun::probe_values(Solver& solver, const std::vector<ProbeLocation>& probes) {
+  if (probes.empty()) return {};
+  solver.enqueue_stress();
+  const auto v = solver.velocities();
+  const auto s = solver.stresses();
+  // Per probe, what this rank owns: (probe, 0, vx, vy) for its node, (probe, 1, sxx, syy, sxy) for its triangle.
+  std::vector<double> mine;
+  const int node_kind = static_cast<int>(ItemKind::Node), tri_kind = static_cast<int>(ItemKind::Triangle);
+  for (size_t i = 0; i < v.size(); ++i)
+    if (scope_.owned[node_kind][i])
+      for (size_t k = 0; k < probes.size(); ++k)
+        if (probes[k].node == scope_.global[node_kind][i]) mine.insert(mine.end(), {double(k), 0, double(v[i].x), double(v[i].y), 0});
+  for (size_t t = 0; t < s.size(); ++t)
+    if (scope_.owned[tri_kind][t])
+      for (size_t k = 0; k < probes.size(); ++k)
+        if (probes[k].triangle == scope_.global[tri_kind][t])
+          mine.insert(mine.end(), {double(k), 1, double(s[t].x), double(s[t].y), double(s[t].z)});
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<double> row;
+  if (!root()) return row;
+  row.assign(6 * probes.size(), 0.0);
+  for (const auto& b : all) {
+    const auto r = from_bytes<double>(b);
+    for (size_t at = 0; at + 5 <= r.size(); at += 5) {
+      const size_t k = static_cast<size_t>(r[at]);
+      if (r[at + 1] == 0) {
+        row[6 * k] = r[at + 2], row[6 * k + 1] = r[at + 3];
+      } else {
+        const double sxx = r[at + 2], syy = r[at + 3], sxy = r[at + 4];
+        row[6 * k + 2] = sxx, row[6 * k + 3] = syy, row[6 * k + 4] = sxy;
+        row[6 * k + 5] = 0.5 * (sxx + syy) + std::hypot(0.5 * (sxx - syy), sxy);  // as PointProbes::values
+      }
+    }
+  }
+  return row;
 }
 
 std::vector<io::BreakRecord> SplitRun::drain_breaks(CohesiveForces& ce4) {

@@ -13,6 +13,7 @@
 #include "engine/energy.hpp"
 #include "engine/halo.hpp"
 #include "engine/partition.hpp"
+#include "engine/probes.hpp"
 #include "engine/solver.hpp"
 #include "engine/transport.hpp"
 #include "io/events_writer.hpp"
@@ -62,6 +63,10 @@ class SplitRun {
   // The first offenders of every rank, in global indices, smallest over the ranks (what
   // one rank's atomic minima give). Collective.
   Conditions conditions(Solver& solver);
+  // The [[probe]] values of the current state (PointProbes::values, in its order) on
+  // rank 0, empty elsewhere: each rank evaluates its stress, the owners of a probe's node
+  // and triangle send their values. Collective.
+  std::vector<double> probe_values(Solver& solver, const std::vector<ProbeLocation>& probes);
   // The breaks of owned CE4s drained on every rank since the last call, with global CE4
   // indices, sorted by (time, CE4) on rank 0 (empty elsewhere). Collective.
   std::vector<io::BreakRecord> drain_breaks(CohesiveForces& ce4);

@@ -1,7 +1,7 @@
 #!/bin/bash
 # The split run (`mpirun -np N fdem run`, ARCHITECTURE.md "Scale-out") on PoCL: a small
-# blast (tests/data/cases/blast_small.msh, CE4s breaking around the hole, a blast load and
-# an absorbing rim; [contact] left out, which a split run refuses) run as one process and
+# blast (tests/data/cases/blast_small.msh, CE4s breaking around the hole, a blast load,
+# an absorbing rim, two probes; [contact] left out, which a split run refuses) run as one process and
 # over 1, 2 and 4 ranks gives byte-identical .exo, history, fragments and events files;
 # a failure on the ranks ends every rank with one rank's exit code and message; what a
 # split run does not do is refused with exit 2.
@@ -28,6 +28,8 @@ check() {  # check WHAT COMMAND...: counts a failure when the command fails
 cp "$src/data/cases/blast_small.msh" "$tmp/"
 # The small blast without its [contact] table (from [contact] to the first [[boundary]]).
 awk '/^\[contact\]/{skip=1} /^\[\[boundary\]\]/{skip=0} !skip' "$src/data/cases/blast_small.toml" > "$tmp/blast.toml"
+# Two history probes: one the wave reaches, one it does not.
+printf '[[probe]]\nname = "near"\npoint = [0.5, 0.2]\n[[probe]]\nname = "far"\npoint = [-3.0, -1.0]\n' >> "$tmp/blast.toml"
 cp "$src/data/cases/blast_small.toml" "$tmp/contact.toml"
 cd "$tmp" || exit 1
 
