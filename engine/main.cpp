@@ -322,9 +322,12 @@ void refuse_parallel_launch(const std::string& command, bool split_run) {
                          "run` splits a model over ranks: run `fdem " + command + "` as one process.");
 }
 
-// The MPI session of a split run (null otherwise), and its transport.
+// The MPI session of a split run (null otherwise), and its transport. Until the split run
+// starts (split_run_command), every rank does the same (reads the same arguments), so an
+// error there is every rank's.
 fdem::MpiSession* g_mpi = nullptr;
 std::unique_ptr<fdem::Transport> g_transport;
+bool g_split_started = false;
 
 // The device of this rank: with `gpu` (or `auto` when there is a GPU) the GPU of its
 // rank on its node (round robin over the node's fp64 GPUs); otherwise as asked.
@@ -364,6 +367,7 @@ fdem::PartitionMethod partition_method(const Arguments& a) {
 // (engine/scale_out.*); rank 0 prints and writes the files.
 int split_run_command(const Arguments& a) {
   fdem::Transport& t = *g_transport;
+  g_split_started = true;
   const bool root = t.rank() == 0;
   std::unique_ptr<fdem::PreparedCase> p;
   std::unique_ptr<fdem::ClContext> cl;
@@ -404,6 +408,18 @@ int split_run_command(const Arguments& a) {
       << "wrote " << p->exodus_path << " (" << s.frames << " frames), " << p->history_path
       << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path)
       << " (no checkpoint: a split run writes none)\n" << std::defaultfloat;
+  if (a.profile) {
+    // Every rank's profile, printed by rank 0 in rank order.
+    cl->collect_profile();
+    std::ostringstream mine;
+    mine << "profile of rank " << t.rank() << " (device time per kernel; host-timed sections marked so):\n";
+    for (const auto& [name, time] : cl->profile())
+      mine << "  " << std::left << std::setw(60) << name << std::right << std::setw(10) << time.launches << " calls "
+           << std::fixed << std::setprecision(3) << std::setw(10) << 1e3 * time.seconds << " ms " << std::setw(10)
+           << 1e6 * time.seconds / std::max(1L, s.steps) << " us/step\n" << std::defaultfloat;
+    const std::string text = mine.str();
+    for (const auto& b : t.gather(fdem::Bytes(text.begin(), text.end()))) out << std::string(b.begin(), b.end());
+  }
   return 0;
 }
 
@@ -464,7 +480,7 @@ int fail(int code, const std::string& message) {
     std::cerr << message << "\n";
     return code;
   }
-  if (fdem::failure_agreed()) {
+  if (fdem::failure_agreed() || !g_split_started) {
     if (g_transport->rank() == 0) std::cerr << message << "\n";
     return code;
   }
