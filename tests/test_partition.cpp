@@ -13,6 +13,7 @@
 #include "case_files.hpp"
 #include "engine/halo.hpp"
 #include "engine/partition.hpp"
+#include "engine/scale_out.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
@@ -179,6 +180,8 @@ TEST_SUITE("partition") {
     const size_t broken = whole.cohesive()->count_broken();
     CHECK(broken > 0);
     CHECK(broken < p.model.ce4.size());
+    // A split run labels the pieces on the host (rank 0): the device's labels.
+    CHECK(host_fragment_labels(p.model, whole.cohesive()->broken()) == whole.fragment_labels());
     for (auto method : methods())
       for (int parts : {2, 3}) {
         CAPTURE(partition_method_name(method));
@@ -244,6 +247,30 @@ TEST_SUITE("partition") {
           CHECK(drift > 0);
         }
       }
+  }
+
+  TEST_CASE("host fragment labels: the smallest triangle of each piece, through nodes and intact CE4s") {
+    const Model m = grid(2, 1, 0.01, true);  // 4 triangles, each with its own nodes, 3 CE4s
+    REQUIRE(m.ce4.size() == 3);
+    CHECK(host_fragment_labels(m, {0, 0, 0}) == std::vector<int>{0, 0, 0, 0});
+    CHECK(host_fragment_labels(m, {1, 1, 1}) == std::vector<int>{0, 1, 2, 3});
+    // The squares' diagonals join 0-1 and 2-3, their shared side 0-3: breaking only that
+    // one leaves the pieces {0, 1} and {2, 3}.
+    std::vector<int> one(3, 0);
+    for (size_t c = 0; c < 3; ++c) one[c] = m.ce4_triangles[c][0] == 0 && m.ce4_triangles[c][1] == 3;
+    CHECK(std::count(one.begin(), one.end(), 1) == 1);
+    CHECK(host_fragment_labels(m, one) == std::vector<int>{0, 0, 2, 2});
+    // Shared nodes join triangles whatever the CE4s (no CE4s at all here).
+    const Model shared = grid(2, 1, 0.01, false);
+    CHECK(host_fragment_labels(shared, {}) == std::vector<int>{0, 0, 0, 0});
+  }
+
+  TEST_CASE("ordered sums without ranks: each column added in item order") {
+    const std::vector<double> values{1e16, 1.0, -1e16, 2.0, 1.0, 3.0};  // 3 items × 2
+    const auto sums = ordered_sums(values, 2, ItemKind::Node, nullptr);
+    REQUIRE(sums.size() == 2);
+    CHECK(sums[0] == (1e16 + -1e16) + 1.0);  // left to right: 1, not 0 (1e16 + 1 would drop the 1)
+    CHECK(sums[1] == 6.0);
   }
 
   TEST_CASE("a model with contact is not split yet") {
