@@ -406,8 +406,8 @@ int split_run_command(const Arguments& a) {
       << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error << " (worst "
       << s.worst_energy_error << ")\n"
       << "wrote " << p->exodus_path << " (" << s.frames << " frames), " << p->history_path
-      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path)
-      << " (no checkpoint: a split run writes none)\n" << std::defaultfloat;
+      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path) << " and "
+      << s.checkpoint << " (the whole model's: it continues at any number of ranks)\n" << std::defaultfloat;
   if (a.profile) {
     // Every rank's profile, printed by rank 0 in rank order.
     cl->collect_profile();

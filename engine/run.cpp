@@ -272,14 +272,9 @@ void refuse_split(const PreparedCase& p, const RunOptions& options, int ranks) {
   if (p.model.contact.enabled)
     throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
                             "global detection and couples owned by one rank are not built): run it as one process");
-  if (!options.restart.empty())
-    throw InputError(head + "--restart cannot continue a run over several ranks (a split run writes no checkpoint): "
-                            "run it as one process");
   if (options.max_wall > 0)
-    throw InputError(head + "--max-wall needs a checkpoint, which a split run does not write: run it as one process");
-  if (p.config.output.checkpoint_every > 0)
-    throw InputError(head + "output.checkpoint_every cannot be honoured (a split run writes no checkpoint): "
-                            "run it as one process, or remove the key");
+    throw InputError(head + "--max-wall cannot stop every rank at the same step yet: run it as one process, or "
+                            "use time.end and output.checkpoint_every");
 }
 
 }  // namespace
@@ -372,14 +367,25 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   RunSummary summary;
   const bool resumed = !options.restart.empty();
   if (resumed) {
-    const io::CheckpointData data = io::read_checkpoint_file(options.restart);
-    check_fits(data, p, options.restart);
-    StateReader in(cl, data, options.restart);
-    solver.load_state(in);
-    if (solver.steps_done() >= p.steps)
-      throw InputError("checkpoint '" + options.restart + "' is at step " + std::to_string(solver.steps_done()) +
-                       " (t = " + format_number(solver.time()) + " s), and the case ends at step " +
-                       std::to_string(p.steps) + ": extend the run with --set time.end=...");
+    // Every rank of a split run reads the (whole-model) checkpoint and takes its share;
+    // they find the same problems with it, or agree on the first.
+    io::CheckpointData data;
+    std::exception_ptr failure;
+    try {
+      data = io::read_checkpoint_file(options.restart);
+      check_fits(data, p, options.restart);
+      const io::CheckpointData local = split ? split->local_state(data) : io::CheckpointData();
+      StateReader in(cl, split ? local : data, options.restart);
+      solver.load_state(in);
+      if (solver.steps_done() >= p.steps)
+        throw InputError("checkpoint '" + options.restart + "' is at step " + std::to_string(solver.steps_done()) +
+                         " (t = " + format_number(solver.time()) + " s), and the case ends at step " +
+                         std::to_string(p.steps) + ": extend the run with --set time.end=...");
+    } catch (...) {
+      if (!transport) throw;
+      failure = std::current_exception();
+    }
+    if (transport) agree(*transport, failure);
     summary.worst_energy_error = data.numbers.count("worst_energy_error") ? data.numbers.at("worst_energy_error") : 0;
     summary.first_step = solver.steps_done();
     (options.info ? *options.info : log) << "resumed from " << options.restart << " at step " << solver.steps_done()
@@ -454,12 +460,16 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   };
   if (ce4 && !split) events->append(with_triangles(ce4->catalogue()));
+  if (ce4 && split) {  // a resumed split run: the whole catalogue its checkpoint carries
+    split_catalogue = split->catalogue(*ce4);
+    if (events) events->append(with_triangles(split_catalogue));
+  }
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
                                       : std::max(1L, p.steps / 1000);
-  if (resumed) {
+  if (resumed && root) {
     // What the earlier run wrote up to the checkpoint, as far as this run's schedule has
     // it: the row and frame a run writes at its own last step are not on the schedule of
     // the longer run that continues it, so a chain of runs gives the same files as one.
@@ -495,11 +505,13 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
 
   const std::string ckpt_path = checkpoint_path(p);
   auto write_checkpoint = [&]() {
-    if (split) return;  // a split run writes no checkpoint (ARCHITECTURE.md, "Scale-out")
     const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
+    if (split) record_breaks();  // the whole catalogue up to now, for the file's break log
     StateWriter out(cl, data);
     solver.save_state(out);
+    // A split run: rank 0 writes the whole model's state, as one rank would.
+    if (split) data = split->gather_state(data, split_catalogue);
     data.text["format_version"] = kCheckpointFormat;
     data.text["precision"] = kDoublePrecision ? "double" : "float";
     data.text["device"] = cl.description();
@@ -511,8 +523,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     data.numbers["time"] = solver.time();
     data.numbers["dt"] = p.dt;
     data.numbers["worst_energy_error"] = summary.worst_energy_error;
-    data.integers["broken_ce4"] = solver.cohesive() ? static_cast<std::int64_t>(solver.cohesive()->count_broken()) : 0;
-    io::write_checkpoint_file(ckpt_path, data);
+    data.integers["broken_ce4"] = !solver.cohesive() ? 0
+                                  : split          ? static_cast<std::int64_t>(split_catalogue.size())
+                                                   : static_cast<std::int64_t>(solver.cohesive()->count_broken());
+    if (root) io::write_checkpoint_file(ckpt_path, data);
     summary.checkpoint = ckpt_path;
     summary.checkpoint_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   };

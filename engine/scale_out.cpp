@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <numeric>
 
 #include "base/errors.hpp"
@@ -90,6 +92,155 @@ std::vector<double> SplitRun::probe_values(Solver& solver, const std::vector<Pro
     }
   }
   return row;
+}
+
+namespace {
+
+// The checkpoint arrays of Solver::save_state that hold one row per item (`per` rows
+// per item) and the arrays that are the same on every rank. Any other name is refused
+// when a split run writes or reads a checkpoint, so that an array added to a stage
+// cannot be split wrongly in silence: add it here.
+struct ItemArray {
+  ItemKind kind;
+  size_t per;
+};
+const std::map<std::string, ItemArray>& checkpoint_items() {
+  static const std::map<std::string, ItemArray> items{
+      {"position", {ItemKind::Node, 1}},
+      {"velocity", {ItemKind::Node, 1}},
+      {"integrate_node_work", {ItemKind::Node, 1}},
+      {"edge_force", {ItemKind::LoadedEdge, 2}},
+      {"load_edge_energy", {ItemKind::LoadedEdge, 1}},
+      {"triangle_viscous_stress", {ItemKind::Triangle, 1}},
+      {"ce4_gauss_state", {ItemKind::Ce4, 3}},
+      {"ce4_status", {ItemKind::Ce4, 1}},
+      {"ce4_output", {ItemKind::Ce4, 1}},
+      {"ce4_force", {ItemKind::Ce4, 4}},
+      {"ce4_last_gap", {ItemKind::Ce4, 1}},
+      {"ce4_friction_slip", {ItemKind::Ce4, 1}},
+      {"ce4_last_chord", {ItemKind::Ce4, 1}},
+      {"ce4_energy", {ItemKind::Ce4, 1}},
+  };
+  return items;
+}
+// Per-work-group sums (not read by the account any more; kept for the file's layout): rank 0's.
+bool rank_zero_array(const std::string& name) { return name == "integrate_work" || name == "triangle_energy"; }
+bool break_log_array(const std::string& name) { return name == "ce4_break_ids" || name == "ce4_break_records"; }
+
+void check_known(const std::string& name) {
+  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name))
+    throw InputError("checkpoint array '" + name + "' is not known to the split run (engine/scale_out.cpp, "
+                     "checkpoint_items): a checkpoint of this model cannot be written or read over several ranks");
+}
+
+// The break log arrays of a catalogue (CohesiveForces::save_state's layout).
+void put_break_log(io::CheckpointData& data, const std::vector<io::BreakRecord>& log) {
+  std::vector<cl_int> ids(2 * log.size());
+  std::vector<real> rec(4 * log.size());
+  for (size_t k = 0; k < log.size(); ++k) {
+    ids[2 * k] = cl_int(log[k].ce4), ids[2 * k + 1] = log[k].mode;
+    rec[4 * k] = real(log[k].time), rec[4 * k + 1] = real(log[k].x), rec[4 * k + 2] = real(log[k].y),
+            rec[4 * k + 3] = real(log[k].energy);
+  }
+  data.integers["ce4_break_count"] = static_cast<std::int64_t>(log.size());
+  for (auto& a : data.arrays) {
+    if (a.name == "ce4_break_ids") a.bytes.assign(reinterpret_cast<const unsigned char*>(ids.data()),
+                                                  reinterpret_cast<const unsigned char*>(ids.data() + ids.size()));
+    if (a.name == "ce4_break_records") a.bytes.assign(reinterpret_cast<const unsigned char*>(rec.data()),
+                                                      reinterpret_cast<const unsigned char*>(rec.data() + rec.size()));
+  }
+}
+
+}  // namespace
+
+io::CheckpointData SplitRun::gather_state(const io::CheckpointData& local, const std::vector<io::BreakRecord>& catalogue) {
+  io::CheckpointData global = local;  // attributes and rank 0's layout
+  for (auto& a : global.arrays) {
+    check_known(a.name);
+    const auto it = checkpoint_items().find(a.name);
+    if (it == checkpoint_items().end()) continue;
+    const int k = static_cast<int>(it->second.kind);
+    const size_t row = io::element_bytes(a.type) * a.width * it->second.per;  // bytes per item
+    // (global index, row) of every owned item.
+    Bytes mine;
+    for (size_t i = 0; i < scope_.owned[k].size(); ++i)
+      if (scope_.owned[k][i]) {
+        const int64_t g = scope_.global[k][i];
+        mine.insert(mine.end(), reinterpret_cast<const char*>(&g), reinterpret_cast<const char*>(&g) + sizeof g);
+        mine.insert(mine.end(), a.bytes.begin() + i * row, a.bytes.begin() + (i + 1) * row);
+      }
+    const auto all = transport_.gather(std::move(mine));
+    if (!root()) continue;
+    a.bytes.assign(scope_.global_count[k] * row, 0);
+    for (const auto& b : all)
+      for (size_t at = 0; at + sizeof(int64_t) + row <= b.size(); at += sizeof(int64_t) + row) {
+        int64_t g = 0;
+        std::memcpy(&g, b.data() + at, sizeof g);
+        std::memcpy(a.bytes.data() + g * row, b.data() + at + sizeof g, row);
+      }
+  }
+  if (root() && global.find("ce4_break_ids")) put_break_log(global, catalogue);
+  return global;
+}
+
+io::CheckpointData SplitRun::local_state(const io::CheckpointData& global) const {
+  io::CheckpointData local = global;
+  for (auto& a : local.arrays) {
+    check_known(a.name);
+    const auto it = checkpoint_items().find(a.name);
+    if (it == checkpoint_items().end()) continue;
+    const int k = static_cast<int>(it->second.kind);
+    const size_t row = io::element_bytes(a.type) * a.width * it->second.per;
+    if (a.bytes.size() != scope_.global_count[k] * row) continue;  // StateReader names the misfit
+    std::vector<unsigned char> mine(scope_.global[k].size() * row);
+    for (size_t i = 0; i < scope_.global[k].size(); ++i)
+      std::memcpy(mine.data() + i * row, a.bytes.data() + scope_.global[k][i] * row, row);
+    a.bytes = std::move(mine);
+  }
+  // The break log: the records of the CE4s this rank holds, with local indices, in order.
+  if (const auto* ids_array = global.find("ce4_break_ids")) {
+    const auto* rec_array = global.find("ce4_break_records");
+    const auto it = global.integers.find("ce4_break_count");
+    const size_t n = it == global.integers.end() ? 0 : static_cast<size_t>(std::max<int64_t>(0, it->second));
+    if (rec_array && ids_array->bytes.size() == 2 * n * sizeof(cl_int) && rec_array->bytes.size() == 4 * n * sizeof(real)) {
+      std::vector<int> local_of(global_.ce4.size(), -1);
+      const int k = static_cast<int>(ItemKind::Ce4);
+      for (size_t i = 0; i < scope_.global[k].size(); ++i) local_of[scope_.global[k][i]] = static_cast<int>(i);
+      std::vector<io::BreakRecord> log;
+      std::vector<cl_int> ids(2 * n);
+      std::vector<real> rec(4 * n);
+      std::memcpy(ids.data(), ids_array->bytes.data(), ids_array->bytes.size());
+      std::memcpy(rec.data(), rec_array->bytes.data(), rec_array->bytes.size());
+      for (size_t r = 0; r < n; ++r) {
+        if (ids[2 * r] < 0 || static_cast<size_t>(ids[2 * r]) >= local_of.size() || local_of[ids[2 * r]] < 0) continue;
+        io::BreakRecord b;
+        b.ce4 = local_of[ids[2 * r]], b.mode = ids[2 * r + 1];
+        b.time = rec[4 * r], b.x = rec[4 * r + 1], b.y = rec[4 * r + 2], b.energy = rec[4 * r + 3];
+        log.push_back(b);
+      }
+      put_break_log(local, log);
+    }
+  }
+  return local;
+}
+
+std::vector<io::BreakRecord> SplitRun::catalogue(CohesiveForces& ce4) {
+  std::vector<io::BreakRecord> mine;
+  for (auto b : ce4.catalogue()) {
+    const int g = local_.ce4_global[b.ce4];
+    if (partition_.triangle_part[global_.ce4_triangles[g][0]] != transport_.rank()) continue;
+    b.ce4 = g;
+    mine.push_back(b);
+  }
+  std::vector<io::BreakRecord> out;
+  for (const auto& bytes : transport_.gather(to_bytes(mine))) {
+    const auto v = from_bytes<io::BreakRecord>(bytes);
+    out.insert(out.end(), v.begin(), v.end());
+  }
+  std::sort(out.begin(), out.end(), [](const io::BreakRecord& a, const io::BreakRecord& b) {
+    return a.time != b.time ? a.time < b.time : a.ce4 < b.ce4;
+  });
+  return out;
 }
 
 std::vector<io::BreakRecord> SplitRun::drain_breaks(CohesiveForces& ce4) {

@@ -16,6 +16,7 @@
 #include "engine/probes.hpp"
 #include "engine/solver.hpp"
 #include "engine/transport.hpp"
+#include "io/checkpoint_file.hpp"
 #include "io/events_writer.hpp"
 
 namespace fdem {
@@ -67,6 +68,16 @@ class SplitRun {
   // rank 0, empty elsewhere: each rank evaluates its stress, the owners of a probe's node
   // and triangle send their values. Collective.
   std::vector<double> probe_values(Solver& solver, const std::vector<ProbeLocation>& probes);
+  // Checkpoints at any rank count: the arrays of the Solver's state (Solver::save_state)
+  // are per node, triangle, loaded edge or CE4 (checkpoint_items), so rank 0 assembles
+  // the whole model's from every rank's owned items (gather_state; collective), in the
+  // layout one rank writes, and each rank takes its own and its ghosts' items from such a
+  // file (local_state). The break log is the whole run's `catalogue` (global CE4s).
+  io::CheckpointData gather_state(const io::CheckpointData& local, const std::vector<io::BreakRecord>& catalogue);
+  io::CheckpointData local_state(const io::CheckpointData& global) const;
+  // Every rank's owned CE4s' records of its catalogue (global CE4 indices), sorted, on
+  // rank 0. Collective.
+  std::vector<io::BreakRecord> catalogue(CohesiveForces& ce4);
   // The breaks of owned CE4s drained on every rank since the last call, with global CE4
   // indices, sorted by (time, CE4) on rank 0 (empty elsewhere). Collective.
   std::vector<io::BreakRecord> drain_breaks(CohesiveForces& ce4);

@@ -3,8 +3,9 @@
 # blast (tests/data/cases/blast_small.msh, CE4s breaking around the hole, a blast load,
 # an absorbing rim, two probes; [contact] left out, which a split run refuses) run as one process and
 # over 1, 2 and 4 ranks gives byte-identical .exo, history, fragments and events files;
-# a failure on the ranks ends every rank with one rank's exit code and message; what a
-# split run does not do is refused with exit 2.
+# a failure on the ranks ends every rank with one rank's exit code and message;
+# checkpoints continue at any number of ranks; what a split run does not do is refused
+# with exit 2.
 # Usage: test_mpi.sh FDEM [MPIRUN]
 set -u
 fdem=$(readlink -f "$1")
@@ -73,13 +74,29 @@ timeout 120 "$mpirun" --oversubscribe -np 2 "$fdem" run blast.toml --set 'output
 check "rank 0's output error ends both ranks with exit 5" test $? -eq 5
 check "... naming the file" grep -q "output error: .*blast.exo" out5.log
 
-# Refused under N > 1 with one message and exit 2: contact, probes, restart.
+# Checkpoints hold the whole model and continue at any number of ranks: 2 ranks to half
+# the time, 4 ranks on to the end give one process's files; so do one process then 2 ranks.
+split 2 half --set 'time.end=1e-4'
+check "2 ranks to half the time" test $? -eq 0
+split 4 half --restart
+check "4 ranks continue its checkpoint" test $? -eq 0
+check "... resumed" grep -q "resumed from" half.log
+"$fdem" run blast.toml --quiet --set 'output.dir="half1"' --set 'time.end=1e-4' > half1.log 2>&1
+split 2 half1 --restart
+check "2 ranks continue one process's checkpoint" test $? -eq 0
+for out in half half1; do
+  for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
+    check "$out/$f (a chain over rank counts) byte-identical to one process" cmp -s "one/$f" "$out/$f"
+  done
+done
+
+# Refused under N > 1 with one message and exit 2: contact, --max-wall.
 "$mpirun" --oversubscribe -np 2 "$fdem" run contact.toml --set 'output.dir="c"' > c.log 2>&1
 check "contact over 2 ranks: exit 2" test $? -eq 2
 check "... saying what is missing" grep -q "\[contact\] cannot run over several ranks yet" c.log
 check "... once" test "$(grep -c '^error:' c.log)" -eq 1
-split 2 r --restart
-check "--restart over 2 ranks: exit 2" test $? -eq 2
+split 2 r --max-wall 100
+check "--max-wall over 2 ranks: exit 2" test $? -eq 2
 
 if [ "$fails" -ne 0 ]; then
   echo "$fails check(s) failed"
