@@ -398,7 +398,15 @@ int split_run_command(const Arguments& a) {
   options.info = &out;
   options.transport = &t;
   options.partition = partition_method(a);
+  options.stop = &g_stop;  // mpirun passes SIGTERM and SIGINT on to the ranks
+  for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
   const auto s = fdem::run_case(*p, *cl, out, false, options);
+  if (s.interrupted) {
+    out << "stopped by " << s.stop_reason << " at step " << s.first_step + s.steps << ", t = " << s.simulated_time
+        << " s (" << s.steps << " steps run); checkpoint " << s.checkpoint << "\n"
+        << "resume with: mpirun -np N " << resume_command(a, s.checkpoint) << " (any N)\n";
+    return 75;
+  }
   out << "done: " << s.steps << " steps over " << t.size() << " ranks, t = " << s.simulated_time << " s, wall "
       << std::fixed << std::setprecision(2) << s.wall_seconds << " s, " << std::setprecision(1)
       << s.steps / std::max(s.wall_seconds, 1e-9) << " steps/s\n"

@@ -272,9 +272,6 @@ void refuse_split(const PreparedCase& p, const RunOptions& options, int ranks) {
   if (p.model.contact.enabled)
     throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
                             "global detection and couples owned by one rank are not built): run it as one process");
-  if (options.max_wall > 0)
-    throw InputError(head + "--max-wall cannot stop every rank at the same step yet: run it as one process, or "
-                            "use time.end and output.checkpoint_every");
 }
 
 }  // namespace
@@ -554,9 +551,17 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     if (split) split->exchange();
     const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
     const bool checkpoint_due = checkpoint_every > 0 && solver.time() >= next_checkpoint - 1e-6 * p.dt;
-    const bool stop_signal = options.stop && *options.stop;
-    const bool out_of_time = options.max_wall > 0 &&
-                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > options.max_wall;
+    int stop_number = options.stop ? static_cast<int>(*options.stop) : 0;
+    bool out_of_time = options.max_wall > 0 &&
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > options.max_wall;
+    if (split) {
+      // Every rank must stop at the same step: a signal or --max-wall on any rank counts at
+      // the next step where the ranks talk anyway (at most check_stride steps later).
+      const bool talk = frame_due || history_due || checkpoint_due || s % check_stride == 0;
+      stop_number = talk ? static_cast<int>(transport->max(stop_number)) : 0;
+      out_of_time = talk && transport->max(out_of_time ? 1 : 0) != 0;
+    }
+    const bool stop_signal = stop_number != 0;
     const bool stopping = (stop_signal || out_of_time) && s < p.steps;
     if (frame_due || history_due || checkpoint_due || stopping || s % check_stride == 0) {
       const Conditions cond = split ? split->conditions(solver) : solver.conditions();
@@ -639,7 +644,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       if (stopping) {
         summary.interrupted = true;
         if (stop_signal) {
-          const int signal = static_cast<int>(*options.stop);
+          const int signal = stop_number;
           summary.stop_reason = signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : signal == SIGUSR1 ? "SIGUSR1" : "a signal";
         } else {
           summary.stop_reason = "--max-wall " + format_number(options.max_wall) + " s";

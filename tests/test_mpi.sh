@@ -84,19 +84,24 @@ check "... resumed" grep -q "resumed from" half.log
 "$fdem" run blast.toml --quiet --set 'output.dir="half1"' --set 'time.end=1e-4' > half1.log 2>&1
 split 2 half1 --restart
 check "2 ranks continue one process's checkpoint" test $? -eq 0
-for out in half half1; do
+# --max-wall over 2 ranks: every rank stops at the same step (exit 75) with a
+# checkpoint; 4 ranks continue it.
+split 2 wall --max-wall 0.01
+check "--max-wall stops 2 ranks with exit 75" test $? -eq 75
+check "... printing how to resume" grep -q "resume with: mpirun" wall.log
+split 4 wall --restart
+check "4 ranks continue the stopped run" test $? -eq 0
+for out in half half1 wall; do
   for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
     check "$out/$f (a chain over rank counts) byte-identical to one process" cmp -s "one/$f" "$out/$f"
   done
 done
 
-# Refused under N > 1 with one message and exit 2: contact, --max-wall.
+# Refused under N > 1 with one message and exit 2: contact.
 "$mpirun" --oversubscribe -np 2 "$fdem" run contact.toml --set 'output.dir="c"' > c.log 2>&1
 check "contact over 2 ranks: exit 2" test $? -eq 2
 check "... saying what is missing" grep -q "\[contact\] cannot run over several ranks yet" c.log
 check "... once" test "$(grep -c '^error:' c.log)" -eq 1
-split 2 r --max-wall 100
-check "--max-wall over 2 ranks: exit 2" test $? -eq 2
 
 if [ "$fails" -ne 0 ]; then
   echo "$fails check(s) failed"
