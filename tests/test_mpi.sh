@@ -1,7 +1,8 @@
 #!/bin/bash
 # The split run (`mpirun -np N fdem run`, ARCHITECTURE.md "Scale-out") on PoCL: a small
 # blast (tests/data/cases/blast_small.msh, CE4s breaking around the hole, a blast load,
-# an absorbing rim, two probes; [contact] left out, which a split run refuses) run as one process and
+# an absorbing rim, two probes; [contact] left out, which a split run refuses) and a small
+# geostatic column (tests/data/cases/column_small.*) run as one process and
 # over 1, 2 and 4 ranks gives byte-identical .exo, history, fragments and events files;
 # a failure on the ranks ends every rank with one rank's exit code and message;
 # checkpoints continue at any number of ranks; what a split run does not do is refused
@@ -53,6 +54,19 @@ check "4 ranks said so" grep -q "over 4 ranks" np4.log
 for out in np1 np2 np4; do
   for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
     check "$out/$f byte-identical to one process" cmp -s "one/$f" "$out/$f"
+  done
+done
+
+# A small geostatic column (gravity, local damping with mass scaling, viscosity, rollers:
+# the other terms of the energy account and the reaction columns) over 2 and 4 ranks.
+cp "$src/data/cases/column_small.msh" "$src/data/cases/column_small.toml" .
+"$fdem" run column_small.toml --quiet --set 'output.dir="col1"' > col1.log 2>&1
+check "one process runs the column" test $? -eq 0
+for np in 2 4; do
+  "$mpirun" --oversubscribe -np "$np" "$fdem" run column_small.toml --set "output.dir=\"col$np\"" > "col$np.log" 2>&1
+  check "the column over $np ranks runs" test $? -eq 0
+  for f in column.exo column_history.nc; do
+    check "col$np/$f byte-identical to one process" cmp -s "col1/$f" "col$np/$f"
   done
 done
 
