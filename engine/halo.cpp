@@ -45,6 +45,15 @@ std::vector<cl_uint> concatenated(const std::vector<std::vector<int>>& lists) {
 }
 }  // namespace
 
+MemoryPlan HaloExchange::memory(const HaloPlan& plan) {
+  const size_t sent = std::max<size_t>(1, plan.sent()), received = std::max<size_t>(1, plan.received());
+  return MemoryPlan()
+      .add("halo send_index", sent * sizeof(cl_uint))
+      .add("halo receive_index", received * sizeof(cl_uint))
+      .add("halo send_values", sent * sizeof(real4))
+      .add("halo receive_values", received * sizeof(real4));
+}
+
 HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport)
     : cl_(cl), arrays_(arrays), plan_(std::move(plan)), transport_(transport), sent_(plan_.sent()),
       received_(plan_.received()) {
@@ -52,12 +61,13 @@ HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, T
   pack_ = compute::kernel(program, "halo_pack");
   unpack_ = compute::kernel(program, "halo_unpack");
   const auto send_index = concatenated(plan_.send), receive_index = concatenated(plan_.receive);
-  send_index_ = cl.allocate(send_index.size() * sizeof(cl_uint), "halo send_index");
-  receive_index_ = cl.allocate(receive_index.size() * sizeof(cl_uint), "halo receive_index");
+  const MemoryPlan own = memory(plan_);
+  send_index_ = own.allocate(cl, "halo send_index");
+  receive_index_ = own.allocate(cl, "halo receive_index");
   upload(cl, send_index_, send_index);
   upload(cl, receive_index_, receive_index);
-  send_values_ = cl.allocate(std::max<size_t>(1, sent_) * sizeof(real4), "halo send_values");
-  receive_values_ = cl.allocate(std::max<size_t>(1, received_) * sizeof(real4), "halo receive_values");
+  send_values_ = own.allocate(cl, "halo send_values");
+  receive_values_ = own.allocate(cl, "halo receive_values");
   send_host_.resize(sent_);
   receive_host_.resize(received_);
   bind_args(pack_)("n", static_cast<cl_uint>(sent_))("index", send_index_)("position", arrays.position)(

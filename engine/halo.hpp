@@ -8,6 +8,7 @@
 
 #include "engine/cl_context.hpp"
 #include "engine/device_arrays.hpp"
+#include "engine/memory_plan.hpp"
 #include "engine/partition.hpp"
 #include "engine/transport.hpp"
 
@@ -28,6 +29,8 @@ HaloPlan halo_plan(const Model& global, const Partition& partition, const LocalM
 class HaloExchange {
  public:
   HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport);
+  // The device arrays of the exchange of `plan` (index lists and packed values).
+  static MemoryPlan memory(const HaloPlan& plan);
   // Packs the sent nodes on the device, reads them (waits for the queue) and posts them.
   void send();
   // Receives every peer's values and writes them into the ghost nodes (enqueued; the
