@@ -160,6 +160,8 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
+  OrderedSums ordered_;  // the energy account's sums in item order (engine/energy.hpp)
+  size_t ce4_count_ = 0;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]

@@ -7,6 +7,7 @@
 #include <array>
 #include <set>
 #include <vector>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include "base/errors.hpp"
@@ -265,12 +266,35 @@ TEST_SUITE("partition") {
     CHECK(host_fragment_labels(shared, {}) == std::vector<int>{0, 0, 0, 0});
   }
 
-  TEST_CASE("ordered sums without ranks: each column added in item order") {
-    const std::vector<double> values{1e16, 1.0, -1e16, 2.0, 1.0, 3.0};  // 3 items × 2
-    const auto sums = ordered_sums(values, 2, ItemKind::Node, nullptr);
+  TEST_CASE("ordered sums: blocks of items left to right, the same bits on the device and on the host") {
+    // Within a block, left to right: 1e16 + 1 would lose the 1 in any other grouping.
+    const std::vector<real> small{real(1e16), 1, real(-1e16), 2, 1, 3};  // 3 items × 2
+    const auto sums = blocked_sums(small, 3, 2, 0, 2);
     REQUIRE(sums.size() == 2);
-    CHECK(sums[0] == (1e16 + -1e16) + 1.0);  // left to right: 1, not 0 (1e16 + 1 would drop the 1)
+    CHECK(sums[0] == double(real(real(1e16) + real(-1e16)) + real(1)));
     CHECK(sums[1] == 6.0);
+    // Many blocks, values of mixed sign and size, columns 1 and 2 of rows of 4: the
+    // device's OrderedSums (one rank) gives the host rule's bits (a split run's rank 0).
+    ClContext& cl = test::context();
+    const size_t count = 5 * kOrderedBlock + 37;
+    std::vector<real> rows(4 * count);
+    uint64_t state = 12345;
+    for (auto& v : rows) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      v = real((double(state >> 11) / double(1ULL << 53) - 0.4) * std::pow(10.0, double(state % 13)));
+    }
+    compute::buffer buffer = cl.allocate(rows.size() * sizeof(real), "test rows");
+    upload(cl, buffer, rows);
+    OrderedSums device(cl, count);
+    const auto on_device = device.sums(buffer, count, 4, 1, 2);
+    const auto on_host = blocked_sums(rows, count, 4, 1, 2);
+    REQUIRE(on_device.size() == 2);
+    for (int c = 0; c < 2; ++c) {
+      CAPTURE(c);
+      CHECK(std::memcmp(&on_device[c], &on_host[c], sizeof(double)) == 0);
+      CHECK(on_host[c] != 0.0);
+    }
+    CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node) == on_host);
   }
 
   TEST_CASE("a model with contact is not split yet") {

@@ -37,10 +37,7 @@ void BoundaryLoads::enqueue(double time, int step) {
 }
 
 void BoundaryLoads::add_energy(EnergyTotals& e, const ItemSums& sums) {
-  const auto edges = download<real2>(cl_, edge_energy_, count_);
-  std::vector<double> values(2 * count_);
-  for (size_t k = 0; k < count_; ++k) values[2 * k] = edges[k].x, values[2 * k + 1] = edges[k].y;
-  const auto sum = sums(values, 2, ItemKind::LoadedEdge);
+  const auto sum = sums(cl_, edge_energy_, count_, 2, 0, 2, ItemKind::LoadedEdge);
   e.load_work += sum[0];
   e.absorbed += sum[1];
 }

@@ -60,13 +60,9 @@ void Integrate::enqueue(double time_after, int step, bool energy_row) {
 }
 
 void Integrate::add_energy(EnergyTotals& e, const ItemSums& sums) {
-  // Per node, in node order (rank-independent): the kernel wrote (kinetic, gravity
-  // potential, damping work and reaction work up to t) on the energy row.
-  const auto nodes = download<real4>(cl_, node_energy_, count_);
-  std::vector<double> values(4 * count_);
-  for (size_t i = 0; i < count_; ++i)
-    values[4 * i] = nodes[i].x, values[4 * i + 1] = nodes[i].y, values[4 * i + 2] = nodes[i].z, values[4 * i + 3] = nodes[i].w;
-  const auto sum = sums(values, 4, ItemKind::Node);
+  // Per node, in node order by the fixed rule (rank-independent): the kernel wrote
+  // (kinetic, gravity potential, damping work and reaction work up to t) on the energy row.
+  const auto sum = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
   e.kinetic += sum[0];
   e.gravity_potential += sum[1];
   if (!account_work_) return;

@@ -53,10 +53,7 @@ void TriangleForces::enqueue_stress(int step) {
 }
 
 void TriangleForces::add_energy(EnergyTotals& e, const ItemSums& sums) {
-  const auto tris = download<real2>(cl_, triangle_energy_, count_);
-  std::vector<double> values(2 * count_);
-  for (size_t t = 0; t < count_; ++t) values[2 * t] = tris[t].x, values[2 * t + 1] = tris[t].y;
-  const auto sum = sums(values, 2, ItemKind::Triangle);
+  const auto sum = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
   e.strain += sum[0];
   e.viscous += sum[1];
 }
