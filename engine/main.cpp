@@ -493,6 +493,7 @@ int fail(int code, const std::string& message) {
     return code;
   }
   g_transport->abort(code, "rank " + std::to_string(g_transport->rank()) + ": " + message + "\n");
+  return code;  // not reached: abort ends the process
 }
 
 int guarded_main(int argc, char** argv);

@@ -267,7 +267,7 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
 }
 
 // What a split run (N > 1 ranks) does not do yet: one message naming it, exit 2.
-void refuse_split(const PreparedCase& p, const RunOptions& options, int ranks) {
+void refuse_split(const PreparedCase& p, int ranks) {
   const std::string head = p.config.path + ": this run is split over " + std::to_string(ranks) + " ranks, and ";
   if (p.model.contact.enabled)
     throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
@@ -346,7 +346,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   if (transport) {
     std::exception_ptr failure;
     try {
-      refuse_split(p, options, transport->size());
+      refuse_split(p, transport->size());
       make_output_dir();
       split = std::make_unique<SplitRun>(model, *transport, options.partition);
       solver_holder = std::make_unique<Solver>(cl, split->local_model(), p.dt);
