@@ -26,7 +26,7 @@ FRACTURE_PLOTS = if ls $(1)/*_events.nc >/dev/null 2>&1; then $(PLOT) events $(1
 
 # Debian 12 packages the build, the tests and the tools need.
 DEBS := cmake g++ make pkg-config file ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd \
-        libboost-dev libeigen3-dev libnetcdf-dev libtomlplusplus-dev doctest-dev gmsh libmetis-dev \
+        libboost-dev libeigen3-dev libnetcdf-dev libtomlplusplus-dev doctest-dev gmsh libmetis-dev libopenmpi-dev openmpi-bin \
         python3-netcdf4 python3-matplotlib python3-numpy python3-xarray
 
 .PHONY: all deps build test validate demo clean

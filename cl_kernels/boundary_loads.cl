@@ -19,8 +19,8 @@
 // per node, with x_now - x_before = v Δt (v is the velocity that made that move). That is
 // exact for a force linear in time over the step and consistent with the integrator (see
 // integrate.cl). Absorbing edges book minus it as absorbed energy, the others as load
-// work; the work-group sums both (fixed order) into its own slot of group_energy. The
-// first step has no "before" and adds nothing.
+// work; the edge adds both to its own totals in edge_energy (summed by the host in edge
+// order at history rows: engine/energy.hpp). The first step has no "before" and adds nothing.
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 // The kinds' values (LOAD_*) are defined in engine/layouts.hpp.
 
@@ -129,13 +129,10 @@ __kernel void boundary_loads(const uint n_edges,
                              __global real2* restrict edge_force,
                              const real dt,
                              const int step,
-                             __global real2* restrict group_energy) {
-  __local real4 energy_scratch[GROUP_SIZE];
+                             __global real2* restrict edge_energy) {
   const uint e = get_global_id(0);
-  real4 energy = (real4)(0, 0, 0, 0);
-  if (e < n_edges)
-    energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, ref_position, position,
-                              velocity, thickness, time, edge_force, dt, step);
-  const real4 sum = group_sum4(energy_scratch, energy);
-  if (get_local_id(0) == 0) group_energy[get_group_id(0)] += sum.xy;
+  if (e >= n_edges) return;
+  const real4 energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, ref_position,
+                                        position, velocity, thickness, time, edge_force, dt, step);
+  edge_energy[e] += energy.xy;
 }

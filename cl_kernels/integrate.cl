@@ -56,7 +56,8 @@ __kernel void integrate(const uint n_nodes,
                         const int energy_row,
                         __global real2* restrict group_work,
                         __global real4* restrict group_row,
-                        __global real2* restrict node_work) {
+                        __global real2* restrict node_work,
+                        __global real4* restrict node_energy) {
 #if SKIN_TEST
   __local uint2 skin_scratch[GROUP_SIZE];
 #endif
@@ -109,6 +110,9 @@ __kernel void integrate(const uint n_nodes,
     if (energy_row) {
       row.x = (real)0.5 * mass.y * dot(v_before, v);
       row.y = -mass.x * dot((real2)(gx, gy), x_now - ref_position[i]);
+      // The node's own terms, summed by the host in node order (rank-independent sums):
+      // (kinetic, gravity potential, damping and reaction work up to t).
+      node_energy[i] = (real4)(row.x, row.y, work.x - work.z, work.y - work.w);
     }
     if (!(isfinite(x.x) && isfinite(x.y) && isfinite(v.x) && isfinite(v.y))) {
       atomic_min(&conditions[COND_BAD_NODE], (int)i);

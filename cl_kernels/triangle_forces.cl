@@ -187,13 +187,17 @@ __kernel void triangle_forces(const uint n_triangles,
                               const int energy_mode,
                               const real dt,
                               __global real2* restrict group_energy,
-                              __global real4* restrict viscous_stress) {
+                              __global real4* restrict viscous_stress,
+                              __global real2* restrict triangle_energy) {
   __local real4 energy_scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
   real4 energy = (real4)(0, 0, 0, 0);
   if (t < n_triangles)
     energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
                       step, corner_force, stress, conditions, energy_mode, dt, viscous_stress);
+  // Energy rows: the triangle's own (strain energy, viscous dissipation so far), summed
+  // by the host in triangle order (rank-independent sums, engine/energy.hpp).
+  if ((energy_mode & 2) && t < n_triangles) triangle_energy[t] = (real2)(energy.x, (energy_mode & 1) ? energy.y : (real)0);
   if (energy_mode & 2) {  // the same for every work-item: no barrier is skipped by some only
     const real4 sum = group_sum4(energy_scratch, energy);
     if (get_local_id(0) == 0) {

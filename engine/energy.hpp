@@ -7,7 +7,12 @@
 #include <cstddef>
 #include <string>
 
+#include <functional>
+#include <vector>
+
 #include "engine/cl_context.hpp"
+#include "engine/memory_plan.hpp"
+#include "engine/real.hpp"
 
 namespace fdem {
 
@@ -55,6 +60,56 @@ class EnergyBalance {
  private:
   bool started_ = false;
   double initial_stored_ = 0, peak_kinetic_ = 0;
+};
+
+// Sums of per-item values that do not depend on how the model is split over ranks: each
+// term of the account is a sum over items (nodes, triangles, loaded edges, CE4s) of the
+// item's own value, added in the global item order by a fixed rule (blocked_sums: blocks
+// of kOrderedBlock consecutive items, each summed left to right in `real`, the blocks'
+// sums added in block order in double). One rank sums on the device (OrderedSums, one
+// launch and a read of the blocks' sums); a split run's rank 0 applies the same rule to
+// the values gathered in global order (ordered_sums); so one rank and any number of ranks
+// give the same bits (ARCHITECTURE.md, "Scale-out").
+enum class ItemKind { Node = 0, Triangle = 1, LoadedEdge = 2, Ce4 = 3 };
+constexpr std::size_t kOrderedBlock = 256;
+
+// Columns first … first + width − 1 of `count` rows of `stride` reals, summed by the rule.
+std::vector<double> blocked_sums(const std::vector<real>& values, std::size_t count, int stride, int first, int width);
+
+// The sums of columns [first, first + width) of a device array of `count` items of
+// `stride` reals (real4: 4) of kind `kind`.
+using ItemSums = std::function<std::vector<double>(ClContext& cl, const compute::buffer& values, std::size_t count,
+                                                   int stride, int first, int width, ItemKind kind)>;
+// ItemSums over all of one rank's items, on the host (for stages used alone: tests).
+std::vector<double> all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
+                              int width, ItemKind kind);
+
+class Transport;
+// One rank's items in the whole model, per kind: local → global index, whether this rank
+// accounts for the item (owns it), and the global count.
+struct ItemScope {
+  Transport* transport = nullptr;
+  std::array<std::vector<int>, 4> global;
+  std::array<std::vector<char>, 4> owned;
+  std::array<size_t, 4> global_count{};
+};
+// The sums of `values` (count × width reals, this rank's items) over every rank's owned
+// items in global order, by the rule, on every rank (collective).
+std::vector<double> ordered_sums(const std::vector<real>& values, int width, ItemKind kind, const ItemScope& scope);
+
+// The device side of the rule for one rank (Solver): the kernel of
+// cl_kernels/ordered_sum.cl and its array of block sums.
+class OrderedSums {
+ public:
+  OrderedSums(ClContext& cl, std::size_t max_items);
+  // The arrays it allocates for arrays of at most `max_items` items (4 columns at most).
+  static MemoryPlan plan(std::size_t max_items);
+  std::vector<double> sums(const compute::buffer& values, std::size_t count, int stride, int first, int width);
+
+ private:
+  ClContext& cl_;
+  compute::kernel kernel_;
+  compute::buffer partial_;
 };
 
 // Sums the per-work-group energy slots of a stage (`width` reals per group: real2 or

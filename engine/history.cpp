@@ -39,7 +39,7 @@ const std::vector<double>& HistoryRow::probe_values() {
 const FragmentSummary& HistoryRow::fragments(const Model& model) {
   if (!fragments_) {
     const long broken_now = static_cast<long>(std::count_if(broken().begin(), broken().end(), [](int b) { return b != 0; }));
-    fragments_ = summarise_fragments(model, solver_.fragment_labels(broken_now), positions());
+    fragments_ = summarise_fragments(model, labels_ ? *labels_ : solver_.fragment_labels(broken_now), positions());
   }
   return *fragments_;
 }

@@ -37,6 +37,16 @@ class HistoryRow {
   // Whether this row evaluated the stress of the current state (for the probes): a frame
   // written at the same step then need not evaluate it again.
   bool stress_evaluated() const { return probe_values_.has_value() && !probes_.empty(); }
+  // A split run: the whole model's positions, forces, CE4 flags and fragment labels,
+  // gathered in global order (rank 0), used instead of the solver's.
+  void provide(std::vector<real2> positions, std::vector<real2> forces, std::vector<int> broken, std::vector<int> mode,
+               std::vector<int> labels) {
+    positions_ = std::move(positions), forces_ = std::move(forces), broken_ = std::move(broken), mode_ = std::move(mode);
+    labels_ = std::move(labels);
+  }
+  // A split run: the probes' values gathered on rank 0 (SplitRun::probe_values), the
+  // stress having been evaluated on every rank.
+  void provide_probes(std::vector<double> values) { probe_values_ = std::move(values); }
 
   const EnergyTotals energy;
   const double energy_error, energy_ratio;
@@ -49,6 +59,7 @@ class HistoryRow {
   std::optional<std::vector<int>> broken_, mode_;
   std::optional<std::vector<double>> probe_values_;
   std::optional<FragmentSummary> fragments_;
+  std::optional<std::vector<int>> labels_;
 };
 
 struct HistoryColumn {

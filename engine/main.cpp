@@ -25,6 +25,8 @@
 #include "engine/stages/contact_forces.hpp"
 #include <cstdlib>
 #include "engine/partition.hpp"
+#include "engine/scale_out.hpp"
+#include "engine/transport.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace {
@@ -32,6 +34,7 @@ namespace {
 const char* kUsage =
     "usage:\n"
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
+    "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection]   (one model over N ranks)\n"
     "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]]\n"
     "  fdem check CHECKPOINT.ckpt\n"
@@ -295,17 +298,52 @@ int check_command(const Arguments& a) {
   return 0;
 }
 
-// Started by mpirun (or another launcher) as one of several ranks: every rank would run
-// the whole model and write the same files, so refuse before doing anything. The
-// launchers say so in the environment (Open MPI's mpirun; MPICH's Hydra and srun with PMI).
-void refuse_parallel_launch() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
-    const char* value = std::getenv(name);
-    if (value && std::atoi(value) > 1)
-      throw fdem::InputError(std::string("started as one of ") + value + " parallel ranks (" + name + "=" + value +
-                             "), but this fdem runs a model on one device only: run it as one process. "
-                             "`fdem check CASE --ranks N` shows how the model would be split.");
+// Started by mpirun (or another launcher) as one of several ranks: only `fdem run` of a
+// build with MPI splits the model over them; anything else would have every rank do the
+// whole work and write the same files, so refuse before doing anything. The launchers say
+// so in the environment (Open MPI's mpirun; MPICH's Hydra and srun with PMI).
+void refuse_parallel_launch(const std::string& command, bool split_run) {
+  std::string name;
+  const int ranks = fdem::launcher_ranks(&name);
+  if (ranks <= 1 || (split_run && command == "run")) return;
+  const std::string value = std::to_string(ranks);
+  if (command == "run") {
+#ifdef FDEM_HAVE_MPI
+    throw fdem::InputError("started as one of " + value + " parallel ranks (" + name + "=" + value +
+                           "), but not by an MPI launcher this fdem can join: start it with `mpirun -np N fdem run "
+                           "CASE`, or run it as one process");
+#else
+    throw fdem::InputError("started as one of " + value + " parallel ranks (" + name + "=" + value +
+                           "), but this fdem was built without MPI (Debian: libopenmpi-dev) and runs a model on one "
+                           "device only: run it as one process. `fdem check CASE --ranks N` shows how the model would be split.");
+#endif
   }
+  throw fdem::InputError("started as one of " + value + " parallel ranks (" + name + "=" + value + "), but only `fdem " +
+                         "run` splits a model over ranks: run `fdem " + command + "` as one process.");
+}
+
+// The MPI session of a split run (null otherwise), and its transport. Until the split run
+// starts (split_run_command), every rank does the same (reads the same arguments), so an
+// error there is every rank's.
+fdem::MpiSession* g_mpi = nullptr;
+std::unique_ptr<fdem::Transport> g_transport;
+bool g_split_started = false;
+
+// The device of this rank: with `gpu` (or `auto` when there is a GPU) the GPU of its
+// rank on its node (round robin over the node's fp64 GPUs); otherwise as asked.
+std::string rank_device(const std::string& asked, int local_rank) {
+  std::string choice = asked;
+  if (choice.empty()) {
+    const char* env = std::getenv("FDEM_DEVICE");
+    choice = env && *env ? env : "auto";
+  }
+  if (choice != "gpu" && choice != "auto") return choice;
+  std::vector<fdem::DeviceInfo> gpus;
+  for (const auto& d : fdem::list_devices())
+    if (d.is_gpu && (d.has_fp64 || !fdem::kDoublePrecision)) gpus.push_back(d);
+  if (gpus.empty()) return choice;
+  const auto& d = gpus[static_cast<size_t>(local_rank) % gpus.size()];
+  return std::to_string(d.platform_index) + ":" + std::to_string(d.device_index);
 }
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -319,7 +357,82 @@ std::string resume_command(const Arguments& a, const std::string& checkpoint) {
   return cmd + " --restart " + checkpoint;
 }
 
+fdem::PartitionMethod partition_method(const Arguments& a) {
+  return a.partition == "bisection" || (a.partition.empty() && !fdem::partition_has_metis())
+             ? fdem::PartitionMethod::Bisection
+             : fdem::PartitionMethod::Metis;
+}
+
+// `mpirun -np N fdem run CASE`: every rank reads the case and runs its share
+// (engine/scale_out.*); rank 0 prints and writes the files.
+int split_run_command(const Arguments& a) {
+  fdem::Transport& t = *g_transport;
+  g_split_started = true;
+  const bool root = t.rank() == 0;
+  std::unique_ptr<fdem::PreparedCase> p;
+  std::unique_ptr<fdem::ClContext> cl;
+  std::exception_ptr failure;
+  try {
+    p = std::make_unique<fdem::PreparedCase>(fdem::prepare_case(a.case_path, a.overrides));
+    cl = std::make_unique<fdem::ClContext>(rank_device(a.device, g_mpi->local_rank()), a.profile);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  fdem::agree(t, failure);
+  const std::string mine = cl->description();
+  const std::vector<fdem::Bytes> devices = t.gather(fdem::Bytes(mine.begin(), mine.end()));
+  std::ostringstream quiet;
+  std::ostream& out = root ? std::cout : quiet;
+  if (root) {
+    print_notes(*p);
+    out << "fdem " << FDEM_VERSION << ": " << p->config.path << " over " << t.size() << " ranks ("
+        << fdem::partition_method_name(partition_method(a)) << " partition)\n";
+    for (size_t r = 0; r < devices.size(); ++r)
+      out << "  rank " << r << " on " << std::string(devices[r].begin(), devices[r].end()) << "\n";
+    out << p->model.num_nodes() << " nodes, " << p->model.num_triangles() << " TRI3, dt " << p->dt << " s, " << p->steps
+        << " steps\n" << std::flush;
+  }
+  fdem::RunOptions options;
+  if (a.restart) options.restart = a.restart_file.empty() ? fdem::checkpoint_path(*p) : a.restart_file;
+  options.max_wall = a.max_wall;
+  options.info = &out;
+  options.transport = &t;
+  options.partition = partition_method(a);
+  options.stop = &g_stop;  // mpirun passes SIGTERM and SIGINT on to the ranks
+  for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
+  const auto s = fdem::run_case(*p, *cl, out, false, options);
+  if (s.interrupted) {
+    out << "stopped by " << s.stop_reason << " at step " << s.first_step + s.steps << ", t = " << s.simulated_time
+        << " s (" << s.steps << " steps run); checkpoint " << s.checkpoint << "\n"
+        << "resume with: mpirun -np N " << resume_command(a, s.checkpoint) << " (any N)\n";
+    return 75;
+  }
+  out << "done: " << s.steps << " steps over " << t.size() << " ranks, t = " << s.simulated_time << " s, wall "
+      << std::fixed << std::setprecision(2) << s.wall_seconds << " s, " << std::setprecision(1)
+      << s.steps / std::max(s.wall_seconds, 1e-9) << " steps/s\n"
+      << std::defaultfloat << "final kinetic energy " << s.final_kinetic_energy << " J, unbalanced ratio "
+      << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error << " (worst "
+      << s.worst_energy_error << ")\n"
+      << "wrote " << p->exodus_path << " (" << s.frames << " frames), " << p->history_path
+      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path) << " and "
+      << s.checkpoint << " (the whole model's: it continues at any number of ranks)\n" << std::defaultfloat;
+  if (a.profile) {
+    // Every rank's profile, printed by rank 0 in rank order.
+    cl->collect_profile();
+    std::ostringstream mine;
+    mine << "profile of rank " << t.rank() << " (device time per kernel; host-timed sections marked so):\n";
+    for (const auto& [name, time] : cl->profile())
+      mine << "  " << std::left << std::setw(60) << name << std::right << std::setw(10) << time.launches << " calls "
+           << std::fixed << std::setprecision(3) << std::setw(10) << 1e3 * time.seconds << " ms " << std::setw(10)
+           << 1e6 * time.seconds / std::max(1L, s.steps) << " us/step\n" << std::defaultfloat;
+    const std::string text = mine.str();
+    for (const auto& b : t.gather(fdem::Bytes(text.begin(), text.end()))) out << std::string(b.begin(), b.end());
+  }
+  return 0;
+}
+
 int run_command(const Arguments& a) {
+  if (g_transport) return split_run_command(a);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
   fdem::ClContext cl(a.device, a.profile);
@@ -367,9 +480,43 @@ int run_command(const Arguments& a) {
   return 0;
 }
 
+// An error in a split run: when every rank raised it together (failure_agreed), rank 0
+// prints it and every rank returns the code; otherwise this rank alone failed while the
+// others may wait for it, so it prints and ends them all (MPI_Abort with the code).
+int fail(int code, const std::string& message) {
+  if (!g_transport) {
+    std::cerr << message << "\n";
+    return code;
+  }
+  if (fdem::failure_agreed() || !g_split_started) {
+    if (g_transport->rank() == 0) std::cerr << message << "\n";
+    return code;
+  }
+  g_transport->abort(code, "rank " + std::to_string(g_transport->rank()) + ": " + message + "\n");
+  return code;  // not reached: abort ends the process
+}
+
+int guarded_main(int argc, char** argv);
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  fdem::MpiSession mpi(&argc, &argv);
+  int code = 0;
+#ifdef FDEM_HAVE_MPI
+  if (mpi.active() && mpi.size() > 1) {
+    g_mpi = &mpi;
+    g_transport = std::make_unique<fdem::MpiTransport>();
+  }
+#endif
+  code = guarded_main(argc, argv);
+  g_transport.reset();
+  return code;
+}
+
+namespace {
+
+int guarded_main(int argc, char** argv) {
   try {
     if (argc >= 2 && (std::string(argv[1]) == "--version" || std::string(argv[1]) == "version")) {
       std::cout << "fdem " << FDEM_VERSION << " (" << (fdem::kDoublePrecision ? "double" : "float") << " precision)\n";
@@ -380,34 +527,31 @@ int main(int argc, char** argv) {
       return 0;
     }
     const Arguments a = parse(argc, argv);
+    if (a.command != "run" && a.command != "check") refuse_parallel_launch(a.command, false);
     if (a.command == "devices") return list_devices_command();
     if (a.command == "bench") {
       return fdem::run_bench(a.bench, a.device, std::cout);
     }
     if (a.command == "run" || a.command == "check") {
       if (a.ranks > 0 && a.command != "check") throw fdem::InputError("--ranks belongs to fdem check");
-      refuse_parallel_launch();
+      refuse_parallel_launch(a.command, g_transport != nullptr);
       if (a.case_path.empty()) throw fdem::InputError("fdem " + a.command + " needs a case file\n" + kUsage);
       return a.command == "run" ? run_command(a) : check_command(a);
     }
     throw fdem::InputError("unknown command '" + a.command + "'\n" + kUsage);
   } catch (const fdem::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return fail(2, std::string("error: ") + e.what());
   } catch (const fdem::NumericalError& e) {
-    std::cerr << "numerical failure: " << e.what() << "\n";
-    return 3;
+    return fail(3, std::string("numerical failure: ") + e.what());
   } catch (const fdem::DeviceError& e) {
-    std::cerr << "device error: " << e.what() << "\n";
-    return 4;
+    return fail(4, std::string("device error: ") + e.what());
   } catch (const boost::compute::opencl_error& e) {
-    std::cerr << "device error: " << e.what() << "\n";
-    return 4;
+    return fail(4, std::string("device error: ") + e.what());
   } catch (const fdem::OutputError& e) {
-    std::cerr << "output error: " << e.what() << "\n";
-    return 5;
+    return fail(5, std::string("output error: ") + e.what());
   } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of host memory\n";
-    return 4;
+    return fail(4, "error: out of host memory");
   }
 }
+
+}  // namespace

@@ -282,30 +282,51 @@ double partition_imbalance(const std::vector<PartStats>& stats) {
   return total == 0 ? 1.0 : static_cast<double>(largest) * stats.size() / static_cast<double>(total);
 }
 
-LocalModel local_model(const Model& g, const Partition& partition, int rank) {
-  if (g.contact.enabled)
-    throw InputError("a model with contact cannot be split over ranks yet (its contact ghosts and couples are not built)");
-  if (rank < 0 || rank >= partition.parts) throw InputError("rank " + std::to_string(rank) + " is not one of the partition's");
+namespace {
+// The triangles, CE4s and nodes `rank` holds (see partition.hpp).
+struct Held {
+  std::vector<char> tri, ce4, node;
+};
+Held held(const Model& g, const Partition& partition, const std::vector<int>& owner, int rank) {
   const auto& part = partition.triangle_part;
-  const auto owner = node_owners(g, partition);
   auto touches_owned = [&](const auto& nodes) {
     for (int v : nodes)
       if (owner[v] == rank) return true;
     return false;
   };
-  std::vector<char> keep_tri(g.num_triangles(), 0), keep_ce4(g.ce4.size(), 0), keep_node(g.num_nodes(), 0);
-  for (size_t t = 0; t < g.num_triangles(); ++t) keep_tri[t] = part[t] == rank || touches_owned(g.triangles[t]);
+  Held h;
+  h.tri.assign(g.num_triangles(), 0);
+  h.ce4.assign(g.ce4.size(), 0);
+  h.node.assign(g.num_nodes(), 0);
+  for (size_t t = 0; t < g.num_triangles(); ++t) h.tri[t] = part[t] == rank || touches_owned(g.triangles[t]);
   for (size_t c = 0; c < g.ce4.size(); ++c)
     if (part[g.ce4_triangles[c][0]] == rank || touches_owned(g.ce4[c])) {
-      keep_ce4[c] = 1;
-      keep_tri[g.ce4_triangles[c][0]] = keep_tri[g.ce4_triangles[c][1]] = 1;
+      h.ce4[c] = 1;
+      h.tri[g.ce4_triangles[c][0]] = h.tri[g.ce4_triangles[c][1]] = 1;
     }
   for (size_t t = 0; t < g.num_triangles(); ++t)
-    if (keep_tri[t])
-      for (int v : g.triangles[t]) keep_node[v] = 1;
+    if (h.tri[t])
+      for (int v : g.triangles[t]) h.node[v] = 1;
   for (size_t c = 0; c < g.ce4.size(); ++c)
-    if (keep_ce4[c])
-      for (int v : g.ce4[c]) keep_node[v] = 1;
+    if (h.ce4[c])
+      for (int v : g.ce4[c]) h.node[v] = 1;
+  return h;
+}
+}  // namespace
+
+std::vector<char> held_nodes(const Model& model, const Partition& partition, const std::vector<int>& owner, int rank) {
+  return held(model, partition, owner, rank).node;
+}
+
+LocalModel local_model(const Model& g, const Partition& partition, int rank) {
+  if (g.contact.enabled)
+    throw InputError("a model with contact cannot be split over ranks yet (its contact ghosts and couples are not built)");
+  if (rank < 0 || rank >= partition.parts) throw InputError("rank " + std::to_string(rank) + " is not one of the partition's");
+  const auto owner = node_owners(g, partition);
+  const Held h = held(g, partition, owner, rank);
+  const auto& keep_tri = h.tri;
+  const auto& keep_ce4 = h.ce4;
+  const auto& keep_node = h.node;
 
   LocalModel l;
   Model& m = l.model;
@@ -353,8 +374,13 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.ce4_triangles.push_back({local_tri[g.ce4_triangles[c][0]], local_tri[g.ce4_triangles[c][1]]});
       m.ce4_properties.push_back(g.ce4_properties[c]);
     }
-  for (const auto& e : g.loaded_edges)
-    if (owner[e.a] == rank || owner[e.b] == rank) m.loaded_edges.push_back({local_node[e.a], local_node[e.b], e.load});
+  for (size_t k = 0; k < g.loaded_edges.size(); ++k) {
+    const auto& e = g.loaded_edges[k];
+    if (owner[e.a] == rank || owner[e.b] == rank) {
+      m.loaded_edges.push_back({local_node[e.a], local_node[e.b], e.load});
+      l.edge_global.push_back(static_cast<int>(k));
+    }
+  }
   for (const auto& r : g.regions) {
     Region lr{r.name, r.dim, {}, r.prescribed};
     for (int v : r.nodes)

@@ -64,6 +64,10 @@ double partition_imbalance(const std::vector<PartStats>& stats);
 // The nodes' owners by the rule above (lowest-index triangle's part).
 std::vector<int> node_owners(const Model& model, const Partition& partition);
 
+// Which nodes `rank` holds (its own and its ghosts, by the rules above): 1 per held
+// node. local_model keeps exactly these; halo_plan (engine/halo.*) asks it of every peer.
+std::vector<char> held_nodes(const Model& model, const Partition& partition, const std::vector<int>& owner, int rank);
+
 // One rank's share of a model: its own triangles and CE4s, its ghost elements (above),
 // and the nodes they use, each list in the global order (so the node gather's slot
 // maps, built from element order, list an owned node's contributions in the order one
@@ -73,7 +77,7 @@ std::vector<int> node_owners(const Model& model, const Partition& partition);
 // are taken from its owner after every step.
 struct LocalModel {
   Model model;
-  std::vector<int> node_global, triangle_global, ce4_global;  // local index → global
+  std::vector<int> node_global, triangle_global, ce4_global, edge_global;  // local index → global (edge: loaded edge)
   std::vector<int> node_owner;                                // rank owning each local node
   std::vector<int> ghost_nodes;                               // local indices of nodes owned elsewhere
 };

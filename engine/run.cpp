@@ -21,6 +21,7 @@
 #include "engine/history.hpp"
 #include "engine/solver.hpp"
 #include "engine/fragments.hpp"
+#include "engine/scale_out.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/fragment_writer.hpp"
 #include "io/gmsh_reader.hpp"
@@ -64,14 +65,55 @@ std::vector<std::string> nodal_names(const Model& model) {
   return names;
 }
 
-// Writes the current state as a frame; `stress_current`: the stress of this state has
-// been evaluated already (a history row with probes at the same step).
-// With CE4s, also the frame's pieces: FRAGMENT and `fragments`' records.
-void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Model& model, Solver& solver,
-                 bool stress_current = false) {
+// One frame's values of the whole model, in global order: read from the solver, or in a
+// split run gathered to rank 0 (empty on the other ranks).
+struct FrameData {
+  std::vector<real2> x, v, contact_force;
+  std::vector<real4> stress;
+  std::vector<real> damage, opening, slip;
+  std::vector<int> broken, mode, labels;
+};
+
+// Reads the current state for a frame; `stress_current`: the stress of this state has
+// been evaluated already (a history row with probes at the same step). Collective in a
+// split run.
+FrameData read_frame(const Model& model, Solver& solver, SplitRun* split, bool stress_current = false) {
   if (!stress_current) solver.enqueue_stress();
-  const auto x = solver.positions(), v = solver.velocities();
-  const auto stress = solver.stresses();
+  FrameData f;
+  if (!split) {
+    f.x = solver.positions(), f.v = solver.velocities(), f.stress = solver.stresses();
+    if (model.contact.enabled) f.contact_force = solver.contact_forces();
+  } else {
+    f.x = split->gather(ItemKind::Node, solver.positions());
+    f.v = split->gather(ItemKind::Node, solver.velocities());
+    f.stress = split->gather(ItemKind::Triangle, solver.stresses());
+  }
+  if (!model.ce4.empty()) {
+    auto& ce4 = *solver.cohesive();
+    if (!split) {
+      f.damage = ce4.damage(), f.opening = ce4.opening(), f.slip = ce4.slip(), f.broken = ce4.broken(), f.mode = ce4.mode();
+      // FRAGMENT: the pieces (FragmentLabels), reused while no CE4 broke since the last labelling.
+      f.labels = solver.fragment_labels(
+          static_cast<long>(std::count_if(f.broken.begin(), f.broken.end(), [](int b) { return b != 0; })));
+    } else {
+      f.damage = split->gather(ItemKind::Ce4, ce4.damage());
+      f.opening = split->gather(ItemKind::Ce4, ce4.opening());
+      f.slip = split->gather(ItemKind::Ce4, ce4.slip());
+      f.broken = split->gather(ItemKind::Ce4, ce4.broken());
+      f.mode = split->gather(ItemKind::Ce4, ce4.mode());
+      if (split->root()) f.labels = host_fragment_labels(model, f.broken);
+    }
+  }
+  return f;
+}
+
+// Writes a frame read by read_frame (rank 0 of a split run only).
+// With CE4s, also the frame's pieces: FRAGMENT and `fragments`' records.
+void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Model& model, const FrameData& f,
+                 double time, ClContext& cl) {
+  const auto& x = f.x;
+  const auto& v = f.v;
+  const auto& stress = f.stress;
   const size_t n = model.num_nodes();
   std::vector<std::vector<double>> nodal(model.contact.enabled ? 6 : 4, std::vector<double>(n));
   for (size_t i = 0; i < n; ++i) {
@@ -81,7 +123,7 @@ void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Mod
     nodal[3][i] = v[i].y;
   }
   if (model.contact.enabled) {
-    const auto fc = solver.contact_forces();
+    const auto& fc = f.contact_force;
     for (size_t i = 0; i < n; ++i) nodal[4][i] = fc[i].x, nodal[5][i] = fc[i].y;
   }
   const bool fracture = !model.ce4.empty();
@@ -101,15 +143,16 @@ void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Mod
     }
   }
   if (fracture) {  // the cohesive block: CE4 variables, zero stresses
-    auto& ce4 = *solver.cohesive();
-    const auto damage = ce4.damage(), opening = ce4.opening(), slip = ce4.slip();
-    const auto broken = ce4.broken(), mode = ce4.mode();
+    const auto& damage = f.damage;
+    const auto& opening = f.opening;
+    const auto& slip = f.slip;
+    const auto& broken = f.broken;
+    const auto& mode = f.mode;
     const size_t n = model.ce4.size();
     for (auto& var : elem) var.emplace_back(n, 0.0);
     // FRAGMENT: the piece's id (Exodus element number of its first triangle) on every
     // triangle; on an intact CE4 its triangles' piece, on a broken one 0.
-    const auto& labels =
-        solver.fragment_labels(static_cast<long>(std::count_if(broken.begin(), broken.end(), [](int b) { return b != 0; })));
+    const auto& labels = f.labels;
     for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
       const size_t begin = model.block_start[m], end = model.block_start[m + 1];
       if (begin == end) continue;
@@ -124,13 +167,13 @@ void write_frame(io::ExodusWriter& exo, io::FragmentWriter* fragments, const Mod
       elem[9].back()[e] = slip[e];
       elem[10].back()[e] = broken[e] ? 0 : labels[model.ce4_triangles[e][0]] + 1;
     }
-    if (fragments) fragments->write_frame(solver.time(), summarise_fragments(model, labels, x).fragments);
+    if (fragments) fragments->write_frame(time, summarise_fragments(model, labels, x).fragments);
   }
   const auto began = std::chrono::steady_clock::now();
-  exo.write_frame(solver.time(), nodal, elem);
-  if (solver.context().profiling())
-    solver.context().add_host_time("Exodus frame write (host wall, incl. sync)",
-                                   std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+  exo.write_frame(time, nodal, elem);
+  if (cl.profiling())
+    cl.add_host_time("Exodus frame write (host wall, incl. sync)",
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
 }
 
 std::string describe_failure(const Model& model, const Conditions& c) {
@@ -185,7 +228,7 @@ bool may_change(const std::string& key) {
 }
 
 // The version of what a checkpoint holds; a change of its contents changes it.
-const char* const kCheckpointFormat = "4";
+const char* const kCheckpointFormat = "5";
 
 // Refuses a checkpoint that does not fit the case (InputError, exit 2).
 void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std::string& path) {
@@ -195,6 +238,7 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
   };
   // 3 (2026-12-02): the break catalogue, and contact histories in one array. 4 (2026-12-02,
   // later): a broken CE4 is closed (1) or released (2 + step); version 3 had 1 for both.
+  // 5 (2026-12-02): the loads' work per loaded edge (load_edge_energy) instead of per work-group.
   if (text("format_version") != kCheckpointFormat)
     throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") + "'; this fdem reads version " +
                      kCheckpointFormat + ": continue that run with the fdem that wrote it, or start it again");
@@ -220,6 +264,14 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
   if (text("mesh_hash") != mesh)
     throw InputError("checkpoint '" + path + "' is of another mesh: " + text("mesh_hash") + " in the checkpoint, " +
                      mesh + " now");
+}
+
+// What a split run (N > 1 ranks) does not do yet: one message naming it, exit 2.
+void refuse_split(const PreparedCase& p, int ranks) {
+  const std::string head = p.config.path + ": this run is split over " + std::to_string(ranks) + " ranks, and ";
+  if (p.model.contact.enabled)
+    throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
+                            "global detection and couples owned by one rank are not built): run it as one process");
 }
 
 }  // namespace
@@ -278,24 +330,59 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
                     const RunOptions& options) {
   const Model& model = p.model;
   const auto& config = p.config;
-  try {
-    fs::create_directories(config.output.dir);
-  } catch (const fs::filesystem_error& e) {
-    throw OutputError("cannot create output directory '" + config.output.dir + "': " + e.what());
-  }
+  auto make_output_dir = [&] {
+    try {
+      fs::create_directories(config.output.dir);
+    } catch (const fs::filesystem_error& e) {
+      throw OutputError("cannot create output directory '" + config.output.dir + "': " + e.what());
+    }
+  };
 
-  Solver solver(cl, model, p.dt);
+  // A split run (mpirun -np N, N > 1): this rank's share of the model, its Solver, the
+  // ghost exchange. Every rank finds the same start-up errors, or agrees on the first.
+  Transport* const transport = options.transport && options.transport->size() > 1 ? options.transport : nullptr;
+  std::unique_ptr<SplitRun> split;
+  std::unique_ptr<Solver> solver_holder;
+  if (transport) {
+    std::exception_ptr failure;
+    try {
+      refuse_split(p, transport->size());
+      make_output_dir();
+      split = std::make_unique<SplitRun>(model, *transport, options.partition);
+      solver_holder = std::make_unique<Solver>(cl, split->local_model(), p.dt);
+      split->attach(cl, *solver_holder);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    agree(*transport, failure);
+  } else {
+    make_output_dir();
+    solver_holder = std::make_unique<Solver>(cl, model, p.dt);
+  }
+  Solver& solver = *solver_holder;
+  const bool root = !split || split->root();
   RunSummary summary;
   const bool resumed = !options.restart.empty();
   if (resumed) {
-    const io::CheckpointData data = io::read_checkpoint_file(options.restart);
-    check_fits(data, p, options.restart);
-    StateReader in(cl, data, options.restart);
-    solver.load_state(in);
-    if (solver.steps_done() >= p.steps)
-      throw InputError("checkpoint '" + options.restart + "' is at step " + std::to_string(solver.steps_done()) +
-                       " (t = " + format_number(solver.time()) + " s), and the case ends at step " +
-                       std::to_string(p.steps) + ": extend the run with --set time.end=...");
+    // Every rank of a split run reads the (whole-model) checkpoint and takes its share;
+    // they find the same problems with it, or agree on the first.
+    io::CheckpointData data;
+    std::exception_ptr failure;
+    try {
+      data = io::read_checkpoint_file(options.restart);
+      check_fits(data, p, options.restart);
+      const io::CheckpointData local = split ? split->local_state(data) : io::CheckpointData();
+      StateReader in(cl, split ? local : data, options.restart);
+      solver.load_state(in);
+      if (solver.steps_done() >= p.steps)
+        throw InputError("checkpoint '" + options.restart + "' is at step " + std::to_string(solver.steps_done()) +
+                         " (t = " + format_number(solver.time()) + " s), and the case ends at step " +
+                         std::to_string(p.steps) + ": extend the run with --set time.end=...");
+    } catch (...) {
+      if (!transport) throw;
+      failure = std::current_exception();
+    }
+    if (transport) agree(*transport, failure);
     summary.worst_energy_error = data.numbers.count("worst_energy_error") ? data.numbers.at("worst_energy_error") : 0;
     summary.first_step = solver.steps_done();
     (options.info ? *options.info : log) << "resumed from " << options.restart << " at step " << solver.steps_done()
@@ -319,50 +406,75 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   // to the checkpoint's time, and puts them in place: the files at the final paths are
   // whole at every moment.
   const std::string suffix = resumed ? ".resume" : "";
-  io::ExodusWriter exodus(p.exodus_path + suffix, config.title, model.x, model.y, blocks,
-                          nodal_names(model), element_names(model),
-                          io::ExodusOptions{config.output.float_frames, config.output.compress});
+  // The files: rank 0 of a split run writes them all (the others hold none).
   const PointProbes points(p.probes);
-  const HistoryTable table(model, solver.masses(), points);
-  io::HistoryWriter history(p.history_path + suffix, config.title, table.variables());
+  const std::vector<real2> masses = split ? split->gather(ItemKind::Node, solver.masses()) : solver.masses();
+  std::unique_ptr<io::ExodusWriter> exodus_file;
+  std::unique_ptr<HistoryTable> table_holder;
+  std::unique_ptr<io::HistoryWriter> history_file;
   std::unique_ptr<io::FragmentWriter> fragments;
-  if (!model.ce4.empty()) fragments = std::make_unique<io::FragmentWriter>(p.fragments_path + suffix, config.title);
+  std::unique_ptr<io::EventsWriter> events;
+  {
+    std::exception_ptr failure;
+    try {
+      if (root) {
+        exodus_file = std::make_unique<io::ExodusWriter>(p.exodus_path + suffix, config.title, model.x, model.y, blocks,
+                                                         nodal_names(model), element_names(model),
+                                                         io::ExodusOptions{config.output.float_frames, config.output.compress});
+        table_holder = std::make_unique<HistoryTable>(model, masses, points);
+        history_file = std::make_unique<io::HistoryWriter>(p.history_path + suffix, config.title, table_holder->variables());
+        if (!model.ce4.empty()) fragments = std::make_unique<io::FragmentWriter>(p.fragments_path + suffix, config.title);
+        if (!model.ce4.empty()) events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
+      }
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    if (transport) agree(*transport, failure);
+    else if (failure) std::rethrow_exception(failure);
+  }
 
   // The break catalogue (models with CE4s): appended with the history rows; a resumed run
   // starts its file from the catalogue its checkpoint carries, so breaks written after
   // the checkpoint before a crash are dropped like rows and frames.
   CohesiveForces* const ce4 = solver.cohesive();
-  std::unique_ptr<io::EventsWriter> events;
+  std::vector<io::BreakRecord> split_catalogue;  // rank 0 of a split run: every break so far
   auto with_triangles = [&](std::vector<io::BreakRecord> records) {
     for (auto& b : records) b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
     return records;
   };
   auto record_breaks = [&]() {
-    if (!events) return;
+    if (!ce4) return;
     const auto began = std::chrono::steady_clock::now();
-    events->append(with_triangles(ce4->drain_breaks()));
+    if (split) {
+      const auto fresh = split->drain_breaks(*ce4);
+      split_catalogue.insert(split_catalogue.end(), fresh.begin(), fresh.end());
+      if (events) events->append(with_triangles(fresh));
+    } else {
+      events->append(with_triangles(ce4->drain_breaks()));
+    }
     if (cl.profiling())
       cl.add_host_time("break catalogue (host wall: count and records read, sort, events file append)",
                        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   };
-  if (ce4) {
-    events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
-    events->append(with_triangles(ce4->catalogue()));
+  if (ce4 && !split) events->append(with_triangles(ce4->catalogue()));
+  if (ce4 && split) {  // a resumed split run: the whole catalogue its checkpoint carries
+    split_catalogue = split->catalogue(*ce4);
+    if (events) events->append(with_triangles(split_catalogue));
   }
 
   const std::vector<long> frames = frame_steps(config.output, p.steps, p.dt);
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
                                       : std::max(1L, p.steps / 1000);
-  if (resumed) {
+  if (resumed && root) {
     // What the earlier run wrote up to the checkpoint, as far as this run's schedule has
     // it: the row and frame a run writes at its own last step are not on the schedule of
     // the longer run that continues it, so a chain of runs gives the same files as one.
     auto step_of = [&](double t) { return std::lround(t / p.dt); };
-    io::copy_exodus_frames(p.exodus_path, exodus, solver.time(), [&](double t) {
+    io::copy_exodus_frames(p.exodus_path, *exodus_file, solver.time(), [&](double t) {
       return std::binary_search(frames.begin(), frames.end(), step_of(t));
     });
-    io::copy_history_rows(p.history_path, history, solver.time(),
+    io::copy_history_rows(p.history_path, *history_file, solver.time(),
                           [&](double t) { return step_of(t) % history_stride == 0; });
     if (fragments)
       io::copy_fragment_frames(p.fragments_path, *fragments, solver.time(), [&](double t) {
@@ -384,15 +496,19 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   long last_frame_step = -1;
   auto write_current_frame = [&](bool stress_current = false) {
     last_frame_step = solver.steps_done();
-    write_frame(exodus, fragments.get(), model, solver, stress_current);
+    const FrameData frame = read_frame(model, solver, split.get(), stress_current);
+    if (root) write_frame(*exodus_file, fragments.get(), model, frame, solver.time(), cl);
   };
 
   const std::string ckpt_path = checkpoint_path(p);
   auto write_checkpoint = [&]() {
     const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
+    if (split) record_breaks();  // the whole catalogue up to now, for the file's break log
     StateWriter out(cl, data);
     solver.save_state(out);
+    // A split run: rank 0 writes the whole model's state, as one rank would.
+    if (split) data = split->gather_state(data, split_catalogue);
     data.text["format_version"] = kCheckpointFormat;
     data.text["precision"] = kDoublePrecision ? "double" : "float";
     data.text["device"] = cl.description();
@@ -404,8 +520,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     data.numbers["time"] = solver.time();
     data.numbers["dt"] = p.dt;
     data.numbers["worst_energy_error"] = summary.worst_energy_error;
-    data.integers["broken_ce4"] = solver.cohesive() ? static_cast<std::int64_t>(solver.cohesive()->count_broken()) : 0;
-    io::write_checkpoint_file(ckpt_path, data);
+    data.integers["broken_ce4"] = !solver.cohesive() ? 0
+                                  : split          ? static_cast<std::int64_t>(split_catalogue.size())
+                                                   : static_cast<std::int64_t>(solver.cohesive()->count_broken());
+    if (root) io::write_checkpoint_file(ckpt_path, data);
     summary.checkpoint = ckpt_path;
     summary.checkpoint_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   };
@@ -430,15 +548,25 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   for (long s = first + 1; s <= p.steps; ++s) {
     const bool history_due = s % history_stride == 0 || s == p.steps;
     solver.step(history_due);
+    if (split) split->exchange();
     const bool frame_due = next_frame < frames.size() && frames[next_frame] == s;
     const bool checkpoint_due = checkpoint_every > 0 && solver.time() >= next_checkpoint - 1e-6 * p.dt;
-    const bool stop_signal = options.stop && *options.stop;
-    const bool out_of_time = options.max_wall > 0 &&
-                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > options.max_wall;
+    int stop_number = options.stop ? static_cast<int>(*options.stop) : 0;
+    bool out_of_time = options.max_wall > 0 &&
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > options.max_wall;
+    if (split) {
+      // Every rank must stop at the same step: a signal or --max-wall on any rank counts at
+      // the next step where the ranks talk anyway (at most check_stride steps later).
+      const bool talk = frame_due || history_due || checkpoint_due || s % check_stride == 0;
+      stop_number = talk ? static_cast<int>(transport->max(stop_number)) : 0;
+      out_of_time = talk && transport->max(out_of_time ? 1 : 0) != 0;
+    }
+    const bool stop_signal = stop_number != 0;
     const bool stopping = (stop_signal || out_of_time) && s < p.steps;
     if (frame_due || history_due || checkpoint_due || stopping || s % check_stride == 0) {
-      const Conditions cond = solver.conditions();
+      const Conditions cond = split ? split->conditions(solver) : solver.conditions();
       if (!cond.ok()) {
+        failure_agreed() = true;  // every rank of a split run found the same
         const std::string what = describe_failure(model, cond);
         std::string saved;
         if (solver.has_checkpoint()) {
@@ -460,14 +588,28 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         const EnergyTotals energy = solver.energy();
         const double error = solver.balance().error(energy);
         HistoryRow row(solver, points, energy, error, solver.balance().ratio(energy));
-        last_row = table.values(row);
+        if (split) {
+          // The whole model's values on rank 0, in global order (what the columns read).
+          auto x = split->gather(ItemKind::Node, solver.positions());
+          auto f = split->gather(ItemKind::Node, solver.forces());
+          std::vector<int> broken, mode;
+          if (ce4) broken = split->gather(ItemKind::Ce4, ce4->broken()), mode = split->gather(ItemKind::Ce4, ce4->mode());
+          std::vector<int> labels;
+          if (ce4 && root) labels = host_fragment_labels(model, broken);
+          row.provide(std::move(x), std::move(f), std::move(broken), std::move(mode), std::move(labels));
+          if (!points.empty()) row.provide_probes(split->probe_values(solver, p.probes));
+        }
+        if (root) {
+          last_row = table_holder->values(row);
+          history_file->append(solver.time(), last_row);
+        }
         stress_current = row.stress_evaluated();
-        history.append(solver.time(), last_row);
         summary.worst_energy_error = std::max(summary.worst_energy_error, std::fabs(error));
         summary.final_energy_error = error;
         const std::string grew = EnergyBalance::largest_change(last_energy, energy);
         last_energy = energy;
         if (std::fabs(error) > energy_limit) {
+          failure_agreed() = true;  // the account is the same on every rank
           if (status_line) log << "\n";
           std::string saved;
           try {
@@ -502,7 +644,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       if (stopping) {
         summary.interrupted = true;
         if (stop_signal) {
-          const int signal = static_cast<int>(*options.stop);
+          const int signal = stop_number;
           summary.stop_reason = signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : signal == SIGUSR1 ? "SIGUSR1" : "a signal";
         } else {
           summary.stop_reason = "--max-wall " + format_number(options.max_wall) + " s";
@@ -540,18 +682,18 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   summary.wall_seconds = wall;
   summary.ns_per_element_step =
       1e9 * wall / (double(std::max(1L, summary.steps)) * std::max<size_t>(1, model.num_triangles()));
-  summary.frames = exodus.frames_written();
+  summary.frames = exodus_file ? exodus_file->frames_written() : 0;
   if (!last_row.empty()) {
-    summary.final_kinetic_energy = last_row[table.index("kinetic_energy")];
-    summary.final_unbalanced_ratio = last_row[table.index("unbalanced_ratio")];
+    summary.final_kinetic_energy = last_row[table_holder->index("kinetic_energy")];
+    summary.final_unbalanced_ratio = last_row[table_holder->index("unbalanced_ratio")];
   }
-  exodus.close();
-  history.close();
+  if (exodus_file) exodus_file->close();
+  if (history_file) history_file->close();
   if (fragments) fragments->close();
+  if (ce4) record_breaks();
   if (events) {
-    record_breaks();
     const io::EventRule rule = event_rule(model, config.output.events_distance, config.output.events_window);
-    const auto all = with_triangles(ce4->catalogue());
+    const auto all = with_triangles(split ? split_catalogue : ce4->catalogue());
     const auto grouped = group_events(all, rule);
     events->finish(all, grouped, rule);
     summary.breaks = all.size();

@@ -7,6 +7,8 @@
 
 #include "engine/cl_context.hpp"
 #include "engine/model.hpp"
+#include "engine/partition.hpp"
+#include "engine/transport.hpp"
 #include "engine/probes.hpp"
 #include "io/case_config.hpp"
 
@@ -55,6 +57,10 @@ struct RunOptions {
   // Set (to the signal number) by a signal handler: the run stops cleanly after the step.
   const volatile std::sig_atomic_t* stop = nullptr;
   std::ostream* info = nullptr;  // where "resumed from ..." goes (else `log`)
+  // A split run: this process is one of transport->size() > 1 ranks (mpirun; every rank
+  // calls run_case with the same case), partitioned by `partition`. Rank 0 writes the files.
+  Transport* transport = nullptr;
+  PartitionMethod partition = PartitionMethod::Bisection;
 };
 
 // OUT/NAME.ckpt: where a case's checkpoints go.

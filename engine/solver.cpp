@@ -18,6 +18,11 @@ auto build_if(bool wanted, Make make) -> decltype(make()) {
   return wanted ? make() : nullptr;
 }
 
+// The most items of one kind that the account sums (OrderedSums' size).
+size_t ordered_items(const Model& model) {
+  return std::max({model.num_nodes(), model.num_triangles(), model.loaded_edges.size(), model.ce4.size()});
+}
+
 // The Solver's own arrays: the checkpoint's copy of positions and velocities.
 MemoryPlan checkpoint_plan(size_t nodes) {
   return MemoryPlan().add("saved_position", nodes * sizeof(real2)).add("saved_velocity", nodes * sizeof(real2));
@@ -85,6 +90,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
   plan.add(LumpedMass::plan(nodes, p.ce4));
   plan.add(checkpoint_plan(nodes));
+  plan.add(OrderedSums::plan(ordered_items(model)));
   return plan;
 }
 
@@ -152,7 +158,9 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get()) {
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get()),
+      ordered_(cl, ordered_items(model)),
+      ce4_count_(model.ce4.size()) {
   if (contact_) {
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
@@ -228,15 +236,32 @@ void Solver::step(bool energy_row) {
 }
 
 EnergyTotals Solver::energy() {
+  if (cl_.profiling()) cl_.finish();  // time the account alone, not the steps queued before it
+  const auto start = std::chrono::steady_clock::now();
   EnergyTotals e;
   // Each step's forces carry that round-off too, and their work adds up step after step.
   e.resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
-  integrate_.add_energy(e);
-  triangle_forces_.add_energy(e);
-  boundary_loads_.add_energy(e);
+  // Every term is a sum of per-item values in global item order (ordered_sums), so a
+  // split run gives the bits of one rank.
+  const ItemScope* scope = scope_;
+  OrderedSums& device = ordered_;
+  const ItemSums sums = [scope, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
+                                         int width, ItemKind kind) {
+    if (!scope) return device.sums(values, count, stride, first, width);
+    const auto rows = download<real>(cl, values, count * stride);
+    std::vector<real> columns(count * width);
+    for (size_t i = 0; i < count; ++i)
+      for (int c = 0; c < width; ++c) columns[i * width + c] = rows[i * stride + first + c];
+    return ordered_sums(columns, width, kind, *scope);
+  };
+  integrate_.add_energy(e, sums);
+  triangle_forces_.add_energy(e, sums);
+  boundary_loads_.add_energy(e, sums);
   if (cohesive_) {
-    e.fracture += cohesive_->fracture_dissipation();
-    e.cohesive_stored += cohesive_->stored_energy();
+    // (fracture dissipation, stored energy): columns 1 and 2 of each CE4's energy row.
+    const auto sum = sums(cl_, cohesive_->energy_rows(), ce4_count_, 4, 1, 2, ItemKind::Ce4);
+    e.fracture += sum[0];
+    e.cohesive_stored += sum[1];
   }
   if (contact_) {
     // Each touching couple's potential is P_n t times areas whose vertices are known to
@@ -246,6 +271,9 @@ EnergyTotals Solver::energy() {
     e.friction += contact_->friction_dissipation();
     e.contact_damping += contact_->damping_dissipation();
   }
+  if (cl_.profiling())
+    cl_.add_host_time("energy account (host wall: per-item reads and ordered sums, at history rows)",
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return e;
 }
 

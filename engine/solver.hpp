@@ -128,6 +128,11 @@ class Solver {
   // Replaces the state by a saved one (same model; InputError when a piece does not fit).
   void load_state(StateReader& in);
 
+  // A split run (engine/scale_out.*): which items this rank accounts for in energy(),
+  // which is then collective (every rank calls it at the same step). Null: all items.
+  // Set before the first step.
+  void set_scope(const ItemScope* scope) { scope_ = scope; }
+
   ClContext& context() { return cl_; }
   DeviceArrays& arrays() { return arrays_; }
 
@@ -155,11 +160,14 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
+  OrderedSums ordered_;  // the energy account's sums in item order (engine/energy.hpp)
+  size_t ce4_count_ = 0;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
+  const ItemScope* scope_ = nullptr;
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;
 };

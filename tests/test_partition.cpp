@@ -7,11 +7,14 @@
 #include <array>
 #include <set>
 #include <vector>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "engine/halo.hpp"
 #include "engine/partition.hpp"
+#include "engine/scale_out.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
@@ -166,7 +169,7 @@ TEST_SUITE("partition") {
   // elements plus every element that uses one of its nodes, in the global order, so its
   // own nodes' forces are summed as one rank sums them; only ghost nodes' positions and
   // velocities travel, once a step. Here the ranks run one after another in one process
-  // and the exchange goes through the host.
+  // and the exchange is the engine's (engine/halo.*) over in-process transports.
   TEST_CASE("ranks emulated in one process: every owned node bitwise as one rank, CE4s breaking") {
     test::TempDir dir;
     const PreparedCase p = prepare_case(pulled_bar(dir), {});
@@ -178,6 +181,8 @@ TEST_SUITE("partition") {
     const size_t broken = whole.cohesive()->count_broken();
     CHECK(broken > 0);
     CHECK(broken < p.model.ce4.size());
+    // A split run labels the pieces on the host (rank 0): the device's labels.
+    CHECK(host_fragment_labels(p.model, whole.cohesive()->broken()) == whole.fragment_labels());
     for (auto method : methods())
       for (int parts : {2, 3}) {
         CAPTURE(partition_method_name(method));
@@ -190,32 +195,38 @@ TEST_SUITE("partition") {
           CHECK(!locals.back().ghost_nodes.empty());
           ranks.push_back(std::make_unique<Solver>(cl, locals.back().model, p.dt));
         }
-        std::vector<real2> x(p.model.num_nodes()), v(p.model.num_nodes());
+        // The engine's exchange (engine/halo.*) through in-process transports: every
+        // rank posts its owned boundary nodes, then every rank takes its ghosts.
+        InProcessHub hub(parts);
+        std::vector<std::unique_ptr<HaloExchange>> halos;
+        auto make_halos = [&] {
+          halos.clear();
+          for (int r = 0; r < parts; ++r)
+            halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(p.model, partition, locals[r], r),
+                                                           hub.rank(r)));
+        };
+        make_halos();
+        for (int r = 0; r < parts; ++r) {
+          // Every ghost is received from its owner, and what one rank sends another receives.
+          CHECK(halos[r]->plan().received() == locals[r].ghost_nodes.size());
+          for (int q = 0; q < parts; ++q)
+            CHECK(halos[r]->plan().send[q].size() == halos[q]->plan().receive[r].size());
+        }
         auto step_all = [&](bool exchange) {
           for (auto& s : ranks) s->step();
           if (!exchange) return;
-          for (int r = 0; r < parts; ++r) {  // owners publish
-            const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-            for (size_t i = 0; i < xl.size(); ++i)
-              if (locals[r].node_owner[i] == r) x[locals[r].node_global[i]] = xl[i], v[locals[r].node_global[i]] = vl[i];
-          }
-          for (int r = 0; r < parts; ++r) {  // ghosts take their owners' values
-            auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-            for (int i : locals[r].ghost_nodes) xl[i] = x[locals[r].node_global[i]], vl[i] = v[locals[r].node_global[i]];
-            upload(cl, ranks[r]->arrays().position, xl);
-            upload(cl, ranks[r]->arrays().velocity, vl);
-          }
+          for (auto& h : halos) h->send();
+          for (auto& h : halos) h->receive();
         };
         for (long k = 0; k < steps; ++k) step_all(true);
         size_t owned = 0, differ = 0, broken_owned = 0;
         for (int r = 0; r < parts; ++r) {
           const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
-          for (size_t i = 0; i < xl.size(); ++i)
-            if (locals[r].node_owner[i] == r) {
-              ++owned;
-              const int g = locals[r].node_global[i];
-              differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
-            }
+          for (size_t i = 0; i < xl.size(); ++i) {  // owned nodes, and ghosts after the last exchange
+            owned += locals[r].node_owner[i] == r;
+            const int g = locals[r].node_global[i];
+            differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
+          }
           const auto b = ranks[r]->cohesive()->broken();
           for (size_t c = 0; c < b.size(); ++c)
             broken_owned += b[c] && partition.triangle_part[p.model.ce4_triangles[locals[r].ce4_global[c]][0]] == r;
@@ -226,6 +237,7 @@ TEST_SUITE("partition") {
         // Without the exchange the ghosts drift and the owned nodes next to them with them.
         if (method == PartitionMethod::Bisection && parts == 2) {
           for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
+          make_halos();
           for (long k = 0; k < steps; ++k) step_all(false);
           size_t drift = 0;
           for (int r = 0; r < parts; ++r) {
@@ -236,6 +248,53 @@ TEST_SUITE("partition") {
           CHECK(drift > 0);
         }
       }
+  }
+
+  TEST_CASE("host fragment labels: the smallest triangle of each piece, through nodes and intact CE4s") {
+    const Model m = grid(2, 1, 0.01, true);  // 4 triangles, each with its own nodes, 3 CE4s
+    REQUIRE(m.ce4.size() == 3);
+    CHECK(host_fragment_labels(m, {0, 0, 0}) == std::vector<int>{0, 0, 0, 0});
+    CHECK(host_fragment_labels(m, {1, 1, 1}) == std::vector<int>{0, 1, 2, 3});
+    // The squares' diagonals join 0-1 and 2-3, their shared side 0-3: breaking only that
+    // one leaves the pieces {0, 1} and {2, 3}.
+    std::vector<int> one(3, 0);
+    for (size_t c = 0; c < 3; ++c) one[c] = m.ce4_triangles[c][0] == 0 && m.ce4_triangles[c][1] == 3;
+    CHECK(std::count(one.begin(), one.end(), 1) == 1);
+    CHECK(host_fragment_labels(m, one) == std::vector<int>{0, 0, 2, 2});
+    // Shared nodes join triangles whatever the CE4s (no CE4s at all here).
+    const Model shared = grid(2, 1, 0.01, false);
+    CHECK(host_fragment_labels(shared, {}) == std::vector<int>{0, 0, 0, 0});
+  }
+
+  TEST_CASE("ordered sums: blocks of items left to right, the same bits on the device and on the host") {
+    // Within a block, left to right: 1e16 + 1 would lose the 1 in any other grouping.
+    const std::vector<real> small{real(1e16), 1, real(-1e16), 2, 1, 3};  // 3 items × 2
+    const auto sums = blocked_sums(small, 3, 2, 0, 2);
+    REQUIRE(sums.size() == 2);
+    CHECK(sums[0] == double(real(real(1e16) + real(-1e16)) + real(1)));
+    CHECK(sums[1] == 6.0);
+    // Many blocks, values of mixed sign and size, columns 1 and 2 of rows of 4: the
+    // device's OrderedSums (one rank) gives the host rule's bits (a split run's rank 0).
+    ClContext& cl = test::context();
+    const size_t count = 5 * kOrderedBlock + 37;
+    std::vector<real> rows(4 * count);
+    uint64_t state = 12345;
+    for (auto& v : rows) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      v = real((double(state >> 11) / double(1ULL << 53) - 0.4) * std::pow(10.0, double(state % 13)));
+    }
+    compute::buffer buffer = cl.allocate(rows.size() * sizeof(real), "test rows");
+    upload(cl, buffer, rows);
+    OrderedSums device(cl, count);
+    const auto on_device = device.sums(buffer, count, 4, 1, 2);
+    const auto on_host = blocked_sums(rows, count, 4, 1, 2);
+    REQUIRE(on_device.size() == 2);
+    for (int c = 0; c < 2; ++c) {
+      CAPTURE(c);
+      CHECK(std::memcmp(&on_device[c], &on_host[c], sizeof(double)) == 0);
+      CHECK(on_host[c] != 0.0);
+    }
+    CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node) == on_host);
   }
 
   TEST_CASE("a model with contact is not split yet") {

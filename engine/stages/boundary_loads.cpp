@@ -8,16 +8,16 @@
 namespace fdem {
 
 MemoryPlan BoundaryLoads::plan(size_t loaded_edges, size_t group_size) {
-  return MemoryPlan().add("boundary_loads group_energy",
-                          std::max<size_t>(1, groups_for(loaded_edges, group_size)) * sizeof(real2));
+  (void)group_size;
+  return MemoryPlan().add("boundary_loads edge_energy", std::max<size_t>(1, loaded_edges) * sizeof(real2));
 }
 
 BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt)
     : cl_(cl), count_(a.num_loaded_edges), groups_(work_groups(cl, a.num_loaded_edges)) {
   kernel_ = compute::kernel(cl.build(kernel_source::boundary_loads, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
                             "boundary_loads");
-  group_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads group_energy");
-  upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
+  edge_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads edge_energy");
+  upload(cl, edge_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
   KernelArgs args(kernel_);
   args("n_edges", static_cast<cl_uint>(count_))("edge_nodes", a.edge_nodes)("edge_load", a.edge_load)(
       "load_table", a.load_table)("pressure_points", a.pressure_points)("materials", a.materials)(
@@ -26,7 +26,7 @@ BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, d
   time_ = args.later("time", real(0));
   args("edge_force", a.edge_force)("dt", static_cast<real>(dt));
   step_ = args.later("step", cl_int(0));
-  args("group_energy", group_energy_).done();
+  args("edge_energy", edge_energy_).done();
 }
 
 void BoundaryLoads::enqueue(double time, int step) {
@@ -36,8 +36,8 @@ void BoundaryLoads::enqueue(double time, int step) {
   cl_.enqueue(kernel_, count_);
 }
 
-void BoundaryLoads::add_energy(EnergyTotals& e) {
-  const auto sum = sum_group_slots(cl_, group_energy_, groups_, 2);
+void BoundaryLoads::add_energy(EnergyTotals& e, const ItemSums& sums) {
+  const auto sum = sums(cl_, edge_energy_, count_, 2, 0, 2, ItemKind::LoadedEdge);
   e.load_work += sum[0];
   e.absorbed += sum[1];
 }

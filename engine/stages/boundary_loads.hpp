@@ -18,11 +18,12 @@ class BoundaryLoads {
   // edge is loaded.
   void enqueue(double time, int step);
   // Load work and absorbed energy from t = 0 up to the current step's time (waits).
-  void add_energy(EnergyTotals& totals);
+  // Load work and absorbed energy from t = 0 up to the last step, summed per edge by `sums` (waits).
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
 
   // The cumulative energy sums, for checkpoints.
-  void save_state(StateWriter& out) const { out.group_slots("load_energy", group_energy_, groups_, 2); }
-  void load_state(StateReader& in) { in.group_slots("load_energy", group_energy_, groups_, 2); }
+  void save_state(StateWriter& out) const { out.buffer<real>("load_edge_energy", edge_energy_, count_, 2); }
+  void load_state(StateReader& in) { in.buffer<real>("load_edge_energy", edge_energy_, count_, 2); }
 
  private:
   ClContext& cl_;
@@ -30,7 +31,7 @@ class BoundaryLoads {
   compute::kernel kernel_;
   KernelArg<real> time_;
   KernelArg<cl_int> step_;
-  compute::buffer group_energy_;  // real2 per work-group: (load work, absorbed energy)
+  compute::buffer edge_energy_;  // real2 per loaded edge: (load work, absorbed energy) so far
 };
 
 }  // namespace fdem

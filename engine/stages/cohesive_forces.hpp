@@ -52,6 +52,7 @@ class CohesiveForces {
   std::vector<real> work();         // work done on each CE4 so far [J]
   std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive_forces.cl)
   std::vector<real> stored();       // elastic energy each CE4 holds now [J]
+  const compute::buffer& energy_rows() const { return energy_; }  // real4: (work, dissipation, stored, -) per CE4
 
   // Totals over all CE4s [J]: a device pass into a fixed number of partial sums, each over
   // a fixed stride of CE4s, then the partials summed in order on the host, so the totals

@@ -10,7 +10,8 @@ MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work) {
   return MemoryPlan()
       .add("integrate group_work", groups * sizeof(real2))
       .add("integrate group_row", groups * sizeof(real4))
-      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2));
+      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2))
+      .add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4));
 }
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
@@ -28,6 +29,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
   node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
+  node_energy_ = arrays.allocate(cl, "integrate node_energy");
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
@@ -43,7 +45,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   }
   args("ref_position", a.ref_position)("account_work", cl_int(account_work_ ? 1 : 0));
   energy_row_ = args.later("energy_row", cl_int(0));
-  args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_).done();
+  args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_)("node_energy", node_energy_).done();
 }
 
 void Integrate::enqueue(double time_after, int step, bool energy_row) {
@@ -57,15 +59,15 @@ void Integrate::enqueue(double time_after, int step, bool energy_row) {
   cl_.enqueue(kernel_, count_);
 }
 
-void Integrate::add_energy(EnergyTotals& e) {
-  const auto row = sum_group_slots(cl_, group_row_, groups_, 4);
-  e.kinetic += row[0];
-  e.gravity_potential += row[1];
+void Integrate::add_energy(EnergyTotals& e, const ItemSums& sums) {
+  // Per node, in node order by the fixed rule (rank-independent): the kernel wrote
+  // (kinetic, gravity potential, damping work and reaction work up to t) on the energy row.
+  const auto sum = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
+  e.kinetic += sum[0];
+  e.gravity_potential += sum[1];
   if (!account_work_) return;
-  const auto work = sum_group_slots(cl_, group_work_, groups_, 2);
-  // The cumulative sums hold this step's forward halves too; the row runs to t.
-  e.local_damping += -(work[0] - row[2]);
-  e.boundary_work += work[1] - row[3];
+  e.local_damping += -sum[2];
+  e.boundary_work += sum[3];
 }
 
 }  // namespace fdem

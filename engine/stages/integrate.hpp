@@ -34,7 +34,7 @@ class Integrate {
 
   // Kinetic energy and gravity potential at the last energy row, and the local damping
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
-  void add_energy(EnergyTotals& totals);
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
 
   // The cumulative energy sums, for checkpoints.
   void save_state(StateWriter& out) const {
@@ -56,6 +56,7 @@ class Integrate {
   KernelArg<cl_uint> slot_, next_slot_;
   compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
   compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
+  compute::buffer node_energy_;  // real4 per node, written on energy rows: (kinetic, gravity, damping, reaction work)
 };
 
 }  // namespace fdem

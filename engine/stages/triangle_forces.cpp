@@ -12,6 +12,8 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
   p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, group_size)) * sizeof(real2));
   // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
   p.add("triangle viscous_stress", (viscous ? std::max<size_t>(1, triangles) : 1) * sizeof(real4));
+  // (strain energy, viscous dissipation so far) per triangle at the last energy row.
+  p.add("triangle energy", std::max<size_t>(1, triangles) * sizeof(real2));
   return p;
 }
 
@@ -24,6 +26,7 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
   upload(cl, viscous_stress_, std::vector<real4>(viscous_ ? std::max<size_t>(1, count_) : 1));
+  triangle_energy_ = arrays.allocate(cl, "triangle energy");
   KernelArgs args(kernel_);
   args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
       "tri_material", a.tri_material)("materials", a.materials)("position", a.position)("velocity", a.velocity)(
@@ -32,7 +35,7 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   step_ = args.later("step", cl_int(0));
   args("corner_force", a.corner_force)("stress", a.stress)("conditions", a.conditions);
   energy_mode_ = args.later("energy_mode", cl_int(0));
-  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_).done();
+  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_)("triangle_energy", triangle_energy_).done();
 }
 
 void TriangleForces::enqueue(int step, bool energy_row) {
@@ -49,8 +52,8 @@ void TriangleForces::enqueue_stress(int step) {
   cl_.enqueue(kernel_, count_);
 }
 
-void TriangleForces::add_energy(EnergyTotals& e) {
-  const auto sum = sum_group_slots(cl_, group_energy_, groups_, 2);
+void TriangleForces::add_energy(EnergyTotals& e, const ItemSums& sums) {
+  const auto sum = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
   e.strain += sum[0];
   e.viscous += sum[1];
 }

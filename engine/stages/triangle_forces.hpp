@@ -21,7 +21,7 @@ class TriangleForces {
   // The stress of the current state into `stress` (for output; no energy accounted). Never waits.
   void enqueue_stress(int step);
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
-  void add_energy(EnergyTotals& totals);
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
 
   // The energy state, for checkpoints: the last row's sums and, per triangle, the viscous
   // stress of the last step and its dissipation so far.
@@ -43,6 +43,7 @@ class TriangleForces {
   compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation) at the last row
   // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
   compute::buffer viscous_stress_;
+  compute::buffer triangle_energy_;  // real2 per triangle at the last energy row: (strain energy, viscous dissipation)
 };
 
 }  // namespace fdem

@@ -1,0 +1,341 @@
+#include "engine/scale_out.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <numeric>
+
+#include "base/errors.hpp"
+
+namespace fdem {
+
+SplitRun::SplitRun(const Model& global, Transport& transport, PartitionMethod method)
+    : transport_(transport), global_(global) {
+  partition_ = partition_model(global, transport.size(), method);
+  local_ = fdem::local_model(global, partition_, transport.rank());
+  const int rank = transport.rank();
+  const auto owner = node_owners(global, partition_);
+  auto set = [&](ItemKind kind, std::vector<int> global_index, size_t global_count, auto owned) {
+    const int k = static_cast<int>(kind);
+    scope_.owned[k].resize(global_index.size());
+    for (size_t i = 0; i < global_index.size(); ++i) scope_.owned[k][i] = owned(global_index[i]) ? 1 : 0;
+    scope_.global[k] = std::move(global_index);
+    scope_.global_count[k] = global_count;
+  };
+  set(ItemKind::Node, local_.node_global, global.num_nodes(), [&](int g) { return owner[g] == rank; });
+  set(ItemKind::Triangle, local_.triangle_global, global.num_triangles(),
+      [&](int g) { return partition_.triangle_part[g] == rank; });
+  set(ItemKind::LoadedEdge, local_.edge_global, global.loaded_edges.size(),
+      [&](int g) { return owner[global.loaded_edges[g].a] == rank; });
+  set(ItemKind::Ce4, local_.ce4_global, global.ce4.size(),
+      [&](int g) { return partition_.triangle_part[global.ce4_triangles[g][0]] == rank; });
+  scope_.transport = &transport;
+}
+
+void SplitRun::attach(ClContext& cl, Solver& solver) {
+  halo_ = std::make_unique<HaloExchange>(cl, solver.arrays(), halo_plan(global_, partition_, local_, transport_.rank()),
+                                         transport_);
+  solver.set_scope(&scope_);
+}
+
+Conditions SplitRun::conditions(Solver& solver) {
+  const Conditions c = solver.conditions();
+  auto word = [](int v) { return v < 0 ? int64_t(INT_MAX) : int64_t(v); };
+  const std::vector<int64_t> mine{
+      c.bad_node < 0 ? INT_MAX : local_.node_global[c.bad_node], word(c.bad_node_step),
+      c.inverted_triangle < 0 ? INT_MAX : local_.triangle_global[c.inverted_triangle], word(c.inverted_step)};
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<int64_t> least(4, INT_MAX);
+  for (const auto& b : all) {
+    const auto v = from_bytes<int64_t>(b);
+    for (int k = 0; k < 4; ++k) least[k] = std::min(least[k], v[k]);
+  }
+  least = from_bytes<int64_t>(transport_.broadcast(to_bytes(least)));
+  auto value = [](int64_t w) { return w == INT_MAX ? -1 : static_cast<int>(w); };
+  return {value(least[0]), value(least[1]), value(least[2]), value(least[3])};
+}
+
+std::vector<double> SplitRun::probe_values(Solver& solver, const std::vector<ProbeLocation>& probes) {
+  if (probes.empty()) return {};
+  solver.enqueue_stress();
+  const auto v = solver.velocities();
+  const auto s = solver.stresses();
+  // Per probe, what this rank owns: (probe, 0, vx, vy) for its node, (probe, 1, sxx, syy, sxy) for its triangle.
+  std::vector<double> mine;
+  const int node_kind = static_cast<int>(ItemKind::Node), tri_kind = static_cast<int>(ItemKind::Triangle);
+  for (size_t i = 0; i < v.size(); ++i)
+    if (scope_.owned[node_kind][i])
+      for (size_t k = 0; k < probes.size(); ++k)
+        if (probes[k].node == scope_.global[node_kind][i]) mine.insert(mine.end(), {double(k), 0, double(v[i].x), double(v[i].y), 0});
+  for (size_t t = 0; t < s.size(); ++t)
+    if (scope_.owned[tri_kind][t])
+      for (size_t k = 0; k < probes.size(); ++k)
+        if (probes[k].triangle == scope_.global[tri_kind][t])
+          mine.insert(mine.end(), {double(k), 1, double(s[t].x), double(s[t].y), double(s[t].z)});
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<double> row;
+  if (!root()) return row;
+  row.assign(6 * probes.size(), 0.0);
+  for (const auto& b : all) {
+    const auto r = from_bytes<double>(b);
+    for (size_t at = 0; at + 5 <= r.size(); at += 5) {
+      const size_t k = static_cast<size_t>(r[at]);
+      if (r[at + 1] == 0) {
+        row[6 * k] = r[at + 2], row[6 * k + 1] = r[at + 3];
+      } else {
+        const double sxx = r[at + 2], syy = r[at + 3], sxy = r[at + 4];
+        row[6 * k + 2] = sxx, row[6 * k + 3] = syy, row[6 * k + 4] = sxy;
+        row[6 * k + 5] = 0.5 * (sxx + syy) + std::hypot(0.5 * (sxx - syy), sxy);  // as PointProbes::values
+      }
+    }
+  }
+  return row;
+}
+
+namespace {
+
+// The checkpoint arrays of Solver::save_state that hold one row per item (`per` rows
+// per item) and the arrays that are the same on every rank. Any other name is refused
+// when a split run writes or reads a checkpoint, so that an array added to a stage
+// cannot be split wrongly in silence: add it here.
+struct ItemArray {
+  ItemKind kind;
+  size_t per;
+};
+const std::map<std::string, ItemArray>& checkpoint_items() {
+  static const std::map<std::string, ItemArray> items{
+      {"position", {ItemKind::Node, 1}},
+      {"velocity", {ItemKind::Node, 1}},
+      {"integrate_node_work", {ItemKind::Node, 1}},
+      {"edge_force", {ItemKind::LoadedEdge, 2}},
+      {"load_edge_energy", {ItemKind::LoadedEdge, 1}},
+      {"triangle_viscous_stress", {ItemKind::Triangle, 1}},
+      {"ce4_gauss_state", {ItemKind::Ce4, 3}},
+      {"ce4_status", {ItemKind::Ce4, 1}},
+      {"ce4_output", {ItemKind::Ce4, 1}},
+      {"ce4_force", {ItemKind::Ce4, 4}},
+      {"ce4_last_gap", {ItemKind::Ce4, 1}},
+      {"ce4_friction_slip", {ItemKind::Ce4, 1}},
+      {"ce4_last_chord", {ItemKind::Ce4, 1}},
+      {"ce4_energy", {ItemKind::Ce4, 1}},
+  };
+  return items;
+}
+// Per-work-group sums (not read by the account any more; kept for the file's layout): rank 0's.
+bool rank_zero_array(const std::string& name) { return name == "integrate_work" || name == "triangle_energy"; }
+bool break_log_array(const std::string& name) { return name == "ce4_break_ids" || name == "ce4_break_records"; }
+
+void check_known(const std::string& name) {
+  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name))
+    throw InputError("checkpoint array '" + name + "' is not known to the split run (engine/scale_out.cpp, "
+                     "checkpoint_items): a checkpoint of this model cannot be written or read over several ranks");
+}
+
+// The break log arrays of a catalogue (CohesiveForces::save_state's layout).
+void put_break_log(io::CheckpointData& data, const std::vector<io::BreakRecord>& log) {
+  std::vector<cl_int> ids(2 * log.size());
+  std::vector<real> rec(4 * log.size());
+  for (size_t k = 0; k < log.size(); ++k) {
+    ids[2 * k] = cl_int(log[k].ce4), ids[2 * k + 1] = log[k].mode;
+    rec[4 * k] = real(log[k].time), rec[4 * k + 1] = real(log[k].x), rec[4 * k + 2] = real(log[k].y),
+            rec[4 * k + 3] = real(log[k].energy);
+  }
+  data.integers["ce4_break_count"] = static_cast<std::int64_t>(log.size());
+  for (auto& a : data.arrays) {
+    if (a.name == "ce4_break_ids") a.bytes.assign(reinterpret_cast<const unsigned char*>(ids.data()),
+                                                  reinterpret_cast<const unsigned char*>(ids.data() + ids.size()));
+    if (a.name == "ce4_break_records") a.bytes.assign(reinterpret_cast<const unsigned char*>(rec.data()),
+                                                      reinterpret_cast<const unsigned char*>(rec.data() + rec.size()));
+  }
+}
+
+}  // namespace
+
+io::CheckpointData SplitRun::gather_state(const io::CheckpointData& local, const std::vector<io::BreakRecord>& catalogue) {
+  io::CheckpointData global = local;  // attributes and rank 0's layout
+  for (auto& a : global.arrays) {
+    check_known(a.name);
+    const auto it = checkpoint_items().find(a.name);
+    if (it == checkpoint_items().end()) continue;
+    const int k = static_cast<int>(it->second.kind);
+    const size_t row = io::element_bytes(a.type) * a.width * it->second.per;  // bytes per item
+    // (global index, row) of every owned item.
+    Bytes mine;
+    for (size_t i = 0; i < scope_.owned[k].size(); ++i)
+      if (scope_.owned[k][i]) {
+        const int64_t g = scope_.global[k][i];
+        mine.insert(mine.end(), reinterpret_cast<const char*>(&g), reinterpret_cast<const char*>(&g) + sizeof g);
+        mine.insert(mine.end(), a.bytes.begin() + i * row, a.bytes.begin() + (i + 1) * row);
+      }
+    const auto all = transport_.gather(std::move(mine));
+    if (!root()) continue;
+    a.bytes.assign(scope_.global_count[k] * row, 0);
+    for (const auto& b : all)
+      for (size_t at = 0; at + sizeof(int64_t) + row <= b.size(); at += sizeof(int64_t) + row) {
+        int64_t g = 0;
+        std::memcpy(&g, b.data() + at, sizeof g);
+        std::memcpy(a.bytes.data() + g * row, b.data() + at + sizeof g, row);
+      }
+  }
+  if (root() && global.find("ce4_break_ids")) put_break_log(global, catalogue);
+  return global;
+}
+
+io::CheckpointData SplitRun::local_state(const io::CheckpointData& global) const {
+  io::CheckpointData local = global;
+  for (auto& a : local.arrays) {
+    check_known(a.name);
+    const auto it = checkpoint_items().find(a.name);
+    if (it == checkpoint_items().end()) continue;
+    const int k = static_cast<int>(it->second.kind);
+    const size_t row = io::element_bytes(a.type) * a.width * it->second.per;
+    if (a.bytes.size() != scope_.global_count[k] * row) continue;  // StateReader names the misfit
+    std::vector<unsigned char> mine(scope_.global[k].size() * row);
+    for (size_t i = 0; i < scope_.global[k].size(); ++i)
+      std::memcpy(mine.data() + i * row, a.bytes.data() + scope_.global[k][i] * row, row);
+    a.bytes = std::move(mine);
+  }
+  // The break log: the records of the CE4s this rank holds, with local indices, in order.
+  if (const auto* ids_array = global.find("ce4_break_ids")) {
+    const auto* rec_array = global.find("ce4_break_records");
+    const auto it = global.integers.find("ce4_break_count");
+    const size_t n = it == global.integers.end() ? 0 : static_cast<size_t>(std::max<int64_t>(0, it->second));
+    if (rec_array && ids_array->bytes.size() == 2 * n * sizeof(cl_int) && rec_array->bytes.size() == 4 * n * sizeof(real)) {
+      std::vector<int> local_of(global_.ce4.size(), -1);
+      const int k = static_cast<int>(ItemKind::Ce4);
+      for (size_t i = 0; i < scope_.global[k].size(); ++i) local_of[scope_.global[k][i]] = static_cast<int>(i);
+      std::vector<io::BreakRecord> log;
+      std::vector<cl_int> ids(2 * n);
+      std::vector<real> rec(4 * n);
+      std::memcpy(ids.data(), ids_array->bytes.data(), ids_array->bytes.size());
+      std::memcpy(rec.data(), rec_array->bytes.data(), rec_array->bytes.size());
+      for (size_t r = 0; r < n; ++r) {
+        if (ids[2 * r] < 0 || static_cast<size_t>(ids[2 * r]) >= local_of.size() || local_of[ids[2 * r]] < 0) continue;
+        io::BreakRecord b;
+        b.ce4 = local_of[ids[2 * r]], b.mode = ids[2 * r + 1];
+        b.time = rec[4 * r], b.x = rec[4 * r + 1], b.y = rec[4 * r + 2], b.energy = rec[4 * r + 3];
+        log.push_back(b);
+      }
+      put_break_log(local, log);
+    }
+  }
+  return local;
+}
+
+std::vector<io::BreakRecord> SplitRun::catalogue(CohesiveForces& ce4) {
+  std::vector<io::BreakRecord> mine;
+  for (auto b : ce4.catalogue()) {
+    const int g = local_.ce4_global[b.ce4];
+    if (partition_.triangle_part[global_.ce4_triangles[g][0]] != transport_.rank()) continue;
+    b.ce4 = g;
+    mine.push_back(b);
+  }
+  std::vector<io::BreakRecord> out;
+  for (const auto& bytes : transport_.gather(to_bytes(mine))) {
+    const auto v = from_bytes<io::BreakRecord>(bytes);
+    out.insert(out.end(), v.begin(), v.end());
+  }
+  std::sort(out.begin(), out.end(), [](const io::BreakRecord& a, const io::BreakRecord& b) {
+    return a.time != b.time ? a.time < b.time : a.ce4 < b.ce4;
+  });
+  return out;
+}
+
+std::vector<io::BreakRecord> SplitRun::drain_breaks(CohesiveForces& ce4) {
+  std::vector<io::BreakRecord> mine;
+  for (auto b : ce4.drain_breaks()) {
+    const int g = local_.ce4_global[b.ce4];
+    if (partition_.triangle_part[global_.ce4_triangles[g][0]] != transport_.rank()) continue;
+    b.ce4 = g;
+    mine.push_back(b);
+  }
+  const auto all = transport_.gather(to_bytes(mine));
+  std::vector<io::BreakRecord> out;
+  for (const auto& bytes : all) {
+    const auto v = from_bytes<io::BreakRecord>(bytes);
+    out.insert(out.end(), v.begin(), v.end());
+  }
+  std::sort(out.begin(), out.end(), [](const io::BreakRecord& a, const io::BreakRecord& b) {
+    return a.time != b.time ? a.time < b.time : a.ce4 < b.ce4;
+  });
+  return out;
+}
+
+std::vector<int> host_fragment_labels(const Model& model, const std::vector<int>& broken) {
+  // Union-find over triangles and nodes (triangles first), the root of each set its
+  // smallest member.
+  const size_t nt = model.num_triangles();
+  std::vector<int> parent(nt + model.num_nodes());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  auto join = [&](int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  for (size_t t = 0; t < nt; ++t)
+    for (int v : model.triangles[t]) join(static_cast<int>(t), static_cast<int>(nt) + v);
+  for (size_t c = 0; c < model.ce4_triangles.size(); ++c)
+    if (!broken[c]) join(model.ce4_triangles[c][0], model.ce4_triangles[c][1]);
+  std::vector<int> labels(nt);
+  for (size_t t = 0; t < nt; ++t) labels[t] = find(static_cast<int>(t));
+  return labels;
+}
+
+int exit_code_of(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e)) return 2;
+  if (dynamic_cast<const NumericalError*>(&e)) return 3;
+  if (dynamic_cast<const OutputError*>(&e)) return 5;
+  return 4;
+}
+
+bool& failure_agreed() {
+  static bool agreed = false;
+  return agreed;
+}
+
+void agree(Transport& transport, std::exception_ptr failure) {
+  int code = 0;
+  std::string message;
+  if (failure) {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      code = exit_code_of(e);
+      message = e.what();
+    } catch (...) {
+      code = 4;
+      message = "unknown error";
+    }
+  }
+  std::vector<char> mine(sizeof(int));
+  std::memcpy(mine.data(), &code, sizeof(int));
+  mine.insert(mine.end(), message.begin(), message.end());
+  const auto all = transport.gather(mine);
+  Bytes first(sizeof(int), 0);
+  for (const auto& b : all) {
+    int c = 0;
+    std::memcpy(&c, b.data(), sizeof(int));
+    if (c != 0) {
+      first = b;
+      break;
+    }
+  }
+  const Bytes agreed = transport.broadcast(first);
+  std::memcpy(&code, agreed.data(), sizeof(int));
+  if (code == 0) return;
+  message.assign(agreed.begin() + sizeof(int), agreed.end());
+  failure_agreed() = true;
+  switch (code) {
+    case 2: throw InputError(message);
+    case 3: throw NumericalError(message);
+    case 5: throw OutputError(message);
+    default: throw DeviceError(message);
+  }
+}
+
+}  // namespace fdem
