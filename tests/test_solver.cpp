@@ -109,6 +109,33 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
   }
 }
 
+// fdem bench's model (UCS, activation "all", skin 0.15 h_ave; cases/ucs) at about 7k TRI3:
+// what `fdem check` and the too-little-memory refusal say it needs (Solver::bytes_needed)
+// must be what it holds once running, within 10% either way (issue 13: the contact
+// history pool, sized from the touching couples, and the lists grown to the couples met).
+TEST_CASE("memory plan: the bench model's planned bytes match what it holds after 60 steps within 10%") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(test::source_path("cases/ucs/case.toml"),
+                                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10",
+                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
+                                       "output.dir=\"" + dir.str() + "\""});
+  ClContext& cl = test::context();
+  const size_t needed = Solver::bytes_needed(p.model, cl.group_size());
+  const size_t before = settled_bytes(cl);
+  {
+    Solver solver(cl, p.model, p.dt);
+    for (int k = 0; k < 60; ++k) solver.step();
+    const size_t held = settled_bytes(cl) - before;
+    const double tri3 = static_cast<double>(p.model.num_triangles());
+    MESSAGE(p.model.num_triangles() << " TRI3, " << solver.contact_candidates() << " couples, "
+                                    << solver.contact_touching() << " touching: planned " << needed / tri3
+                                    << " B/TRI3, held " << held / tri3 << " B/TRI3");
+    CHECK(solver.contact_touching() > 0);
+    CHECK(static_cast<double>(held) >= 0.9 * static_cast<double>(needed));
+    CHECK(static_cast<double>(held) <= 1.1 * static_cast<double>(needed));
+  }
+  CHECK(settled_bytes(cl, before) == before);
+}
 
 TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy within 1% in 6,400 steps") {
   test::TempDir dir;

@@ -16,24 +16,39 @@ namespace fdem {
 
 namespace {
 constexpr int kHistory = layout::CONTACT_HISTORY;
+
+std::string pool_overflow_message(long step) {
+  return "step " + std::to_string(step) +
+         ": the contact history pool was full (more couples started to touch within 8 steps than its headroom "
+         "holds), so some couples lost their history; please report this case. [contact] rebuild = \"step\" "
+         "keeps a row for every couple and cannot fill";
+}
 }
 
 MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
   return MemoryPlan()
       .add("contact_keys", capacity * sizeof(cl_ulong))
-      .add("contact_history", capacity * kHistory * sizeof(real))
+      .add("contact history slots", capacity * sizeof(cl_uint))
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
-      .add("contact couple_stored", std::max<size_t>(1, capacity) * sizeof(real))
       .add("contact stored slots", std::max<size_t>(1, groups_for(capacity, group_size)) * sizeof(real));
 }
 
-MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask) {
+MemoryPlan ContactForces::pool_arrays(size_t rows) {
+  return MemoryPlan()
+      .add("contact_history", std::max<size_t>(1, rows) * kHistory * sizeof(real))
+      .add("contact couple_stored", std::max<size_t>(1, rows) * sizeof(real));
+}
+
+MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask, bool monitored) {
   MemoryPlan p;
+  const size_t first = first_capacity(model.num_triangles());
   // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
       .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
-      .add(couple_arrays(first_capacity(model.num_triangles()), group_size))
+      .add("contact pool state", 2 * sizeof(cl_uint))
+      .add(couple_arrays(first, group_size))
+      .add(pool_arrays(monitored ? pool_first(model.num_triangles()) : first))
       .add(ContactCarry::plan(model.num_triangles(), first_capacity(model.num_triangles()), group_size))
       .add("contact_pair_index", model.contact.pair_index.size() * sizeof(cl_uint))
       .add("contact_pair_props", model.contact.pair_props.size() * sizeof(real));
@@ -57,8 +72,12 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
-                             const compute::buffer* ce4_status)
-    : cl_(cl), arrays_(a), carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
+                             const compute::buffer* ce4_status, MonitorRing* ring)
+    : cl_(cl),
+      arrays_(a),
+      triangles_(a.num_triangles),
+      monitored_(ring != nullptr),
+      carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
@@ -76,6 +95,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   std::map<std::string, std::string> defines;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
+  defines["NO_SLOT"] = std::to_string(ContactCarry::kNoSlot) + "u";
+  if (monitored_) defines["POOL_MONITOR"] = "1";
   if (bonds) {
     defines["CE4_BONDS"] = "1";
     defines["NO_BOND"] = std::to_string(kNoBond) + "u";
@@ -86,14 +107,18 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr);
+  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_);
   energy_ = arrays.allocate(cl, "contact energy account");
   counters_ = arrays.allocate(cl, "contact counters (touching, overlap list)");
+  pool_state_ = arrays.allocate(cl, "contact pool state");
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
+  reset_pool();
   capacity_ = first_capacity(a.num_triangles);
   keys_ = arrays.allocate(cl, "contact_keys");
+  pool_rows_ = monitored_ ? pool_first(a.num_triangles) : capacity_;
   history_ = arrays.allocate(cl, "contact_history");
+  couple_stored_ = arrays.allocate(cl, "contact couple_stored");
   list_capacity_ = capacity_;
   allocate_list(arrays);
 
@@ -127,6 +152,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_list_.same_list = f.later("same_list", none);
   forces_list_.overlap_list = f.later("overlap_list", overlap_list_);
   forces_list_.live = f.later("live", live_);
+  forces_slot_ = f.later("slot", slot_);
+  f("pool_state", pool_state_);
+  forces_pool_capacity_ = f.later("pool_capacity", static_cast<cl_uint>(pool_rows_));
   forces_energy_row_ = f.later("energy_row", none);
   forces_couple_stored_ = f.later("couple_stored", couple_stored_);
   f("active", active_);
@@ -143,12 +171,17 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   c("counters", counters_);
   classify_list_.overlap_list = c.later("overlap_list", overlap_list_);
   classify_list_.live = c.later("live", live_);
+  classify_slot_ = c.later("slot", slot_);
   if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   c.done();
 
-  bind_args(clear_)("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)(
-      "counters", counters_)
-      .done();
+  KernelArgs k(clear_);
+  k("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)("counters", counters_);
+  if (monitored_) {
+    k("pool_state", pool_state_)("monitor", ring->buffer());
+    clear_monitor_slot_ = k.later("monitor_slot", cl_uint(0));
+  }
+  k.done();
 
   KernelArgs r(release_);
   release_previous_count_ = r.later("n_previous", none);
@@ -160,6 +193,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
 
   KernelArgs p(stored_partials_);
   stored_count_ = p.later("n_couples", none);
+  stored_live_ = p.later("live", live_);
+  stored_slot_ = p.later("slot", slot_);
   stored_values_ = p.later("couple_stored", couple_stored_);
   stored_slots_arg_ = p.later("group_slots", stored_slots_);
   p.done();
@@ -176,7 +211,42 @@ void ContactForces::ListArgs::bind_list(KernelArgs& args, const compute::buffer&
   history = args.later("history", history1);
 }
 
-void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
+void ContactForces::enqueue_clear(long step) {
+  if (monitored_) clear_monitor_slot_.set(MonitorRing::slot_of(step));
+  cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1));
+}
+
+void ContactForces::reset_pool() {
+  const std::vector<cl_uint> empty{0, 0xffffffffu};
+  cl_.queue().enqueue_write_buffer(pool_state_, 0, empty.size() * sizeof(cl_uint), empty.data());
+}
+
+void ContactForces::allocate_pool(size_t rows, bool keep) {
+  const MemoryPlan arrays = pool_arrays(rows);
+  compute::buffer history = arrays.allocate(cl_, "contact_history");
+  if (keep && pool_rows_ > 0)
+    cl_.queue().enqueue_copy_buffer(history_, history, 0, 0, pool_rows_ * kHistory * sizeof(real));
+  history_ = history;
+  // Written and read within one step: nothing to keep.
+  couple_stored_ = compute::buffer();
+  couple_stored_ = arrays.allocate(cl_, "contact couple_stored");
+  pool_rows_ = rows;
+}
+
+void ContactForces::ensure_pool(size_t rows_seen) {
+  if (!monitored_ || rows_seen + pool_headroom(triangles_) / 2 <= pool_rows_) return;
+  allocate_pool(pool_grown(rows_seen, triangles_), true);
+}
+
+void ContactForces::check_pool() {
+  const long overflow = pool_overflow_step();
+  if (overflow >= 0) throw NumericalError(pool_overflow_message(overflow));
+}
+
+long ContactForces::pool_overflow_step() {
+  const auto state = download<cl_uint>(cl_, pool_state_, 2);
+  return state[1] == 0xffffffffu ? -1 : static_cast<long>(state[1]);
+}
 
 void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row,
                             long step) {
@@ -191,13 +261,18 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   // history stay in place.
   size_t carried = 0;
   if (new_list) {
-    carried = carry_.carry(keys_, history_, live_, active_, count_, joined_since);
+    carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since);
+    // The carry waited for the device: a full pool in the steps since the last check stops here.
+    check_pool();
     if (count > capacity_) {
       capacity_ = grown(count);
-      const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
-      history_ = arrays.allocate(cl_, "contact_history");  // what it held is carried
-      keys_ = arrays.allocate(cl_, "contact_keys");
+      keys_ = couple_arrays(capacity_, cl_.group_size()).allocate(cl_, "contact_keys");
     }
+    // The pool's histories are carried: it starts empty, with room for the carried
+    // couples and the headroom (with a skin), or a row per couple (without).
+    const size_t rows = monitored_ ? pool_grown(carried, triangles_) : capacity_;
+    if (rows > pool_rows_) allocate_pool(rows, false);
+    reset_pool();
   }
   if (carried > 0) {
     release_previous_count_.set(static_cast<cl_uint>(carried));
@@ -211,13 +286,12 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list_capacity_ = grown(count);
     allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every flag
   }
-  if (energy_row && count > 0) {
-    const real zero = 0;
-    cl_.queue().enqueue_fill_buffer(couple_stored_, &zero, sizeof(zero), 0, count * sizeof(real));
-  }
   // Same list as the last step: couple c's history is at c, in place (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
   const compute::buffer& list_keys = new_list ? keys : keys_;
+  classify_slot_.set(slot_);
+  forces_slot_.set(slot_);
+  forces_pool_capacity_.set(static_cast<cl_uint>(pool_rows_));
   for (ListArgs* list : {&classify_list_, &forces_list_}) {
     list->count.set(static_cast<cl_uint>(count));
     list->keys.set(list_keys);
@@ -241,6 +315,8 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     stored_groups_ = work_groups(cl_, count);
     if (count > 0) {
       stored_count_.set(static_cast<cl_uint>(count));
+      stored_live_.set(live_);
+      stored_slot_.set(slot_);
       stored_values_.set(couple_stored_);
       stored_slots_arg_.set(stored_slots_);
       cl_.enqueue(stored_partials_, count);
@@ -265,7 +341,7 @@ double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots
 void ContactForces::allocate_list(const MemoryPlan& arrays) {
   overlap_list_ = arrays.allocate(cl_, "contact overlap list");
   live_ = arrays.allocate(cl_, "contact live flags");
-  couple_stored_ = arrays.allocate(cl_, "contact couple_stored");
+  slot_ = arrays.allocate(cl_, "contact history slots");
   stored_slots_ = arrays.allocate(cl_, "contact stored slots");
 }
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }
@@ -276,15 +352,37 @@ double ContactForces::dissipated_energy() {
   return static_cast<double>(e[layout::ENERGY_FRICTION] + e[layout::ENERGY_DAMPING]) / energy_scale_;
 }
 
-std::vector<real> ContactForces::history() { return download<real>(cl_, history_, count_ * kHistory); }
+std::vector<cl_uint> ContactForces::slots() { return download<cl_uint>(cl_, slot_, count_); }
+
+std::vector<real> ContactForces::history() {
+  std::vector<real> out(count_ * kHistory, real(0));
+  if (count_ == 0) return out;
+  const auto slot = slots();
+  const auto pool = download<real>(cl_, history_, pool_rows_ * kHistory);
+  for (size_t c = 0; c < count_; ++c)
+    if (slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_)
+      std::copy_n(&pool[size_t(slot[c]) * kHistory], kHistory, &out[c * kHistory]);
+  return out;
+}
 std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
-std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, couple_stored_, count_); }
+std::vector<real> ContactForces::couple_stored() {
+  std::vector<real> out(count_, real(0));
+  if (count_ == 0) return out;
+  const auto slot = slots();
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  const auto stored = download<real>(cl_, couple_stored_, pool_rows_);
+  for (size_t c = 0; c < count_; ++c)
+    if (live[c] == 1 && slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_) out[c] = stored[slot[c]];
+  return out;
+}
 
 void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));
   out.integer("contact_last_list_step", static_cast<std::int64_t>(last_list_step_));
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
-  out.buffer<real>("contact_history", history_, count_, kHistory);
+  // Per couple, as the file has always held it (the pool rows gathered by slot).
+  const auto history = const_cast<ContactForces*>(this)->history();
+  out.host<real>("contact_history", history.data(), count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
   out.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
@@ -294,17 +392,35 @@ void ContactForces::load_state(StateReader& in) {
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
   if (count_ > capacity_) {
     capacity_ = grown(count_);
-    const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
-    keys_ = arrays.allocate(cl_, "contact_keys");
-    history_ = arrays.allocate(cl_, "contact_history");
+    keys_ = couple_arrays(capacity_, cl_.group_size()).allocate(cl_, "contact_keys");
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
     allocate_list(couple_arrays(list_capacity_, cl_.group_size()));
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
-  in.buffer<real>("contact_history", history_, count_, kHistory);
+  // The file holds a history per couple: the couples with one that is not all zeros (or
+  // a nonzero live flag) take pool rows in list order.
+  std::vector<real> history(count_ * kHistory);
+  in.host<real>("contact_history", history.data(), count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  std::vector<cl_uint> slot(count_, ContactCarry::kNoSlot);
+  std::vector<real> rows;
+  for (size_t c = 0; c < count_; ++c) {
+    const real* h = &history[c * kHistory];
+    if (live[c] == 0 && std::all_of(h, h + kHistory, [](real v) { return v == real(0); })) continue;
+    slot[c] = static_cast<cl_uint>(rows.size() / kHistory);
+    rows.insert(rows.end(), h, h + kHistory);
+  }
+  const size_t taken = rows.size() / kHistory;
+  const size_t needed = monitored_ ? pool_grown(taken, triangles_) : std::max(capacity_, taken);
+  if (needed > pool_rows_) allocate_pool(needed, false);
+  if (!rows.empty()) cl_.queue().enqueue_write_buffer(history_, 0, rows.size() * sizeof(real), rows.data());
+  if (count_ > 0) cl_.queue().enqueue_write_buffer(slot_, 0, slot.size() * sizeof(cl_uint), slot.data());
+  const std::vector<cl_uint> state{static_cast<cl_uint>(taken), 0xffffffffu};
+  cl_.queue().enqueue_write_buffer(pool_state_, 0, state.size() * sizeof(cl_uint), state.data());
+  cl_.finish();
   in.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
 

@@ -26,6 +26,7 @@ ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, doub
 void ContactSkin::mark() {
   cl_.queue().enqueue_copy_buffer(arrays_.position, at_build_, 0, 0, arrays_.num_nodes * sizeof(real2));
   ++generation_;
+  pool_seen_ = 0;  // a new list empties the contact history pool
 }
 
 bool ContactSkin::decide(unsigned slot, bool exact) {
@@ -33,6 +34,7 @@ bool ContactSkin::decide(unsigned slot, bool exact) {
   const double moved = as_value(w[layout::RING_MOVED]);
   largest_speed_ = std::max(largest_speed_, as_value(w[layout::RING_SPEED]));
   if (generation_of_[slot] != generation_) return false;  // measured against an older detection
+  pool_seen_ = std::max<size_t>(pool_seen_, w[layout::RING_POOL]);
   if (w[layout::RING_JOINED] != 0) return true;                              // triangles joined the candidates
   const double margin = exact ? 0.0 : 2.0 * kSlots * largest_speed_ * dt_;
   return !(moved + margin <= half_skin_);                  // NaN: rebuild (the NaN check stops the run)
