@@ -66,7 +66,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   }
   if (p.skin) plan.add(ContactSkin::plan(nodes));
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size()));
-  if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin));  // the detection's mask
+  // The detection's mask and couple list (shared keys).
+  if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
   plan.add(TriangleForces::plan(triangles, group_size, p.viscous));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
@@ -149,7 +150,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                         [&] {
                           return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
                                                                  cohesive_ ? &cohesive_->status() : nullptr,
-                                                                 parts_.skin ? ring_.get() : nullptr);
+                                                                 parts_.skin ? ring_.get() : nullptr, true);
                         })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
@@ -208,6 +209,7 @@ void Solver::step(bool energy_row) {
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
+      contact_->carry_before_detection();  // the detection rewrites the list the stage reads
       const size_t count = detection_->run();
       if (cl_.profiling())
         cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",

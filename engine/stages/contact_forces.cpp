@@ -25,9 +25,12 @@ std::string pool_overflow_message(long step) {
 }
 }
 
+MemoryPlan ContactForces::key_list(size_t capacity) {
+  return MemoryPlan().add("contact_keys", capacity * sizeof(cl_ulong));
+}
+
 MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
   return MemoryPlan()
-      .add("contact_keys", capacity * sizeof(cl_ulong))
       .add("contact history slots", capacity * sizeof(cl_uint))
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
@@ -40,7 +43,8 @@ MemoryPlan ContactForces::pool_arrays(size_t rows) {
       .add("contact couple_stored", std::max<size_t>(1, rows) * sizeof(real));
 }
 
-MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask, bool monitored) {
+MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask, bool monitored,
+                               bool shared_keys) {
   MemoryPlan p;
   const size_t first = first_capacity(model.num_triangles());
   // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
@@ -48,6 +52,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
       .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
       .add("contact pool state", 2 * sizeof(cl_uint))
       .add(couple_arrays(first, group_size))
+      .add(shared_keys ? MemoryPlan() : key_list(first))
       .add(pool_arrays(monitored ? pool_first(model.num_triangles()) : first))
       .add(ContactCarry::plan(model.num_triangles(), first_capacity(model.num_triangles()), group_size))
       .add("contact_pair_index", model.contact.pair_index.size() * sizeof(cl_uint))
@@ -72,10 +77,11 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
-                             const compute::buffer* ce4_status, MonitorRing* ring)
+                             const compute::buffer* ce4_status, MonitorRing* ring, bool shared_keys)
     : cl_(cl),
       arrays_(a),
       triangles_(a.num_triangles),
+      shared_keys_(shared_keys),
       monitored_(ring != nullptr),
       carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
@@ -107,7 +113,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_);
+  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_, shared_keys_);
   energy_ = arrays.allocate(cl, "contact energy account");
   counters_ = arrays.allocate(cl, "contact counters (touching, overlap list)");
   pool_state_ = arrays.allocate(cl, "contact pool state");
@@ -115,7 +121,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
   reset_pool();
   capacity_ = first_capacity(a.num_triangles);
-  keys_ = arrays.allocate(cl, "contact_keys");
+  // Shared keys: none until the first list (the kernels are bound to a placeholder).
+  keys_ = shared_keys_ ? pool_state_ : arrays.allocate(cl, "contact_keys");
   pool_rows_ = monitored_ ? pool_first(a.num_triangles) : capacity_;
   history_ = arrays.allocate(cl, "contact_history");
   couple_stored_ = arrays.allocate(cl, "contact couple_stored");
@@ -252,25 +259,25 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
                             long step) {
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
-  // Joins since the last list (activation runs before detection in a step, so a join in
-  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
-  const cl_uint joined_since = ContactActivation::join_stamp(last_list_step_ + 1);
+  const cl_uint joined_since = joined_since_last_list();
   // A new list: the couples of the last list that hold a history (and those next to a
-  // join) go to the carry list, where the new list finds them by key; the one history
-  // array is then rewritten in place (ContactCarry). Between detections the list and its
-  // history stay in place.
+  // join) go to the carry list, where the new list finds them by key (ContactCarry); the
+  // pool is emptied, each couple taking a row again at its first write. Between
+  // detections the list, its slots and the pool stay in place.
   size_t carried = 0;
   if (new_list) {
-    carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since);
-    // The carry waited for the device: a full pool in the steps since the last check stops here.
-    check_pool();
-    if (count > capacity_) {
+    carried = carry_ready_ ? carried_ : carry_old_list();
+    carry_ready_ = false;
+    if (!shared_keys_ && count > capacity_) {
       capacity_ = grown(count);
-      keys_ = couple_arrays(capacity_, cl_.group_size()).allocate(cl_, "contact_keys");
+      keys_ = key_list(capacity_).allocate(cl_, "contact_keys");
     }
-    // The pool's histories are carried: it starts empty, with room for the carried
-    // couples and the headroom (with a skin), or a row per couple (without).
-    const size_t rows = monitored_ ? pool_grown(carried, triangles_) : capacity_;
+    if (count > list_capacity_) {
+      list_capacity_ = grown(count);
+      allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every slot and flag
+    }
+    // Room for the carried couples and the headroom (with a skin), or a row per couple.
+    const size_t rows = monitored_ ? pool_grown(carried, triangles_) : list_capacity_;
     if (rows > pool_rows_) allocate_pool(rows, false);
     reset_pool();
   }
@@ -282,11 +289,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     release_keys_.set(keys);
     cl_.enqueue(release_, carried);
   }
-  if (count > list_capacity_) {
-    list_capacity_ = grown(count);
-    allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every flag
-  }
-  // Same list as the last step: couple c's history is at c, in place (no key search).
+  // Same list as the last step: couple c's history is at its pool row (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
   const compute::buffer& list_keys = new_list ? keys : keys_;
   classify_slot_.set(slot_);
@@ -323,9 +326,30 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     }
   }
   if (new_list) {
-    if (count) cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
+    if (shared_keys_)
+      keys_ = keys;  // the detection leaves them alone until carry_before_detection
+    else if (count)
+      cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
     count_ = count;
   }
+}
+
+cl_uint ContactForces::joined_since_last_list() const {
+  // Joins since the last list (activation runs before detection in a step, so a join in
+  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
+  return ContactActivation::join_stamp(last_list_step_ + 1);
+}
+
+size_t ContactForces::carry_old_list() {
+  const size_t carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since_last_list());
+  // The carry waited for the device: a full pool in the steps since the last check stops here.
+  check_pool();
+  return carried;
+}
+
+void ContactForces::carry_before_detection() {
+  carried_ = carry_old_list();
+  carry_ready_ = true;
 }
 
 size_t ContactForces::touching() {
@@ -390,9 +414,11 @@ void ContactForces::save_state(StateWriter& out) const {
 void ContactForces::load_state(StateReader& in) {
   count_ = static_cast<size_t>(in.integer("contact_couples"));
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
-  if (count_ > capacity_) {
-    capacity_ = grown(count_);
-    keys_ = couple_arrays(capacity_, cl_.group_size()).allocate(cl_, "contact_keys");
+  if (shared_keys_ || count_ > capacity_) {
+    // Shared: the detection's list is not restored; the contact stage holds its own
+    // until the next detection.
+    capacity_ = shared_keys_ ? std::max<size_t>(count_, 1) : grown(count_);
+    keys_ = key_list(capacity_).allocate(cl_, "contact_keys");
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
@@ -414,7 +440,7 @@ void ContactForces::load_state(StateReader& in) {
     rows.insert(rows.end(), h, h + kHistory);
   }
   const size_t taken = rows.size() / kHistory;
-  const size_t needed = monitored_ ? pool_grown(taken, triangles_) : std::max(capacity_, taken);
+  const size_t needed = monitored_ ? pool_grown(taken, triangles_) : std::max(list_capacity_, taken);
   if (needed > pool_rows_) allocate_pool(needed, false);
   if (!rows.empty()) cl_.queue().enqueue_write_buffer(history_, 0, rows.size() * sizeof(real), rows.data());
   if (count_ > 0) cl_.queue().enqueue_write_buffer(slot_, 0, slot.size() * sizeof(cl_uint), slot.data());

@@ -25,8 +25,11 @@ class ContactForces {
   // the rows taken that the clear kernel writes to the ring (ensure_pool); without it the
   // pool holds a row for every couple of the list (every list is then a new one, or the
   // caller gives its own lists), so it can never fill.
+  // `shared_keys`: the stage keeps no copy of the couple list; it uses the buffer of the
+  // last new list's enqueue, which the caller leaves alone until it calls
+  // carry_before_detection() and makes the next list (the Solver: the detection's own).
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
-                const compute::buffer* ce4_status = nullptr, MonitorRing* ring = nullptr);
+                const compute::buffer* ce4_status = nullptr, MonitorRing* ring = nullptr, bool shared_keys = false);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
@@ -35,12 +38,15 @@ class ContactForces {
   static size_t grown(size_t count) { return count + count / 8 + 1024; }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `own_mask`: no candidate mask is given, the stage holds one of all ones).
-  static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask, bool monitored = false);
+  static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask, bool monitored = false,
+                         bool shared_keys = false);
+  // The stage's own copy of the couple list (without shared keys), `capacity` couples.
+  static MemoryPlan key_list(size_t capacity);
   // The CE4s on each triangle's edges, 3 per triangle (kNoBond where none).
   static std::vector<cl_uint> bond_ce4(const Model& model);
   static constexpr cl_uint kNoBond = 0xffffffffu;
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
-  // grows allocates again): keys, pool slots, overlap list, live flags, stored-energy sums.
+  // grows allocates again): pool slots, overlap list, live flags, stored-energy sums.
   static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
   // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
   // couple takes a row at its first history write (a touching couple, or one that waits)
@@ -65,6 +71,10 @@ class ContactForces {
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
   double force_scale() const { return force_scale_; }
 
+  // With shared keys, before the caller overwrites the list: copies the couples that hold
+  // a history to the carry list (ContactCarry; waits once), for the next new list.
+  // Without, enqueue(new_list) does it itself.
+  void carry_before_detection();
   // Zeroes the contact accumulator and the overlap list length (and, with a ring, writes
   // the pool's rows taken to the ring slot of `step`). Never waits.
   void enqueue_clear(long step = 0);
@@ -111,7 +121,11 @@ class ContactForces {
   compute::buffer slot_;        // per couple: its pool row (ContactCarry::kNoSlot: none)
   compute::buffer pool_state_;  // rows taken, first step a couple found the pool full
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0, pool_rows_ = 0, triangles_ = 0;
-  bool monitored_ = false;
+  bool shared_keys_ = false, monitored_ = false;
+  bool carry_ready_ = false;  // carry_before_detection() ran for the next new list
+  size_t carried_ = 0;        // what it carried
+  cl_uint joined_since_last_list() const;
+  size_t carry_old_list();
   void allocate_pool(size_t rows, bool keep);  // history_ and couple_stored_ at `rows` rows
   void reset_pool();                            // no row taken (a new list)
   std::vector<cl_uint> slots();                 // per couple of the list (waits)
