@@ -218,7 +218,7 @@ void Solver::step(bool energy_row) {
       if (skin_) skin_->mark();
       ++rebuilds_;
     } else {
-      if (skin_) contact_->ensure_pool(skin_->pool_rows_seen());
+      if (skin_) contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
   }

@@ -113,6 +113,7 @@ class Solver {
   bool has_contact() const { return contact_ != nullptr; }
   size_t contact_candidates() const { return contact_ ? contact_->couples() : 0; }
   size_t contact_touching() { return contact_ ? contact_->touching() : 0; }
+  size_t contact_pool_rows() const { return contact_ ? contact_->pool_rows() : 0; }  // ContactForces::pool_rows
   double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
   std::vector<real2> contact_forces();  // per node [N] (waits)
   long contact_rebuilds() const { return rebuilds_; }

@@ -240,9 +240,10 @@ void ContactForces::allocate_pool(size_t rows, bool keep) {
   pool_rows_ = rows;
 }
 
-void ContactForces::ensure_pool(size_t rows_seen) {
-  if (!monitored_ || rows_seen + pool_headroom(triangles_) / 2 <= pool_rows_) return;
-  allocate_pool(pool_grown(rows_seen, triangles_), true);
+void ContactForces::ensure_pool(size_t rows_seen, size_t rows_per_step) {
+  const size_t margin = std::max(pool_headroom(triangles_) / 2, 2 * MonitorRing::kSlots * rows_per_step);
+  if (!monitored_ || rows_seen + margin <= pool_rows_) return;
+  allocate_pool(pool_grown(rows_seen, triangles_) + margin, true);
 }
 
 void ContactForces::check_pool() {

@@ -55,13 +55,29 @@ class ContactForces {
   // and grows to pool_grown(rows seen) when the rows taken come within half the headroom
   // of its end; otherwise it has as many rows as the list has couples.
   static MemoryPlan pool_arrays(size_t rows);
-  static size_t pool_headroom(size_t triangles) { return std::max<size_t>(1024, triangles / 8); }
-  static size_t pool_first(size_t triangles) { return std::max<size_t>(2048, triangles / 4); }
+  static size_t pool_headroom(size_t triangles) {
+    return pool_sizing().headroom ? pool_sizing().headroom : std::max<size_t>(1024, triangles / 8);
+  }
+  static size_t pool_first(size_t triangles) {
+    return pool_sizing().first ? pool_sizing().first : std::max<size_t>(2048, triangles / 4);
+  }
+  // Other first rows and headroom than the defaults above (0: the default), for tests
+  // that make the pool grow or fill on small models; plan() follows them.
+  struct PoolSizing {
+    size_t first = 0, headroom = 0;
+  };
+  static PoolSizing& pool_sizing() {
+    static PoolSizing sizing;
+    return sizing;
+  }
   static size_t pool_grown(size_t rows, size_t triangles) { return rows + rows / 2 + pool_headroom(triangles); }
   // Before a step (skin only): grows the pool when `rows_seen` (the largest RING_POOL word
-  // read since the last detection, ContactSkin::pool_rows_seen) leaves less than half the
-  // headroom; the rows are copied on the device, in order. Never waits.
-  void ensure_pool(size_t rows_seen);
+  // read since the last detection, ContactSkin::pool_rows_seen) leaves less than the
+  // margin: half the headroom, or 2 × MonitorRing::kSlots × `rows_per_step` (the most rows
+  // taken in one step of the last batch read, ContactSkin::pool_rows_per_step; 2: room
+  // for the rate to double within the ring's lag) when more. It grows to pool_grown(rows_seen) plus
+  // that margin; the rows are copied on the device, in order. Never waits.
+  void ensure_pool(size_t rows_seen, size_t rows_per_step = 0);
   size_t pool_rows() const { return pool_rows_; }
   // The first step at which a couple found the pool full (its history was lost), or -1.
   // Waits. Solver::conditions() stops the run on it.

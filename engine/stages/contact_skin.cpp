@@ -47,6 +47,15 @@ bool ContactSkin::decide_batch() {
   largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
   bool due = false;
   for (unsigned k = 0; k < kBatch; ++k) due = decide(batch_first_ + k, false) || due;
+  // The most history pool rows taken in one step (consecutive slots of this detection),
+  // the batch's own, like the speeds.
+  pool_rate_ = 0;
+  for (unsigned k = 1; k < kBatch; ++k) {
+    const unsigned a = batch_first_ + k - 1, b = batch_first_ + k;
+    if (generation_of_[a] != generation_ || generation_of_[b] != generation_) continue;
+    const cl_uint before = host_[layout::RING_WORDS * a + layout::RING_POOL], after = host_[layout::RING_WORDS * b + layout::RING_POOL];
+    if (after > before) pool_rate_ = std::max<size_t>(pool_rate_, after - before);
+  }
   return due;
 }
 

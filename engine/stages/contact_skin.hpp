@@ -43,6 +43,9 @@ class ContactSkin {
   // mark() (word RING_POOL, written by ContactForces' clear kernel; up to kSlots − 1 steps
   // late), for ContactForces::ensure_pool.
   size_t pool_rows_seen() const { return pool_seen_; }
+  // The most rows taken in one step in the last batch read (consecutive slots), for the
+  // margin of ensure_pool.
+  size_t pool_rows_per_step() const { return pool_rate_; }
   // Positions at the last detection, the device ring and the host's view of it (the
   // decisions of the steps to come depend on all of them), for checkpoints. Waits.
   void save_state(StateWriter& out);
@@ -65,6 +68,7 @@ class ContactSkin {
   long generation_ = 0;
   double largest_speed_ = 0;                   // from the latest test read [m/s]
   size_t pool_seen_ = 0;                       // see pool_rows_seen()
+  size_t pool_rate_ = 0;                       // see pool_rows_per_step()
   long synchronous_ = 0;
 };
 
