@@ -152,7 +152,12 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
-                              __global real4* restrict break_records) {
+                              __global real4* restrict break_records
+#ifdef CORNER_FANS
+                              , __global const uint2* restrict ce4_mesh_nodes,
+                              __global int* restrict mesh_node_state
+#endif
+                              ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   const uint4 nd = ce4_nodes[e];  // (i, j, j', i')
@@ -337,6 +342,15 @@ __kernel void cohesive_forces(const uint n_ce4,
     // on the elastic curves; the max keeps it from ever moving down.
     account.y = fmax(account.y, account.x - account.z);
     energy[e] = account;
+#ifdef CORNER_FANS
+    // The fans of its two mesh nodes are no longer whole: from the next step contact takes
+    // their corner couples (every CE4 breaking at a node in one step writes the same value).
+    if (broke_now) {
+      const uint2 v = ce4_mesh_nodes[e];
+      if (mesh_node_state[v.x] == 0) mesh_node_state[v.x] = 2 + step;
+      if (mesh_node_state[v.y] == 0) mesh_node_state[v.y] = 2 + step;
+    }
+#endif
     if (broke_now) {  // broke in this step: append its record (see the kernel's comment)
       const uint k = atomic_inc(break_count);
       if (k < n_ce4) {

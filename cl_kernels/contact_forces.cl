@@ -331,8 +331,34 @@ inline int bond_state(const uint i, const uint j, __global const uint* bond_ce4,
   }
   return -1;
 }
+#ifdef CORNER_FANS
+// Triangles i and j that meet at one mesh node only (a corner; each node of a split mesh
+// is a copy, node_origin[n] the mesh node it copies): that node's state word
+// (cohesive_forces.cl: 0 while every CE4 at it is intact, 2 + n from the step n one of
+// them broke, -1 when its fan is not bonded). -1 otherwise.
+inline int corner_state(const uint i, const uint j, __global const uint* tri_nodes, __global const uint* node_origin,
+                        __global const int* mesh_node_state) {
+  const uint a0 = node_origin[tri_nodes[3 * i]], a1 = node_origin[tri_nodes[3 * i + 1]],
+             a2 = node_origin[tri_nodes[3 * i + 2]];
+  int shared = 0;
+  uint v = 0;
+  for (int k = 0; k < 3; ++k) {
+    const uint b = node_origin[tri_nodes[3 * j + k]];
+    if (b == a0 || b == a1 || b == a2) {
+      ++shared;
+      v = b;
+    }
+  }
+  return shared == 1 ? mesh_node_state[v] : -1;
+}
+#define BOND_ARGS                                                                                      \
+  , __global const uint *restrict bond_ce4, __global const int2 *restrict ce4_status,                 \
+      __global const uint *restrict node_origin, __global const int *restrict mesh_node_state
+#define BOND_PASS , bond_ce4, ce4_status, node_origin, mesh_node_state
+#else
 #define BOND_ARGS , __global const uint *restrict bond_ce4, __global const int2 *restrict ce4_status
 #define BOND_PASS , bond_ce4, ce4_status
+#endif
 #else
 #define BOND_ARGS
 #define BOND_PASS
@@ -341,6 +367,9 @@ inline int bond_state(const uint i, const uint j, __global const uint* bond_ce4,
 // Couple c: true when it may overlap (for the list); otherwise it is done here. The two
 // triangles of an intact or closed CE4 are not a contact couple: the CE4 carries their
 // overlap and sliding (its compression branch and friction element; cohesive_forces.cl).
+// Nor are two triangles that meet at a corner of a bonded fan whose CE4s are all intact:
+// the fan holds them (under compression their corners overlap by the CE4s' own
+// compliance, as the faces of an intact CE4 do).
 inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
@@ -351,8 +380,14 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
   uint tri[2], nodes[2][3];
   real2 x[2][3];
 #ifdef CE4_BONDS
-  const int bond = bond_state((uint)(key >> 32), (uint)(key & 0xffffffffUL), bond_ce4, ce4_status);
+  const uint ti = (uint)(key >> 32), tj = (uint)(key & 0xffffffffUL);
+  const int bond = bond_state(ti, tj, bond_ce4, ce4_status);
+#ifdef CORNER_FANS
+  const bool carried_by_ce4 =
+      bond == 0 || bond == 1 || (bond < 0 && corner_state(ti, tj, tri_nodes, node_origin, mesh_node_state) == 0);
+#else
   const bool carried_by_ce4 = bond == 0 || bond == 1;
+#endif
 #else
   const bool carried_by_ce4 = false;
 #endif
@@ -547,7 +582,14 @@ __kernel void contact_forces(const uint n_couples,
   // after this one in a step) that still overlap: the CE4 held that overlap's energy (and
   // dissipated it when it let go), the contact potential there was never paid for.
 #ifdef CE4_BONDS
-  const bool released_now = bond_state(tri[0], tri[1], bond_ce4, ce4_status) == step + 1;  // 2 + (step − 1)
+  const int bond = bond_state(tri[0], tri[1], bond_ce4, ce4_status);
+#ifdef CORNER_FANS
+  // (or a corner couple whose fan lost its first CE4 in the last step)
+  const bool released_now =
+      bond == step + 1 || (bond < 0 && corner_state(tri[0], tri[1], tri_nodes, node_origin, mesh_node_state) == step + 1);
+#else
+  const bool released_now = bond == step + 1;  // 2 + (step − 1)
+#endif
 #else
   const bool released_now = false;
 #endif

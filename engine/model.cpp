@@ -210,6 +210,21 @@ void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<s
     notes.push_back(std::to_string(unbonded) + " edges between two different fracturable materials have no [[interface]]: "
                     "they are not bonded (free surfaces in contact)");
 
+  // Bonded fans: a mesh node whose triangles are all fracturable and whose interior edges
+  // all got a CE4 (an unbonded interface or a non-fracturable neighbour breaks the fan).
+  model.vertex_bonded.assign(old_nodes, 1);
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    if (!model.triangle_fracturable[t])
+      for (int v : model.triangles[t]) model.vertex_bonded[v] = 0;
+  for (const auto& [key, sides] : edges) {
+    if (sides[1].triangle < 0) continue;
+    const int t1 = sides[0].triangle, t2 = sides[1].triangle;
+    const bool bonded = model.triangle_fracturable[t1] && model.triangle_fracturable[t2] &&
+                        pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]] >= 0;
+    if (!bonded) model.vertex_bonded[key.first] = model.vertex_bonded[key.second] = 0;
+  }
+  model.node_origin = origin;
+
   // Node-indexed arrays follow the split.
   const Model old = model;
   model.x.clear(), model.y.clear(), model.node_tags.clear(), model.node_group.clear();

@@ -120,6 +120,13 @@ struct Model {
   std::vector<int> ce4_properties;                // index into fracture
   std::vector<FractureProperties> fracture;       // per fracturable material, then per interface
   std::vector<bool> triangle_fracturable;
+  // After the split (empty without CE4s): the mesh node each node is a copy of, and per
+  // mesh node whether its whole fan is bonded (every triangle at it fracturable, every
+  // interior edge at it a CE4): 1 bonded, 0 not. The triangles around a bonded mesh node
+  // are held together by its CE4s; contact leaves their corner couples alone while all
+  // those CE4s are intact (cl_kernels/contact_forces.cl).
+  std::vector<int> node_origin;
+  std::vector<int> vertex_bonded;
 
   std::array<double, 2> gravity{0, 0};
   double local_damping = 0;  // Cundall α (0: none)

@@ -30,6 +30,18 @@ const std::vector<std::array<int, 2>>& detection_bonds(const Model& model) {
   return model.contact_active.empty() ? none : model.ce4_triangles;
 }
 
+// The CE4s as the stage takes them; with contact also each CE4's mesh nodes and the
+// bonded fans, for the corner couples contact leaves alone (Model::vertex_bonded).
+CohesiveModel cohesive_model(const Model& model) {
+  CohesiveModel m{model.ce4, model.ce4_properties, model.fracture, model.thickness, {}, {}};
+  if (model.contact.enabled && !model.node_origin.empty()) {
+    m.vertices.reserve(model.ce4.size());
+    for (const auto& e : model.ce4) m.vertices.push_back({model.node_origin[e[0]], model.node_origin[e[1]]});
+    m.vertex_bonded = model.vertex_bonded;
+  }
+  return m;
+}
+
 }  // namespace
 
 std::unique_ptr<ContactDetection> Solver::build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
@@ -58,7 +70,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   const Parts p = parts(model, account);
   const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
   MemoryPlan plan = DeviceArrays::plan(model);
-  if (p.ce4) plan.add(CohesiveForces::plan(model.ce4.size()));
+  if (p.ce4) plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());
@@ -127,9 +139,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       arrays_(cl, model),
       cohesive_(build_if(parts_.ce4,
                          [&] {
-                           return std::make_unique<CohesiveForces>(
-                               cl, CohesiveModel{model.ce4, model.ce4_properties, model.fracture, model.thickness},
-                               arrays_.position, arrays_.ref_position);
+                           return std::make_unique<CohesiveForces>(cl, cohesive_model(model), arrays_.position,
+                                                                   arrays_.ref_position);
                          })),
       fragments_(build_if(parts_.ce4,
                           [&] {
@@ -150,6 +161,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                         [&] {
                           return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
                                                                  cohesive_ ? &cohesive_->status() : nullptr,
+                                                                 cohesive_ ? cohesive_->mesh_node_state() : nullptr,
                                                                  parts_.skin ? ring_.get() : nullptr, true);
                         })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),

@@ -1,6 +1,8 @@
 #include "engine/stages/cohesive_forces.hpp"
 
 #include <limits>
+#include <map>
+#include <string>
 
 #include <algorithm>
 #include <cmath>
@@ -36,8 +38,11 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 
 }  // namespace
 
-MemoryPlan CohesiveForces::plan(size_t ce4) {
-  return MemoryPlan()
+MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes) {
+  MemoryPlan p;
+  if (mesh_nodes > 0)
+    p.add("ce4_mesh_nodes", 2 * ce4 * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
+  return p
       .add("ce4_nodes", 4 * ce4 * sizeof(cl_uint))
       .add("ce4_params", layout::COH_STRIDE * ce4 * sizeof(real))
       .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
@@ -108,7 +113,28 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     row[layout::COH_H] = real(h);
   }
 
-  const MemoryPlan arrays = plan(count_);
+  fans_ = !model.vertex_bonded.empty();
+  if (fans_ && model.vertices.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.vertices.size()) +
+                     " mesh node pairs");
+  mesh_nodes_ = model.vertex_bonded.size();
+  const MemoryPlan arrays = plan(count_, mesh_nodes_);
+  if (fans_) {
+    std::vector<cl_uint> pairs(2 * count_);
+    for (size_t e = 0; e < count_; ++e)
+      for (int k = 0; k < 2; ++k) {
+        const int v = model.vertices[e][k];
+        if (v < 0 || size_t(v) >= mesh_nodes_)
+          throw InputError("CE4 " + std::to_string(e) + " names mesh node " + std::to_string(v) + ", out of range");
+        pairs[2 * e + k] = cl_uint(v);
+      }
+    std::vector<cl_int> state(mesh_nodes_);
+    for (size_t v = 0; v < mesh_nodes_; ++v) state[v] = model.vertex_bonded[v] ? 0 : -1;
+    mesh_pairs_ = arrays.allocate(cl, "ce4_mesh_nodes");
+    mesh_state_ = arrays.allocate(cl, "mesh_node_state");
+    upload(cl, mesh_pairs_, pairs);
+    upload(cl, mesh_state_, state);
+  }
   nodes_ = arrays.allocate(cl, "ce4_nodes");
   params_buffer_ = arrays.allocate(cl, "ce4_params");
   gp_state_ = arrays.allocate(cl, "ce4_gauss_state");
@@ -135,7 +161,9 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, last_chord_, chords);
   upload(cl, energy_, std::vector<real4>(count_));
 
-  const auto program = cl.build(kernel_source::cohesive_forces);
+  std::map<std::string, std::string> defines;
+  if (fans_) defines["CORNER_FANS"] = "1";
+  const auto program = cl.build(kernel_source::cohesive_forces, defines);
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
   args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("position", position)(
@@ -144,8 +172,9 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   step_ = args.later("step", cl_int(0));
   args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("output", output_)("slots", slots_)(
       "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
-      "break_ids", break_ids_)("break_records", break_records_)
-      .done();
+      "break_ids", break_ids_)("break_records", break_records_);
+  if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
+  args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
       "energy", energy_)("partial", partial_)
@@ -215,6 +244,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   out.buffer<real>("ce4_energy", energy_, count_, 4);
+  if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   // The break log in catalogue order (the device's slot order is not reproducible).
   cl_uint count = 0;
   if (count_) cl_.queue().enqueue_read_buffer(break_count_, 0, sizeof(cl_uint), &count);
@@ -240,6 +270,7 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   in.buffer<real>("ce4_energy", energy_, count_, 4);
+  if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   const std::int64_t n = in.integer("ce4_break_count");
   if (n < 0 || size_t(n) > count_) throw InputError("checkpoint: ce4_break_count " + std::to_string(n) + " is out of range");
   std::vector<cl_int> ids(2 * size_t(n));

@@ -21,8 +21,9 @@ class CohesiveForces {
   // zero-length edge.
   CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
                  compute::buffer& ref_position);
-  // The arrays the constructor allocates for `ce4` CE4s.
-  static MemoryPlan plan(size_t ce4);
+  // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
+  // bonded fans' state: CohesiveModel::vertex_bonded).
+  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -33,6 +34,9 @@ class CohesiveForces {
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
   // released at step n (cl_kernels/cohesive_forces.cl).
   compute::buffer& status() { return status_; }
+  // int per mesh node (CohesiveModel::vertex_bonded given): -1 fan not bonded, 0 every CE4
+  // at it intact, 2 + n one of them broke at step n. Null without it.
+  const compute::buffer* mesh_node_state() const { return fans_ ? &mesh_state_ : nullptr; }
   size_t size() const { return count_; }
   const std::vector<real>& parameters() const { return params_; }  // layout::COH_STRIDE per CE4 (COH_*)
 
@@ -84,6 +88,9 @@ class CohesiveForces {
   std::vector<real> params_;
   compute::kernel kernel_, partials_kernel_;
   KernelArg<real> time_;
+  bool fans_ = false;
+  size_t mesh_nodes_ = 0;
+  compute::buffer mesh_pairs_, mesh_state_;
   KernelArg<cl_int> step_;
   compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial

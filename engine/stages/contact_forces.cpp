@@ -60,6 +60,8 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   if (own_mask)
     p.add("contact candidate mask (all)", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_uint));
   if (!model.ce4_triangles.empty()) p.add("contact bond CE4s", 3 * model.num_triangles() * sizeof(cl_uint));
+  if (!model.ce4_triangles.empty() && !model.node_origin.empty())
+    p.add("contact node origins", model.num_nodes() * sizeof(cl_uint));
   return p;
 }
 
@@ -77,7 +79,8 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
-                             const compute::buffer* ce4_status, MonitorRing* ring, bool shared_keys)
+                             const compute::buffer* ce4_status, const compute::buffer* mesh_node_state,
+                             MonitorRing* ring, bool shared_keys)
     : cl_(cl),
       arrays_(a),
       triangles_(a.num_triangles),
@@ -85,6 +88,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
       monitored_(ring != nullptr),
       carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
+  const bool fans = bonds && mesh_node_state != nullptr && model.node_origin.size() == model.num_nodes();
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -107,6 +111,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     defines["CE4_BONDS"] = "1";
     defines["NO_BOND"] = std::to_string(kNoBond) + "u";
   }
+  if (fans) defines["CORNER_FANS"] = "1";
   const auto program = cl.build(kernel_source::contact_forces, defines);
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
@@ -147,6 +152,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     bond_ce4_ = arrays.allocate(cl, "contact bond CE4s");
     upload(cl, bond_ce4_, bond_ce4(model));
   }
+  if (fans) {
+    node_origin_ = arrays.allocate(cl, "contact node origins");
+    upload(cl, node_origin_, std::vector<cl_uint>(model.node_origin.begin(), model.node_origin.end()));
+  }
   const cl_uint none = 0;
   KernelArgs f(forces_);
   forces_list_.bind_list(f, keys_, history_, history_);
@@ -168,6 +177,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_joined_since_ = f.later("joined_since", none);
   forces_step_ = f.later("step", cl_int(0));
   if (bonds) f("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
+  if (fans) f("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
   f.done();
 
   KernelArgs c(classify_);
@@ -180,6 +190,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_list_.live = c.later("live", live_);
   classify_slot_ = c.later("slot", slot_);
   if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
+  if (fans) c("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
   c.done();
 
   KernelArgs k(clear_);

@@ -21,6 +21,8 @@ class ContactForces {
   // model has CE4s: the two triangles of an intact or closed CE4 are then no contact
   // couple (the CE4 carries them), and a couple whose CE4 was released in the last step
   // waits while it still overlaps, like a join's.
+  // `mesh_node_state` (CohesiveForces::mesh_node_state()): likewise two triangles meeting
+  // at a corner of a bonded fan while every CE4 at it is intact.
   // `ring`: given (with a contact skin), the history pool starts small and grows from
   // the rows taken that the clear kernel writes to the ring (ensure_pool); without it the
   // pool holds a row for every couple of the list (every list is then a new one, or the
@@ -29,7 +31,8 @@ class ContactForces {
   // last new list's enqueue, which the caller leaves alone until it calls
   // carry_before_detection() and makes the next list (the Solver: the detection's own).
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
-                const compute::buffer* ce4_status = nullptr, MonitorRing* ring = nullptr, bool shared_keys = false);
+                const compute::buffer* ce4_status = nullptr, const compute::buffer* mesh_node_state = nullptr,
+                MonitorRing* ring = nullptr, bool shared_keys = false);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
@@ -148,6 +151,7 @@ class ContactForces {
   ContactCarry carry_;      // the histories a new list carries over (one history array, in place)
   compute::buffer active_;  // the candidate mask (the detection's, or ones_)
   compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
+  compute::buffer node_origin_;  // cl_uint per node: the mesh node it copies (with bonded fans only)
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
   // The arguments set at each enqueue, per kernel.
