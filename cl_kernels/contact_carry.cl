@@ -10,8 +10,10 @@
 // an overlap because of the join (under "fractured" the two triangles of a CE4 are a
 // couple before either joins).
 //
-// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
-// Layout: CONTACT_HISTORY reals per couple (engine/layouts.hpp).
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), NO_SLOT (an
+// empty entry of the contact stage's slot array: the couple holds no history row).
+// Layout: CONTACT_HISTORY reals per couple (engine/layouts.hpp); the contact stage keeps
+// them in a pool, couple c's at row slot[c] (contact_forces.cl).
 
 // Exclusive prefix sum of `value` over the work-group (Hillis-Steele in local memory);
 // *total receives the group's sum. Every work-item of the group must call it.
@@ -79,7 +81,7 @@ __kernel void carry_offsets(const uint n_groups,
 }
 
 // One work-item per couple c of the current list: a carried couple copies its key and
-// history to the carry list at its rank among the carried couples (group offset + rank
+// history (from its pool row) to the carry list at its rank among the carried couples (group offset + rank
 // in the group), so the carry list keeps the list's (ascending key) order.
 __kernel void carry_scatter(const uint n_couples,
                             __global const uchar* restrict live,
@@ -87,6 +89,7 @@ __kernel void carry_scatter(const uint n_couples,
                             __global const uint* restrict active,
                             const uint joined_since,
                             __global const real* restrict history,
+                            __global const uint* restrict slot,
                             __global const uint* restrict group_offsets,
                             __global ulong* restrict carry_keys,
                             __global real* restrict carry_history) {
@@ -96,7 +99,9 @@ __kernel void carry_scatter(const uint n_couples,
   uint total;
   const uint rank = group_exclusive_scan(scratch, flag, &total);
   if (!flag) return;
-  const uint slot = group_offsets[get_group_id(0)] + rank;
-  carry_keys[slot] = keys[c];
-  for (int h = 0; h < CONTACT_HISTORY; ++h) carry_history[CONTACT_HISTORY * slot + h] = history[CONTACT_HISTORY * c + h];
+  const uint at = group_offsets[get_group_id(0)] + rank;
+  const uint row = slot[c];  // the couple's row in the history pool (NO_SLOT: none, the zero history)
+  carry_keys[at] = keys[c];
+  for (int h = 0; h < CONTACT_HISTORY; ++h)
+    carry_history[CONTACT_HISTORY * at + h] = row != NO_SLOT ? history[CONTACT_HISTORY * row + h] : (real)0;
 }

@@ -40,7 +40,12 @@
 //   - the damping is booked as it happens (held work above ratio × E), not when the
 //     couple lets go, with the trapezoid rule (the one-sided rule booked 3.5% too much).
 // History per couple (CONTACT_HISTORY reals, HIST_* below), carried over from the
-// previous couple list by binary search on the key.
+// previous couple list by binary search on the key. Histories live in a pool (`history`),
+// one row per couple that has written one since the last detection: slot[c] is couple
+// c's row, NO_SLOT (a host define) until its first write takes one (take_slot); a new
+// list starts with every slot empty (classify) and the pool empty (the host), its couples'
+// old histories being read from the carry list (contact_carry.cl). A couple without a
+// row holds the zero history.
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
 // The history slots (HIST_*, CONTACT_HISTORY; 0-5 the slip of each edge pass) and the
@@ -271,13 +276,13 @@ inline bool separated(real2 x[2][3]) {
 
 // A couple that does not touch: the couple let go. What its friction springs held (their
 // energy and the half step of work of their last forces, HIST_PENDING) counts as
-// dissipated, and its history is forgotten (zeroed; in place only where not zero yet, so
-// untouched couples write nothing).
-inline void forget_couple(const uint c, const int found, __global const real* previous_history,
-                          __global real* history, const uint same_list, const real energy_scale,
-                          __global long* energy) {
+// dissipated, and its history is forgotten: its pool row `row` (-1: none, as in a new
+// list, whose couples hold no row yet) is zeroed where not zero yet, so untouched
+// couples write nothing. `found`: the history's row in previous_history (-1: none).
+inline void forget_couple(const int row, const int found, __global const real* previous_history,
+                          __global real* history, const real energy_scale, __global long* energy) {
   real pending = (real)0, held = (real)0;
-  bool stored = !same_list;  // a new list's slot must be written
+  bool stored = false;
   for (int h = 0; h < CONTACT_HISTORY; ++h) {
     const real value = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
     if (h == HIST_PENDING || h == HIST_REST) pending += value;
@@ -286,8 +291,31 @@ inline void forget_couple(const uint c, const int found, __global const real* pr
   }
   if (pending != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(pending * energy_scale));
   if (held != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(held * energy_scale));
-  if (stored)
-    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = (real)0;
+  if (stored && row >= 0)
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = (real)0;
+}
+
+// Couple c's pool row (-1: none yet).
+inline int pool_row(const uint c, __global const uint* slot) {
+  const uint s = slot[c];
+  return s == NO_SLOT ? -1 : (int)s;
+}
+
+// Couple c's pool row, taken from the pool (pool_state[0]: rows taken) at its first
+// write. A full pool (more couples touched since the last detection than the host made
+// room for; it grows the pool from the monitor ring's RING_POOL word) gives -1 and keeps
+// the first such step in pool_state[1]: the host stops the run there.
+inline int take_slot(const uint c, __global uint* slot, __global uint* pool_state, const uint pool_capacity,
+                     const int step) {
+  const uint s = slot[c];
+  if (s != NO_SLOT) return (int)s;
+  const uint fresh = atomic_inc(&pool_state[0]);
+  if (fresh >= pool_capacity) {
+    atomic_min(&pool_state[1], (uint)step);
+    return -1;
+  }
+  slot[c] = fresh;
+  return (int)fresh;
 }
 
 #ifdef CE4_BONDS
@@ -346,8 +374,9 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
-                            __global uchar* live BOND_ARGS) {
+                            __global uchar* live, __global uint* slot BOND_ARGS) {
   const ulong key = keys[c];
+  if (!same_list) slot[c] = NO_SLOT;  // a new list: no couple holds a pool row yet
   uint tri[2], nodes[2][3];
   real2 x[2][3];
 #ifdef CE4_BONDS
@@ -367,8 +396,8 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
     if (!separated(x)) return true;
   }
   if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
-    const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
-    forget_couple(c, found, previous_history, history, same_list, energy_scale, energy);
+    const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, key);
+    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
     live[c] = 0;
   }
   return false;
@@ -400,11 +429,12 @@ __kernel void contact_classify(const uint n_couples,
                                const uint same_list,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
-                               __global uchar* restrict live BOND_ARGS) {
+                               __global uchar* restrict live,
+                               __global uint* restrict slot BOND_ARGS) {
   const uint c = get_global_id(0);
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, live BOND_PASS))
+                                       position, energy_scale, energy, same_list, live, slot BOND_PASS))
     overlap_list[atomic_inc(&counters[1])] = c;
 #else
   __local uint group_count, group_base;
@@ -412,7 +442,7 @@ __kernel void contact_classify(const uint n_couples,
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       live BOND_PASS);
+                                                       live, slot BOND_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
@@ -472,6 +502,9 @@ __kernel void contact_forces(const uint n_couples,
                              const uint same_list,
                              __global const uint* restrict overlap_list,
                              __global uchar* restrict live,
+                             __global uint* restrict slot,
+                             __global uint* restrict pool_state,
+                             const uint pool_capacity,
                              const uint energy_row,
                              __global real* restrict couple_stored,
                              __global const uint* restrict active,
@@ -492,7 +525,9 @@ __kernel void contact_forces(const uint n_couples,
              T = props[PAIR_TENSILE], b = props[PAIR_DAMPING];
   const int damped = props[PAIR_DAMPED] != (real)0;
 
-  const int found = same_list ? (int)c : find_key(previous_keys, n_previous, key);
+  // The row of the couple's history in previous_history (the pool itself in the same
+  // list, the carry list in a new one), -1: none (zero).
+  const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, key);
 
   // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
   // The barycentric weights (×3) of B's vertex q at the ends of A's edge e are
@@ -529,7 +564,7 @@ __kernel void contact_forces(const uint n_couples,
   }
 
   if (normal_total <= (real)0) {  // no overlap after all
-    forget_couple(c, found, previous_history, history, same_list, energy_scale, energy);
+    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
     live[c] = 0;
     return;
   }
@@ -559,7 +594,9 @@ __kernel void contact_forces(const uint n_couples,
   const bool released_now = false;
 #endif
   if ((found < 0 && !same_list && joined) || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
-    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
+    const int row = take_slot(c, slot, pool_state, pool_capacity, step);
+    if (row >= 0)
+      for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
     live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
     return;
   }
@@ -727,7 +764,9 @@ __kernel void contact_forces(const uint n_couples,
   const real unbooked = friction_lost + hist[HIST_REST];
   const long friction_units = convert_long_rte(unbooked * energy_scale);
   hist[HIST_REST] = unbooked - (real)friction_units / energy_scale;
-  for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * c + h] = hist[h];
+  const int row = take_slot(c, slot, pool_state, pool_capacity, step);
+  if (row >= 0)
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = hist[h];
   live[c] = 1;
 #ifdef CONTACT_SUM_PER_COUPLE
   for (int k = 0; k < 2; ++k)
@@ -735,9 +774,10 @@ __kernel void contact_forces(const uint n_couples,
 #endif
   // Signed increments: each is the exact balance of its step (see above), so the sums
   // close the account; they are ≥ 0 but for rounding and one-step reversals.
-  // Each couple writes its own slot (zeroed before the step), summed in couple order by
-  // contact_stored_partials: a double sum in a fixed order, not 2⁻³² J per couple.
-  if (energy_row) couple_stored[c] = stored;
+  // Each couple writes its own pool row's entry (read for the couples whose live flag is 1),
+  // summed in couple order by contact_stored_partials: a double sum in a fixed order, not
+  // 2⁻³² J per couple.
+  if (energy_row && row >= 0) couple_stored[row] = stored;
   if (friction_units != 0) atom_add(&energy[ENERGY_FRICTION], friction_units);
   if (damping_lost != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(damping_lost * energy_scale));
 }
@@ -763,13 +803,24 @@ __kernel void release_vanished(const uint n_previous,
 }
 
 // One work-item per node: clears its fixed-point contact force (start of each step);
-// work-item 0 also clears the counters (counters[0] unused, overlap list length).
+// work-item 0 also clears the counters (counters[0] unused, overlap list length) and,
+// with POOL_MONITOR (a contact skin), copies the history pool's rows taken so far to
+// word RING_POOL of this step's monitor ring slot, where the host reads it late and
+// grows the pool before it fills (ContactForces::ensure_pool).
 __kernel void clear_contact_forces(const uint n_nodes, __global long* restrict contact_acc,
-                                   __global uint* restrict counters) {
+                                   __global uint* restrict counters
+#ifdef POOL_MONITOR
+                                   , __global const uint* restrict pool_state, __global uint* restrict monitor,
+                                   const uint monitor_slot
+#endif
+                                   ) {
   const uint i = get_global_id(0);
   if (i == 0) {
     counters[0] = 0;
     counters[1] = 0;
+#ifdef POOL_MONITOR
+    monitor[RING_WORDS * monitor_slot + RING_POOL] = pool_state[0];
+#endif
   }
   if (i >= n_nodes) return;
   contact_acc[2 * i] = 0;
@@ -778,13 +829,17 @@ __kernel void clear_contact_forces(const uint n_nodes, __global long* restrict c
 
 // One work-item per couple of the list (on energy rows, after contact_forces): the stored
 // energy of the couples, summed over the work-group in a fixed order (group_sum4) into the
-// group's slot; the host adds the slots in order. Couples that do not touch hold 0.
+// group's slot; the host adds the slots in order. Couples that do not touch (live flag not
+// 1: they wrote nothing this step) count 0; the others wrote their pool row's entry.
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
-__kernel void contact_stored_partials(const uint n_couples, __global const real* restrict couple_stored,
+__kernel void contact_stored_partials(const uint n_couples, __global const uchar* restrict live,
+                                      __global const uint* restrict slot,
+                                      __global const real* restrict couple_stored,
                                       __global real* restrict group_slots) {
   __local real4 scratch[GROUP_SIZE];
   const uint c = get_global_id(0);
-  const real4 value = (real4)(c < n_couples ? couple_stored[c] : (real)0, 0, 0, 0);
+  const uint row = c < n_couples && live[c] == 1 ? slot[c] : NO_SLOT;
+  const real4 value = (real4)(row != NO_SLOT ? couple_stored[row] : (real)0, 0, 0, 0);
   const real4 sum = group_sum4(scratch, value);
   if (get_local_id(0) == 0) group_slots[get_group_id(0)] = sum.x;
 }

@@ -17,9 +17,9 @@ void StateWriter::buffer(const std::string& name, const compute::buffer& b, size
 }
 
 template <typename T>
-void StateWriter::host(const std::string& name, const T* values, size_t count) {
-  io::CheckpointArray a{name, array_type<T>(), 1, {}};
-  a.bytes.resize(count * sizeof(T));
+void StateWriter::host(const std::string& name, const T* values, size_t count, size_t width) {
+  io::CheckpointArray a{name, array_type<T>(), width, {}};
+  a.bytes.resize(count * width * sizeof(T));
   if (count) std::memcpy(a.bytes.data(), values, a.bytes.size());
   data_.arrays.push_back(std::move(a));
 }
@@ -48,8 +48,8 @@ void StateReader::buffer(const std::string& name, compute::buffer& b, size_t ite
 }
 
 template <typename T>
-void StateReader::host(const std::string& name, T* values, size_t count) {
-  const auto& a = array(name, array_type<T>(), count, 1);
+void StateReader::host(const std::string& name, T* values, size_t count, size_t width) {
+  const auto& a = array(name, array_type<T>(), count, width);
   if (count) std::memcpy(values, a.bytes.data(), a.bytes.size());
 }
 
@@ -84,9 +84,9 @@ double StateReader::number(const std::string& name) const {
 #define FDEM_STATE_TYPES(X) X(double) X(float) X(cl_int) X(cl_uint) X(cl_long) X(cl_ulong) X(cl_uchar)
 #define FDEM_INSTANTIATE(T)                                                                                   \
   template void StateWriter::buffer<T>(const std::string&, const compute::buffer&, size_t, size_t);          \
-  template void StateWriter::host<T>(const std::string&, const T*, size_t);                                  \
+  template void StateWriter::host<T>(const std::string&, const T*, size_t, size_t);                          \
   template void StateReader::buffer<T>(const std::string&, compute::buffer&, size_t, size_t);                \
-  template void StateReader::host<T>(const std::string&, T*, size_t);
+  template void StateReader::host<T>(const std::string&, T*, size_t, size_t);
 FDEM_STATE_TYPES(FDEM_INSTANTIATE)
 
 }  // namespace fdem

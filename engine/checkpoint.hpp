@@ -28,8 +28,9 @@ class StateWriter {
   // Per-work-group sums (cumulative energy terms): saved with the group size they were
   // made with, so a restart on another device can fold them (see StateReader).
   void group_slots(const std::string& name, const compute::buffer& buffer, size_t groups, size_t width);
+  // `count` × `width` values of T from the host (as buffer() writes a device array).
   template <typename T>
-  void host(const std::string& name, const T* values, size_t count);
+  void host(const std::string& name, const T* values, size_t count, size_t width = 1);
   void integer(const std::string& name, std::int64_t value) { data_.integers[name] = value; }
   void number(const std::string& name, double value) { data_.numbers[name] = value; }
 
@@ -50,7 +51,7 @@ class StateReader {
   // all groups goes to group 0 (the totals are kept; a checkpoint moves between devices).
   void group_slots(const std::string& name, compute::buffer& buffer, size_t groups, size_t width);
   template <typename T>
-  void host(const std::string& name, T* values, size_t count);
+  void host(const std::string& name, T* values, size_t count, size_t width = 1);
   std::int64_t integer(const std::string& name) const;
   double number(const std::string& name) const;
   bool has(const std::string& name) const { return data_.find(name) != nullptr; }

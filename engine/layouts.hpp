@@ -38,6 +38,7 @@ namespace fdem::layout {
   X(RING_MOVED, 0)   /* largest move since the last detection (float bits, atomic_max) */     \
   X(RING_SPEED, 1)   /* largest speed (float bits, atomic_max) */                             \
   X(RING_JOINED, 2)  /* 1: triangles joined the contact candidates this step */               \
+  X(RING_POOL, 3)    /* contact history pool rows taken before this step (ContactForces) */   \
   X(RING_WORDS, 4)
 
 // Per-CE4 parameter row (CohesiveForces computes it on the host): COH_STRIDE reals, the

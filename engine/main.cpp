@@ -3,6 +3,7 @@
 // 4 device error, 5 output error, 75 stopped cleanly with a checkpoint to resume from).
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 
@@ -36,7 +37,7 @@ const char* kUsage =
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
     "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection]   (one model over N ranks)\n"
     "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
-    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]]\n"
+    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]] [--memory]\n"
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
@@ -54,6 +55,7 @@ struct Arguments {
   double max_wall = 0;
   int ranks = 0;                  // fdem check --ranks N: print the partition over N ranks
   std::string partition;          // "metis" or "bisection"; empty: metis when built with it
+  bool memory = false;            // fdem check --memory: the device memory plan, array by array
   fdem::BenchOptions bench;
 };
 
@@ -92,6 +94,7 @@ Arguments parse(int argc, char** argv) {
       }
     }
     else if (arg == "--profile") a.profile = true;
+    else if (arg == "--memory") a.memory = true;
     else if (arg == "--ranks") {
       const std::string v = value(arg);
       try {
@@ -209,6 +212,29 @@ void print_partition(const Arguments& a, const fdem::Model& m) {
             << " (largest part's work over the mean)" << std::defaultfloat << "\n";
 }
 
+// fdem check --memory: Solver::plan array by array (bytes as the device holds them, and
+// per TRI3), largest first, then the growth of the contact lists to expected_couples.
+void print_memory_plan(const fdem::Model& m, size_t group_size) {
+  const fdem::MemoryPlan plan = fdem::Solver::plan(m, group_size);
+  auto arrays = plan.arrays();
+  std::stable_sort(arrays.begin(), arrays.end(), [](const auto& x, const auto& y) { return x.bytes > y.bytes; });
+  const double tri3 = static_cast<double>(std::max<size_t>(1, m.num_triangles()));
+  std::cout << "memory plan (" << arrays.size() << " arrays; B/TRI3 of " << m.num_triangles() << " TRI3):\n";
+  for (const auto& x : arrays) {
+    const size_t held = fdem::ClContext::allocation_size(x.bytes);
+    const char* kind = x.lifetime == fdem::MemoryPlan::Lifetime::Resident ? ""
+                       : x.lifetime == fdem::MemoryPlan::Lifetime::SetUp ? "  (set-up)"
+                                                                         : "  (scratch)";
+    std::cout << "  " << std::left << std::setw(44) << x.name << std::right << std::setw(12) << mib(held)
+              << std::setw(9) << std::fixed << std::setprecision(1) << held / tri3 << std::defaultfloat << kind << "\n";
+  }
+  const size_t needed = fdem::Solver::bytes_needed(m, group_size);
+  std::cout << "  resident " << mib(plan.resident()) << ", largest transient " << mib(plan.largest_transient())
+            << ", contact lists grown to the expected couples + " << mib(needed - plan.total()) << ": "
+            << mib(needed) << ", " << std::fixed << std::setprecision(1) << needed / tri3 << std::defaultfloat
+            << " B/TRI3\n";
+}
+
 int check_command(const Arguments& a) {
   if (a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt") return check_checkpoint(a.case_path);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
@@ -259,6 +285,7 @@ int check_command(const Arguments& a) {
   std::cout << "device memory needed " << mib(bytes);
   if (m.contact.enabled) std::cout << " (contact lists for " << fdem::Solver::expected_couples(m) << " couples)";
   std::cout << "\n";
+  if (a.memory) print_memory_plan(m, device ? device->group_size() : 64);
   if (!device) {
     std::cout << "device    none usable: " << no_device << "\n";
     return 0;

@@ -84,7 +84,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   }
   if (p.skin) plan.add(ContactSkin::plan(nodes));
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size()));
-  if (p.contact) plan.add(ContactForces::plan(model, group_size, false));  // the detection's mask
+  // The detection's mask and couple list (shared keys).
+  if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
   plan.add(TriangleForces::plan(triangles, group_size, p.viscous));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
@@ -102,12 +103,26 @@ size_t Solver::expected_couples(const Model& model) {
   return 8 * active + model.ce4.size();
 }
 
+size_t Solver::expected_touching(const Model& model) {
+  if (!model.contact.enabled) return 0;
+  return expected_couples(model) / 32;
+}
+
 size_t Solver::bytes_needed(const Model& model, size_t group_size, bool account) {
   size_t bytes = plan(model, group_size, account).total();
   const size_t couples = expected_couples(model), first = ContactForces::first_capacity(model.num_triangles());
   if (couples > first)
     bytes += ContactForces::couple_arrays(ContactForces::grown(couples), group_size).resident() -
              ContactForces::couple_arrays(first, group_size).resident();
+  // The history pool: with a skin it grows with the touching couples, else it has a row
+  // per couple of the list.
+  const size_t triangles = model.num_triangles();
+  const bool skin = model.contact.enabled && model.contact.rebuild_skin;
+  const size_t pool_first = skin ? ContactForces::pool_first(triangles) : first;
+  const size_t pool_then = skin ? ContactForces::pool_grown(expected_touching(model), triangles)
+                                : (couples > first ? ContactForces::grown(couples) : first);
+  if (model.contact.enabled && pool_then > pool_first)
+    bytes += ContactForces::pool_arrays(pool_then).resident() - ContactForces::pool_arrays(pool_first).resident();
   const size_t first_keys = ContactDetection::first_capacity(model.num_triangles());
   if (couples > first_keys)
     bytes += ContactDetection::couple_list(ContactDetection::grown(couples)).resident() -
@@ -153,7 +168,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                         [&] {
                           return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
                                                                  cohesive_ ? &cohesive_->status() : nullptr,
-                                                                 cohesive_ ? cohesive_->mesh_node_state() : nullptr);
+                                                                 cohesive_ ? cohesive_->mesh_node_state() : nullptr,
+                                                                 parts_.skin ? ring_.get() : nullptr, true);
                         })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
@@ -206,7 +222,7 @@ void Solver::step(bool energy_row) {
   if (energy_row) energy_row_step_ = steps_;
   // The step, stage by stage. Each stage writes its own slots; the gather sums them.
   if (contact_) {
-    contact_->enqueue_clear();
+    contact_->enqueue_clear(steps_);
     // Detection every step, or with a skin once some node may have moved more than half
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
@@ -214,6 +230,7 @@ void Solver::step(bool energy_row) {
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
+      contact_->carry_before_detection();  // the detection rewrites the list the stage reads
       const size_t count = detection_->run();
       if (cl_.profiling())
         cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",
@@ -222,6 +239,7 @@ void Solver::step(bool energy_row) {
       if (skin_) skin_->mark();
       ++rebuilds_;
     } else {
+      if (skin_) contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
   }
@@ -360,6 +378,7 @@ std::vector<real2> Solver::masses() { return download<real2>(cl_, arrays_.node_m
 std::vector<real4> Solver::stresses() { return download<real4>(cl_, arrays_.stress, arrays_.num_triangles); }
 
 Conditions Solver::conditions() {
+  if (contact_) contact_->check_pool();
   const auto words = download<int>(cl_, arrays_.conditions, layout::CONDITION_WORDS);
   auto value = [](int w) { return w == INT_MAX ? -1 : w; };
   return {value(words[layout::COND_BAD_NODE]), value(words[layout::COND_BAD_NODE_STEP]),

@@ -64,12 +64,17 @@ class Solver {
   // Device memory the run needs, in bytes: plan(...).total() (resident arrays, contact
   // lists at their first capacity, plus the largest transient array), plus what the
   // contact lists grow by when the couples a run meets (expected_couples) outgrow their
-  // first capacity. The too-little-memory refusal uses it.
+  // first capacity, and the contact history pool at expected_touching couples. The
+  // too-little-memory refusal uses it.
   static size_t bytes_needed(const Model& model, size_t group_size, bool account = true);
   // The couples a contact run typically holds: 8 per candidate triangle (7 measured on
   // the UCS mesh and on fdem bench's models with activation "all"), plus one per CE4
   // (its two triangles are a couple from the start) under "fractured". 0 without contact.
   static size_t expected_couples(const Model& model);
+  // The couples that hold a contact history (touching, or waiting) at a time, for the
+  // history pool's plan: a quarter of expected_couples / 8 per candidate triangle, i.e.
+  // 0.25 per TRI3 with activation "all" (fdem bench's 60k model: 0.21 after 320 steps).
+  static size_t expected_touching(const Model& model);
 
   // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose
   // energy account (read once) starts the balance. With `energy_row` the step also
@@ -108,6 +113,7 @@ class Solver {
   bool has_contact() const { return contact_ != nullptr; }
   size_t contact_candidates() const { return contact_ ? contact_->couples() : 0; }
   size_t contact_touching() { return contact_ ? contact_->touching() : 0; }
+  size_t contact_pool_rows() const { return contact_ ? contact_->pool_rows() : 0; }  // ContactForces::pool_rows
   double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
   std::vector<real2> contact_forces();  // per node [N] (waits)
   long contact_rebuilds() const { return rebuilds_; }

@@ -67,6 +67,13 @@ TEST_CASE("check prints counts, the stable step and the memory; run writes its f
   CHECK(has(c, "TRI3"));
   CHECK(has(c, "stable dt"));
   CHECK(has(c, "device memory needed"));
+  CHECK(!has(c, "memory plan ("));
+  // --memory: the plan array by array, then the total (the "device memory needed" figure).
+  const auto m = run_fdem("check " + path + " --memory");
+  CHECK(m.code == 0);
+  CHECK(has(m, "memory plan ("));
+  CHECK(has(m, "position"));
+  CHECK(has(m, "B/TRI3"));
   const auto r = run_fdem("run " + path);
   INFO(r.output);
   CHECK(r.code == 0);

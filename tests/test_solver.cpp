@@ -109,6 +109,90 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
   }
 }
 
+// fdem bench's model (UCS, activation "all", skin 0.15 h_ave; cases/ucs) at about 7k TRI3:
+// what `fdem check` and the too-little-memory refusal say it needs (Solver::bytes_needed)
+// must be what it holds once running, within 10% either way (issue 13: the contact
+// history pool, sized from the touching couples, and the lists grown to the couples met).
+TEST_CASE("memory plan: the bench model's planned bytes match what it holds after 60 steps within 10%") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(test::source_path("cases/ucs/case.toml"),
+                                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10",
+                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
+                                       "output.dir=\"" + dir.str() + "\""});
+  ClContext& cl = test::context();
+  const size_t needed = Solver::bytes_needed(p.model, cl.group_size());
+  const size_t before = settled_bytes(cl);
+  {
+    Solver solver(cl, p.model, p.dt);
+    for (int k = 0; k < 60; ++k) solver.step();
+    const size_t held = settled_bytes(cl) - before;
+    const double tri3 = static_cast<double>(p.model.num_triangles());
+    MESSAGE(p.model.num_triangles() << " TRI3, " << solver.contact_candidates() << " couples, "
+                                    << solver.contact_touching() << " touching: planned " << needed / tri3
+                                    << " B/TRI3, held " << held / tri3 << " B/TRI3");
+    CHECK(solver.contact_touching() > 0);
+    CHECK(static_cast<double>(held) >= 0.9 * static_cast<double>(needed));
+    CHECK(static_cast<double>(held) <= 1.1 * static_cast<double>(needed));
+  }
+  CHECK(settled_bytes(cl, before) == before);
+}
+
+// The contact history pool (ContactForces::pool_arrays) on the bench model: a pool that
+// starts small and grows during the run (from the rows taken that the monitor ring shows)
+// gives the same run, bit for bit, as the default one; one that cannot hold the couples
+// that touch stops the run with a NumericalError at the next check.
+TEST_CASE("contact history pool: growing it during the run changes nothing; a full one stops the run") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(test::source_path("cases/ucs/case.toml"),
+                                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10",
+                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
+                                       "output.dir=\"" + dir.str() + "\""});
+  ClContext& cl = test::context();
+  struct Outcome {
+    std::vector<real2> x, v, f;
+    double stored = 0, dissipated = 0;
+    size_t rows_first = 0, rows_last = 0;
+  };
+  auto run = [&](size_t first, size_t headroom, int steps) {
+    ContactForces::pool_sizing() = {first, headroom};
+    Outcome o;
+    try {
+      Solver solver(cl, p.model, p.dt);
+      for (int k = 0; k < steps; ++k) {
+        solver.step(k % 25 == 24);
+        if (k == 0) o.rows_first = solver.contact_pool_rows();
+      }
+      const bool ok = solver.conditions().ok();  // a full pool throws here
+      REQUIRE(ok);
+      o.x = solver.positions();
+      o.v = solver.velocities();
+      o.f = solver.contact_forces();
+      const EnergyTotals e = solver.energy();
+      o.stored = e.contact_stored;
+      o.dissipated = e.friction + e.contact_damping;
+      o.rows_last = solver.contact_pool_rows();
+    } catch (...) {
+      ContactForces::pool_sizing() = {};
+      throw;
+    }
+    ContactForces::pool_sizing() = {};
+    return o;
+  };
+  const Outcome base = run(0, 0, 150);
+  const Outcome grown = run(256, 512, 150);
+  MESSAGE("pool rows: default " << base.rows_first << " -> " << base.rows_last << ", small " << grown.rows_first
+                                << " -> " << grown.rows_last);
+  CHECK(grown.rows_last > grown.rows_first);
+  auto same = [](const std::vector<real2>& a, const std::vector<real2>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(real2)) == 0;
+  };
+  CHECK(same(base.x, grown.x));
+  CHECK(same(base.v, grown.v));
+  CHECK(same(base.f, grown.f));
+  CHECK(base.stored == grown.stored);
+  CHECK(base.dissipated == grown.dissipated);
+  CHECK_THROWS_AS(run(8, 1, 30), NumericalError);
+}
 
 TEST_CASE("geostatic column (coarse): σyy = -ρg(100-y), σxx = ν/(1-ν) σyy within 1% in 6,400 steps") {
   test::TempDir dir;

@@ -31,15 +31,17 @@ ContactCarry::ContactCarry(ClContext& cl, size_t triangles, size_t list_capacity
   history_ = arrays.allocate(cl, "contact carry history");
   count_ = arrays.allocate(cl, "contact carry count");
   offsets_ = arrays.allocate(cl, "contact carry offsets");
-  const std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
+  const std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())},
+                                                   {"NO_SLOT", std::to_string(kNoSlot) + "u"}};
   const auto program = cl.build(kernel_source::contact_carry, defines);
   count_kernel_ = compute::kernel(program, "carry_count");
   offsets_kernel_ = compute::kernel(program, "carry_offsets");
   scatter_kernel_ = compute::kernel(program, "carry_scatter");
 }
 
-size_t ContactCarry::carry(const compute::buffer& keys, const compute::buffer& history, const compute::buffer& live,
-                           const compute::buffer& active, size_t n_couples, cl_uint joined_since) {
+size_t ContactCarry::carry(const compute::buffer& keys, const compute::buffer& history, const compute::buffer& slot,
+                           const compute::buffer& live, const compute::buffer& active, size_t n_couples,
+                           cl_uint joined_since) {
   if (n_couples == 0) return 0;
   if (n_couples > offsets_capacity_) {
     offsets_capacity_ = n_couples;
@@ -61,7 +63,7 @@ size_t ContactCarry::carry(const compute::buffer& keys, const compute::buffer& h
   }
   if (carried == 0) return 0;
   bind_args(scatter_kernel_)("n_couples", n)("live", live)("keys", keys)("active", active)("joined_since", joined_since)(
-      "history", history)("group_offsets", offsets_)("carry_keys", keys_)("carry_history", history_)
+      "history", history)("slot", slot)("group_offsets", offsets_)("carry_keys", keys_)("carry_history", history_)
       .done();
   cl_.enqueue(scatter_kernel_, n_couples);
   return carried;

@@ -16,24 +16,44 @@ namespace fdem {
 
 namespace {
 constexpr int kHistory = layout::CONTACT_HISTORY;
+
+std::string pool_overflow_message(long step) {
+  return "step " + std::to_string(step) +
+         ": the contact history pool was full (more couples started to touch within 8 steps than its headroom "
+         "holds), so some couples lost their history; please report this case. [contact] rebuild = \"step\" "
+         "keeps a row for every couple and cannot fill";
+}
+}
+
+MemoryPlan ContactForces::key_list(size_t capacity) {
+  return MemoryPlan().add("contact_keys", capacity * sizeof(cl_ulong));
 }
 
 MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
   return MemoryPlan()
-      .add("contact_keys", capacity * sizeof(cl_ulong))
-      .add("contact_history", capacity * kHistory * sizeof(real))
+      .add("contact history slots", capacity * sizeof(cl_uint))
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
-      .add("contact couple_stored", std::max<size_t>(1, capacity) * sizeof(real))
       .add("contact stored slots", std::max<size_t>(1, groups_for(capacity, group_size)) * sizeof(real));
 }
 
-MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask) {
+MemoryPlan ContactForces::pool_arrays(size_t rows) {
+  return MemoryPlan()
+      .add("contact_history", std::max<size_t>(1, rows) * kHistory * sizeof(real))
+      .add("contact couple_stored", std::max<size_t>(1, rows) * sizeof(real));
+}
+
+MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_mask, bool monitored,
+                               bool shared_keys) {
   MemoryPlan p;
+  const size_t first = first_capacity(model.num_triangles());
   // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
       .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
-      .add(couple_arrays(first_capacity(model.num_triangles()), group_size))
+      .add("contact pool state", 2 * sizeof(cl_uint))
+      .add(couple_arrays(first, group_size))
+      .add(shared_keys ? MemoryPlan() : key_list(first))
+      .add(pool_arrays(monitored ? pool_first(model.num_triangles()) : first))
       .add(ContactCarry::plan(model.num_triangles(), first_capacity(model.num_triangles()), group_size))
       .add("contact_pair_index", model.contact.pair_index.size() * sizeof(cl_uint))
       .add("contact_pair_props", model.contact.pair_props.size() * sizeof(real));
@@ -59,8 +79,14 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 }
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
-                             const compute::buffer* ce4_status, const compute::buffer* mesh_node_state)
-    : cl_(cl), arrays_(a), carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
+                             const compute::buffer* ce4_status, const compute::buffer* mesh_node_state,
+                             MonitorRing* ring, bool shared_keys)
+    : cl_(cl),
+      arrays_(a),
+      triangles_(a.num_triangles),
+      shared_keys_(shared_keys),
+      monitored_(ring != nullptr),
+      carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
   const bool fans = bonds && mesh_node_state != nullptr && model.node_origin.size() == model.num_nodes();
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
@@ -79,6 +105,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   std::map<std::string, std::string> defines;
   if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
+  defines["NO_SLOT"] = std::to_string(ContactCarry::kNoSlot) + "u";
+  if (monitored_) defines["POOL_MONITOR"] = "1";
   if (bonds) {
     defines["CE4_BONDS"] = "1";
     defines["NO_BOND"] = std::to_string(kNoBond) + "u";
@@ -90,14 +118,19 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_ = compute::kernel(program, "contact_classify");
   clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
-  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr);
+  const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_, shared_keys_);
   energy_ = arrays.allocate(cl, "contact energy account");
   counters_ = arrays.allocate(cl, "contact counters (touching, overlap list)");
+  pool_state_ = arrays.allocate(cl, "contact pool state");
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
+  reset_pool();
   capacity_ = first_capacity(a.num_triangles);
-  keys_ = arrays.allocate(cl, "contact_keys");
+  // Shared keys: none until the first list (the kernels are bound to a placeholder).
+  keys_ = shared_keys_ ? pool_state_ : arrays.allocate(cl, "contact_keys");
+  pool_rows_ = monitored_ ? pool_first(a.num_triangles) : capacity_;
   history_ = arrays.allocate(cl, "contact_history");
+  couple_stored_ = arrays.allocate(cl, "contact couple_stored");
   list_capacity_ = capacity_;
   allocate_list(arrays);
 
@@ -135,6 +168,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_list_.same_list = f.later("same_list", none);
   forces_list_.overlap_list = f.later("overlap_list", overlap_list_);
   forces_list_.live = f.later("live", live_);
+  forces_slot_ = f.later("slot", slot_);
+  f("pool_state", pool_state_);
+  forces_pool_capacity_ = f.later("pool_capacity", static_cast<cl_uint>(pool_rows_));
   forces_energy_row_ = f.later("energy_row", none);
   forces_couple_stored_ = f.later("couple_stored", couple_stored_);
   f("active", active_);
@@ -152,13 +188,18 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   c("counters", counters_);
   classify_list_.overlap_list = c.later("overlap_list", overlap_list_);
   classify_list_.live = c.later("live", live_);
+  classify_slot_ = c.later("slot", slot_);
   if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   if (fans) c("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
   c.done();
 
-  bind_args(clear_)("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)(
-      "counters", counters_)
-      .done();
+  KernelArgs k(clear_);
+  k("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)("counters", counters_);
+  if (monitored_) {
+    k("pool_state", pool_state_)("monitor", ring->buffer());
+    clear_monitor_slot_ = k.later("monitor_slot", cl_uint(0));
+  }
+  k.done();
 
   KernelArgs r(release_);
   release_previous_count_ = r.later("n_previous", none);
@@ -170,6 +211,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
 
   KernelArgs p(stored_partials_);
   stored_count_ = p.later("n_couples", none);
+  stored_live_ = p.later("live", live_);
+  stored_slot_ = p.later("slot", slot_);
   stored_values_ = p.later("couple_stored", couple_stored_);
   stored_slots_arg_ = p.later("group_slots", stored_slots_);
   p.done();
@@ -186,28 +229,69 @@ void ContactForces::ListArgs::bind_list(KernelArgs& args, const compute::buffer&
   history = args.later("history", history1);
 }
 
-void ContactForces::enqueue_clear() { cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1)); }
+void ContactForces::enqueue_clear(long step) {
+  if (monitored_) clear_monitor_slot_.set(MonitorRing::slot_of(step));
+  cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1));
+}
+
+void ContactForces::reset_pool() {
+  const std::vector<cl_uint> empty{0, 0xffffffffu};
+  cl_.queue().enqueue_write_buffer(pool_state_, 0, empty.size() * sizeof(cl_uint), empty.data());
+}
+
+void ContactForces::allocate_pool(size_t rows, bool keep) {
+  const MemoryPlan arrays = pool_arrays(rows);
+  compute::buffer history = arrays.allocate(cl_, "contact_history");
+  if (keep && pool_rows_ > 0)
+    cl_.queue().enqueue_copy_buffer(history_, history, 0, 0, pool_rows_ * kHistory * sizeof(real));
+  history_ = history;
+  // Written and read within one step: nothing to keep.
+  couple_stored_ = compute::buffer();
+  couple_stored_ = arrays.allocate(cl_, "contact couple_stored");
+  pool_rows_ = rows;
+}
+
+void ContactForces::ensure_pool(size_t rows_seen, size_t rows_per_step) {
+  const size_t margin = std::max(pool_headroom(triangles_) / 2, 2 * MonitorRing::kSlots * rows_per_step);
+  if (!monitored_ || rows_seen + margin <= pool_rows_) return;
+  allocate_pool(pool_grown(rows_seen, triangles_) + margin, true);
+}
+
+void ContactForces::check_pool() {
+  const long overflow = pool_overflow_step();
+  if (overflow >= 0) throw NumericalError(pool_overflow_message(overflow));
+}
+
+long ContactForces::pool_overflow_step() {
+  const auto state = download<cl_uint>(cl_, pool_state_, 2);
+  return state[1] == 0xffffffffu ? -1 : static_cast<long>(state[1]);
+}
 
 void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row,
                             long step) {
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
-  // Joins since the last list (activation runs before detection in a step, so a join in
-  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
-  const cl_uint joined_since = ContactActivation::join_stamp(last_list_step_ + 1);
+  const cl_uint joined_since = joined_since_last_list();
   // A new list: the couples of the last list that hold a history (and those next to a
-  // join) go to the carry list, where the new list finds them by key; the one history
-  // array is then rewritten in place (ContactCarry). Between detections the list and its
-  // history stay in place.
+  // join) go to the carry list, where the new list finds them by key (ContactCarry); the
+  // pool is emptied, each couple taking a row again at its first write. Between
+  // detections the list, its slots and the pool stay in place.
   size_t carried = 0;
   if (new_list) {
-    carried = carry_.carry(keys_, history_, live_, active_, count_, joined_since);
-    if (count > capacity_) {
+    carried = carry_ready_ ? carried_ : carry_old_list();
+    carry_ready_ = false;
+    if (!shared_keys_ && count > capacity_) {
       capacity_ = grown(count);
-      const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
-      history_ = arrays.allocate(cl_, "contact_history");  // what it held is carried
-      keys_ = arrays.allocate(cl_, "contact_keys");
+      keys_ = key_list(capacity_).allocate(cl_, "contact_keys");
     }
+    if (count > list_capacity_) {
+      list_capacity_ = grown(count);
+      allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every slot and flag
+    }
+    // Room for the carried couples and the headroom (with a skin), or a row per couple.
+    const size_t rows = monitored_ ? pool_grown(carried, triangles_) : list_capacity_;
+    if (rows > pool_rows_) allocate_pool(rows, false);
+    reset_pool();
   }
   if (carried > 0) {
     release_previous_count_.set(static_cast<cl_uint>(carried));
@@ -217,17 +301,12 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     release_keys_.set(keys);
     cl_.enqueue(release_, carried);
   }
-  if (count > list_capacity_) {
-    list_capacity_ = grown(count);
-    allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every flag
-  }
-  if (energy_row && count > 0) {
-    const real zero = 0;
-    cl_.queue().enqueue_fill_buffer(couple_stored_, &zero, sizeof(zero), 0, count * sizeof(real));
-  }
-  // Same list as the last step: couple c's history is at c, in place (no key search).
+  // Same list as the last step: couple c's history is at its pool row (no key search).
   const cl_uint same_list = new_list ? 0 : 1;
   const compute::buffer& list_keys = new_list ? keys : keys_;
+  classify_slot_.set(slot_);
+  forces_slot_.set(slot_);
+  forces_pool_capacity_.set(static_cast<cl_uint>(pool_rows_));
   for (ListArgs* list : {&classify_list_, &forces_list_}) {
     list->count.set(static_cast<cl_uint>(count));
     list->keys.set(list_keys);
@@ -251,15 +330,38 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     stored_groups_ = work_groups(cl_, count);
     if (count > 0) {
       stored_count_.set(static_cast<cl_uint>(count));
+      stored_live_.set(live_);
+      stored_slot_.set(slot_);
       stored_values_.set(couple_stored_);
       stored_slots_arg_.set(stored_slots_);
       cl_.enqueue(stored_partials_, count);
     }
   }
   if (new_list) {
-    if (count) cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
+    if (shared_keys_)
+      keys_ = keys;  // the detection leaves them alone until carry_before_detection
+    else if (count)
+      cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
     count_ = count;
   }
+}
+
+cl_uint ContactForces::joined_since_last_list() const {
+  // Joins since the last list (activation runs before detection in a step, so a join in
+  // the last list's own step was in that list): stamps ≥ last_list_step_ + 3.
+  return ContactActivation::join_stamp(last_list_step_ + 1);
+}
+
+size_t ContactForces::carry_old_list() {
+  const size_t carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since_last_list());
+  // The carry waited for the device: a full pool in the steps since the last check stops here.
+  check_pool();
+  return carried;
+}
+
+void ContactForces::carry_before_detection() {
+  carried_ = carry_old_list();
+  carry_ready_ = true;
 }
 
 size_t ContactForces::touching() {
@@ -275,7 +377,7 @@ double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots
 void ContactForces::allocate_list(const MemoryPlan& arrays) {
   overlap_list_ = arrays.allocate(cl_, "contact overlap list");
   live_ = arrays.allocate(cl_, "contact live flags");
-  couple_stored_ = arrays.allocate(cl_, "contact couple_stored");
+  slot_ = arrays.allocate(cl_, "contact history slots");
   stored_slots_ = arrays.allocate(cl_, "contact stored slots");
 }
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }
@@ -286,15 +388,37 @@ double ContactForces::dissipated_energy() {
   return static_cast<double>(e[layout::ENERGY_FRICTION] + e[layout::ENERGY_DAMPING]) / energy_scale_;
 }
 
-std::vector<real> ContactForces::history() { return download<real>(cl_, history_, count_ * kHistory); }
+std::vector<cl_uint> ContactForces::slots() { return download<cl_uint>(cl_, slot_, count_); }
+
+std::vector<real> ContactForces::history() {
+  std::vector<real> out(count_ * kHistory, real(0));
+  if (count_ == 0) return out;
+  const auto slot = slots();
+  const auto pool = download<real>(cl_, history_, pool_rows_ * kHistory);
+  for (size_t c = 0; c < count_; ++c)
+    if (slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_)
+      std::copy_n(&pool[size_t(slot[c]) * kHistory], kHistory, &out[c * kHistory]);
+  return out;
+}
 std::vector<cl_ulong> ContactForces::keys() { return download<cl_ulong>(cl_, keys_, count_); }
-std::vector<real> ContactForces::couple_stored() { return download<real>(cl_, couple_stored_, count_); }
+std::vector<real> ContactForces::couple_stored() {
+  std::vector<real> out(count_, real(0));
+  if (count_ == 0) return out;
+  const auto slot = slots();
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  const auto stored = download<real>(cl_, couple_stored_, pool_rows_);
+  for (size_t c = 0; c < count_; ++c)
+    if (live[c] == 1 && slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_) out[c] = stored[slot[c]];
+  return out;
+}
 
 void ContactForces::save_state(StateWriter& out) const {
   out.integer("contact_couples", static_cast<std::int64_t>(count_));
   out.integer("contact_last_list_step", static_cast<std::int64_t>(last_list_step_));
   out.buffer<cl_ulong>("contact_keys", keys_, count_);
-  out.buffer<real>("contact_history", history_, count_, kHistory);
+  // Per couple, as the file has always held it (the pool rows gathered by slot).
+  const auto history = const_cast<ContactForces*>(this)->history();
+  out.host<real>("contact_history", history.data(), count_, kHistory);
   out.buffer<cl_uchar>("contact_live", live_, count_);
   out.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
@@ -302,19 +426,39 @@ void ContactForces::save_state(StateWriter& out) const {
 void ContactForces::load_state(StateReader& in) {
   count_ = static_cast<size_t>(in.integer("contact_couples"));
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
-  if (count_ > capacity_) {
-    capacity_ = grown(count_);
-    const MemoryPlan arrays = couple_arrays(capacity_, cl_.group_size());
-    keys_ = arrays.allocate(cl_, "contact_keys");
-    history_ = arrays.allocate(cl_, "contact_history");
+  if (shared_keys_ || count_ > capacity_) {
+    // Shared: the detection's list is not restored; the contact stage holds its own
+    // until the next detection.
+    capacity_ = shared_keys_ ? std::max<size_t>(count_, 1) : grown(count_);
+    keys_ = key_list(capacity_).allocate(cl_, "contact_keys");
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
     allocate_list(couple_arrays(list_capacity_, cl_.group_size()));
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
-  in.buffer<real>("contact_history", history_, count_, kHistory);
+  // The file holds a history per couple: the couples with one that is not all zeros (or
+  // a nonzero live flag) take pool rows in list order.
+  std::vector<real> history(count_ * kHistory);
+  in.host<real>("contact_history", history.data(), count_, kHistory);
   in.buffer<cl_uchar>("contact_live", live_, count_);
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  std::vector<cl_uint> slot(count_, ContactCarry::kNoSlot);
+  std::vector<real> rows;
+  for (size_t c = 0; c < count_; ++c) {
+    const real* h = &history[c * kHistory];
+    if (live[c] == 0 && std::all_of(h, h + kHistory, [](real v) { return v == real(0); })) continue;
+    slot[c] = static_cast<cl_uint>(rows.size() / kHistory);
+    rows.insert(rows.end(), h, h + kHistory);
+  }
+  const size_t taken = rows.size() / kHistory;
+  const size_t needed = monitored_ ? pool_grown(taken, triangles_) : std::max(list_capacity_, taken);
+  if (needed > pool_rows_) allocate_pool(needed, false);
+  if (!rows.empty()) cl_.queue().enqueue_write_buffer(history_, 0, rows.size() * sizeof(real), rows.data());
+  if (count_ > 0) cl_.queue().enqueue_write_buffer(slot_, 0, slot.size() * sizeof(cl_uint), slot.data());
+  const std::vector<cl_uint> state{static_cast<cl_uint>(taken), 0xffffffffu};
+  cl_.queue().enqueue_write_buffer(pool_state_, 0, state.size() * sizeof(cl_uint), state.data());
+  cl_.finish();
   in.buffer<cl_long>("contact_energy", energy_, layout::CONTACT_ENERGY_WORDS);
 }
 

@@ -7,6 +7,7 @@
 #include "engine/kernel_args.hpp"
 #include "engine/model.hpp"
 #include "engine/stages/contact_carry.hpp"
+#include "engine/stages/monitor_ring.hpp"
 
 namespace fdem {
 
@@ -22,8 +23,16 @@ class ContactForces {
   // waits while it still overlaps, like a join's.
   // `mesh_node_state` (CohesiveForces::mesh_node_state()): likewise two triangles meeting
   // at a corner of a bonded fan while every CE4 at it is intact.
+  // `ring`: given (with a contact skin), the history pool starts small and grows from
+  // the rows taken that the clear kernel writes to the ring (ensure_pool); without it the
+  // pool holds a row for every couple of the list (every list is then a new one, or the
+  // caller gives its own lists), so it can never fill.
+  // `shared_keys`: the stage keeps no copy of the couple list; it uses the buffer of the
+  // last new list's enqueue, which the caller leaves alone until it calls
+  // carry_before_detection() and makes the next list (the Solver: the detection's own).
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
-                const compute::buffer* ce4_status = nullptr, const compute::buffer* mesh_node_state = nullptr);
+                const compute::buffer* ce4_status = nullptr, const compute::buffer* mesh_node_state = nullptr,
+                MonitorRing* ring = nullptr, bool shared_keys = false);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
@@ -32,19 +41,62 @@ class ContactForces {
   static size_t grown(size_t count) { return count + count / 8 + 1024; }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `own_mask`: no candidate mask is given, the stage holds one of all ones).
-  static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask);
+  static MemoryPlan plan(const Model& model, size_t group_size, bool own_mask, bool monitored = false,
+                         bool shared_keys = false);
+  // The stage's own copy of the couple list (without shared keys), `capacity` couples.
+  static MemoryPlan key_list(size_t capacity);
   // The CE4s on each triangle's edges, 3 per triangle (kNoBond where none).
   static std::vector<cl_uint> bond_ce4(const Model& model);
   static constexpr cl_uint kNoBond = 0xffffffffu;
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
-  // grows allocates again): keys, history, overlap list, live flags, stored energies.
+  // grows allocates again): pool slots, overlap list, live flags, stored-energy sums.
   static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
+  // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
+  // couple takes a row at its first history write (a touching couple, or one that waits)
+  // and keeps it until the next detection, which carries the histories over (ContactCarry)
+  // and empties the pool. With a skin (a ring given) the pool starts at pool_first rows
+  // and grows to pool_grown(rows seen) when the rows taken come within half the headroom
+  // of its end; otherwise it has as many rows as the list has couples.
+  static MemoryPlan pool_arrays(size_t rows);
+  static size_t pool_headroom(size_t triangles) {
+    return pool_sizing().headroom ? pool_sizing().headroom : std::max<size_t>(1024, triangles / 8);
+  }
+  static size_t pool_first(size_t triangles) {
+    return pool_sizing().first ? pool_sizing().first : std::max<size_t>(2048, triangles / 4);
+  }
+  // Other first rows and headroom than the defaults above (0: the default), for tests
+  // that make the pool grow or fill on small models; plan() follows them.
+  struct PoolSizing {
+    size_t first = 0, headroom = 0;
+  };
+  static PoolSizing& pool_sizing() {
+    static PoolSizing sizing;
+    return sizing;
+  }
+  static size_t pool_grown(size_t rows, size_t triangles) { return rows + rows / 2 + pool_headroom(triangles); }
+  // Before a step (skin only): grows the pool when `rows_seen` (the largest RING_POOL word
+  // read since the last detection, ContactSkin::pool_rows_seen) leaves less than the
+  // margin: half the headroom, or 2 × MonitorRing::kSlots × `rows_per_step` (the most rows
+  // taken in one step of the last batch read, ContactSkin::pool_rows_per_step; 2: room
+  // for the rate to double within the ring's lag) when more. It grows to pool_grown(rows_seen) plus
+  // that margin; the rows are copied on the device, in order. Never waits.
+  void ensure_pool(size_t rows_seen, size_t rows_per_step = 0);
+  size_t pool_rows() const { return pool_rows_; }
+  // The first step at which a couple found the pool full (its history was lost), or -1.
+  // Waits. Solver::conditions() stops the run on it.
+  long pool_overflow_step();
+  void check_pool();  // NumericalError naming the step when a couple found the pool full (waits)
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
   double force_scale() const { return force_scale_; }
 
-  // Zeroes the contact accumulator and the overlap list length. Never waits.
-  void enqueue_clear();
+  // With shared keys, before the caller overwrites the list: copies the couples that hold
+  // a history to the carry list (ContactCarry; waits once), for the next new list.
+  // Without, enqueue(new_list) does it itself.
+  void carry_before_detection();
+  // Zeroes the contact accumulator and the overlap list length (and, with a ring, writes
+  // the pool's rows taken to the ring slot of `step`). Never waits.
+  void enqueue_clear(long step = 0);
   // Forces of the couples in `keys` (sorted cl_ulong keys, i << 32 | j). With new_list the
   // keys come from a fresh detection and each couple's history is carried over from the
   // previous list by key; otherwise the list is the one of the last call. With
@@ -71,7 +123,7 @@ class ContactForces {
   double damping_dissipation();
   // friction_dissipation() + damping_dissipation() (one read).
   double dissipated_energy();
-  std::vector<real> history();   // per couple, CONTACT_HISTORY reals (waits; for tests)
+  std::vector<real> history();   // per couple, CONTACT_HISTORY reals, from the pool (waits; for tests)
   std::vector<cl_ulong> keys();  // the current couple list (waits; for tests)
   std::vector<real> couple_stored();  // per couple, the stored energy of the last energy row [J] (waits; for tests)
 
@@ -85,7 +137,17 @@ class ContactForces {
   double force_scale_ = 1, energy_scale_ = 1;
   compute::kernel classify_, forces_, clear_, release_;
   compute::buffer keys_, history_, energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
-  size_t capacity_ = 0, count_ = 0, list_capacity_ = 0;
+  compute::buffer slot_;        // per couple: its pool row (ContactCarry::kNoSlot: none)
+  compute::buffer pool_state_;  // rows taken, first step a couple found the pool full
+  size_t capacity_ = 0, count_ = 0, list_capacity_ = 0, pool_rows_ = 0, triangles_ = 0;
+  bool shared_keys_ = false, monitored_ = false;
+  bool carry_ready_ = false;  // carry_before_detection() ran for the next new list
+  size_t carried_ = 0;        // what it carried
+  cl_uint joined_since_last_list() const;
+  size_t carry_old_list();
+  void allocate_pool(size_t rows, bool keep);  // history_ and couple_stored_ at `rows` rows
+  void reset_pool();                            // no row taken (a new list)
+  std::vector<cl_uint> slots();                 // per couple of the list (waits)
   ContactCarry carry_;      // the histories a new list carries over (one history array, in place)
   compute::buffer active_;  // the candidate mask (the detection's, or ones_)
   compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
@@ -104,6 +166,8 @@ class ContactForces {
                    const compute::buffer& history1);
   };
   ListArgs classify_list_, forces_list_;
+  KernelArg<compute::buffer> classify_slot_, forces_slot_, stored_live_, stored_slot_;
+  KernelArg<cl_uint> forces_pool_capacity_, clear_monitor_slot_;
   KernelArg<cl_uint> forces_energy_row_, forces_joined_since_;
   KernelArg<cl_int> forces_step_;
   KernelArg<compute::buffer> forces_couple_stored_;
@@ -113,8 +177,8 @@ class ContactForces {
   KernelArg<cl_uint> stored_count_;
   KernelArg<compute::buffer> stored_values_, stored_slots_arg_;
   bool energy_row_requested_ = false;
-  // The overlap list, live flags, and the stored energy of each couple at the last energy
-  // row with its per-work-group sums, from couple_arrays(list_capacity_).
+  // The overlap list, live flags, pool slots and the per-work-group sums of the stored
+  // energy at the last energy row, from couple_arrays(list_capacity_).
   void allocate_list(const MemoryPlan& arrays);
   compute::kernel stored_partials_;
   compute::buffer couple_stored_, stored_slots_;

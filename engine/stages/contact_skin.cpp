@@ -26,6 +26,7 @@ ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, doub
 void ContactSkin::mark() {
   cl_.queue().enqueue_copy_buffer(arrays_.position, at_build_, 0, 0, arrays_.num_nodes * sizeof(real2));
   ++generation_;
+  pool_seen_ = 0;  // a new list empties the contact history pool
 }
 
 bool ContactSkin::decide(unsigned slot, bool exact) {
@@ -33,6 +34,7 @@ bool ContactSkin::decide(unsigned slot, bool exact) {
   const double moved = as_value(w[layout::RING_MOVED]);
   largest_speed_ = std::max(largest_speed_, as_value(w[layout::RING_SPEED]));
   if (generation_of_[slot] != generation_) return false;  // measured against an older detection
+  pool_seen_ = std::max<size_t>(pool_seen_, w[layout::RING_POOL]);
   if (w[layout::RING_JOINED] != 0) return true;                              // triangles joined the candidates
   const double margin = exact ? 0.0 : 2.0 * kSlots * largest_speed_ * dt_;
   return !(moved + margin <= half_skin_);                  // NaN: rebuild (the NaN check stops the run)
@@ -45,6 +47,15 @@ bool ContactSkin::decide_batch() {
   largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
   bool due = false;
   for (unsigned k = 0; k < kBatch; ++k) due = decide(batch_first_ + k, false) || due;
+  // The most history pool rows taken in one step (consecutive slots of this detection),
+  // the batch's own, like the speeds.
+  pool_rate_ = 0;
+  for (unsigned k = 1; k < kBatch; ++k) {
+    const unsigned a = batch_first_ + k - 1, b = batch_first_ + k;
+    if (generation_of_[a] != generation_ || generation_of_[b] != generation_) continue;
+    const cl_uint before = host_[layout::RING_WORDS * a + layout::RING_POOL], after = host_[layout::RING_WORDS * b + layout::RING_POOL];
+    if (after > before) pool_rate_ = std::max<size_t>(pool_rate_, after - before);
+  }
   return due;
 }
 

@@ -39,6 +39,13 @@ class ContactSkin {
   compute::buffer& position_at_build() { return at_build_; }
   MonitorRing& ring() { return ring_; }
   long synchronous_checks() const { return synchronous_; }
+  // The most contact history pool rows taken that the ring has shown since the last
+  // mark() (word RING_POOL, written by ContactForces' clear kernel; up to kSlots − 1 steps
+  // late), for ContactForces::ensure_pool.
+  size_t pool_rows_seen() const { return pool_seen_; }
+  // The most rows taken in one step in the last batch read (consecutive slots), for the
+  // margin of ensure_pool.
+  size_t pool_rows_per_step() const { return pool_rate_; }
   // Positions at the last detection, the device ring and the host's view of it (the
   // decisions of the steps to come depend on all of them), for checkpoints. Waits.
   void save_state(StateWriter& out);
@@ -60,6 +67,8 @@ class ContactSkin {
   std::array<long, kSlots> generation_of_{};   // mark() count when the slot was measured
   long generation_ = 0;
   double largest_speed_ = 0;                   // from the latest test read [m/s]
+  size_t pool_seen_ = 0;                       // see pool_rows_seen()
+  size_t pool_rate_ = 0;                       // see pool_rows_per_step()
   long synchronous_ = 0;
 };
 
