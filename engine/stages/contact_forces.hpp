@@ -58,11 +58,15 @@ class ContactForces {
   // and grows to pool_grown(rows seen) when the rows taken come within half the headroom
   // of its end; otherwise it has as many rows as the list has couples.
   static MemoryPlan pool_arrays(size_t rows);
+  // Generous on purpose: a pool that fills stops the run (no exact rerun), so the margin
+  // (half the headroom, a quarter of the TRI3 count) must cover any burst of new touching
+  // couples within the ring's lag: a quarter of all triangles' worth in 7 steps. About
+  // 80 B per TRI3; the rows of a full couple list cost about 800.
   static size_t pool_headroom(size_t triangles) {
-    return pool_sizing().headroom ? pool_sizing().headroom : std::max<size_t>(1024, triangles / 8);
+    return pool_sizing().headroom ? pool_sizing().headroom : std::max<size_t>(1024, triangles / 2);
   }
   static size_t pool_first(size_t triangles) {
-    return pool_sizing().first ? pool_sizing().first : std::max<size_t>(2048, triangles / 4);
+    return pool_sizing().first ? pool_sizing().first : std::max<size_t>(2048, triangles / 2);
   }
   // Other first rows and headroom than the defaults above (0: the default), for tests
   // that make the pool grow or fill on small models; plan() follows them.
