@@ -129,14 +129,15 @@ std::string ClContext::description() const {
   return out.str();
 }
 
-compute::program ClContext::build(const KernelSource& stage,
-                                  const std::map<std::string, std::string>& defines) const {
+compute::program ClContext::build(const KernelSource& stage, const std::map<std::string, std::string>& defines,
+                                  const std::vector<const KernelSource*>& libraries) const {
   std::ostringstream text;
   text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
   for (const auto& [name, value] : layout::defines()) text << "#define " << name << " " << value << "\n";
   text << kernel_source::common.text << "\n";
   for (const auto& [name, value] : defines) text << "#define " << name << " " << value << "\n";
+  for (const KernelSource* library : libraries) text << "// library: " << library->stage << "\n#line 1\n" << library->text << "\n";
   text << "#line 1\n" << stage.text;
 
   compute::program program;

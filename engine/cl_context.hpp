@@ -50,9 +50,11 @@ class ClContext {
 
   // Compiles a stage's program (kernel_source::integrate, …: one symbol per file of
   // cl_kernels/) with the layouts of engine/layouts.hpp and extra defines (name → value).
-  // Throws BuildError carrying the stage name and the build log.
-  compute::program build(const KernelSource& stage,
-                         const std::map<std::string, std::string>& defines = {}) const;
+  // `libraries`: files of shared functions (e.g. kernel_source::couple_geometry) placed
+  // ahead of the stage's own text, after the defines. Throws BuildError carrying the
+  // stage name and the build log.
+  compute::program build(const KernelSource& stage, const std::map<std::string, std::string>& defines = {},
+                         const std::vector<const KernelSource*>& libraries = {}) const;
 
   // Work-group size used for 1D launches; global sizes are rounded up to it.
   std::size_t group_size() const { return group_size_; }

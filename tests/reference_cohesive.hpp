@@ -130,6 +130,19 @@ inline double held_energy(const Law& law, const PointState& st, double o, double
   return normal + shear + 0.5 * tau_f * tau_f / k_f;
 }
 
+// The friction element at one point: a stick spring k_f = P_tan / h on s - s_f, capped at
+// tanφ max(0, -σ); past the cap the slip s_f moves. Returns τ_f; updates s_f.
+inline double friction_element(const Law& law, PointState& st, double s, double sigma) {
+  const double k_f = 2.0 * law.cohesion / law.s_p;
+  const double cap = law.tan_phi * std::max(0.0, -sigma);
+  double tf = k_f * (s - st.slip_f);
+  if (std::fabs(tf) > cap) {
+    tf = tf > 0 ? cap : -cap;
+    st.slip_f = s - tf / k_f;
+  }
+  return tf;
+}
+
 // Tractions at one point given its (already updated) damage state; updates the friction
 // element's slip. Shear = cohesive part (Eqs. 5 and 14 with strength f c) + friction part
 // (stick spring k_f = P_tan / h on s - s_f, capped at tanφ max(0, -σ)).
@@ -161,15 +174,8 @@ inline void tractions(const Law& law, PointState& st, double o, double s, PointR
     magnitude = strength * q * (2.0 - q);
   }
   r.tau_c = s < 0 ? -magnitude : magnitude;
-  const double k_f = 2.0 * law.cohesion / law.s_p;
-  const double cap = law.tan_phi * std::max(0.0, -r.sigma);
-  double tf = k_f * (s - st.slip_f);
-  if (std::fabs(tf) > cap) {
-    tf = tf > 0 ? cap : -cap;
-    st.slip_f = s - tf / k_f;
-  }
-  r.tau_f = tf;
-  r.tau = r.tau_c + tf;
+  r.tau_f = friction_element(law, st, s, r.sigma);
+  r.tau = r.tau_c + r.tau_f;
 }
 
 // A broken CE4 that is still closed: no strength (no tension, no cohesion), the
@@ -179,15 +185,8 @@ inline void closed_tractions(const Law& law, PointState& st, double o, double s,
   r.normal_unloading = r.shear_unloading = r.softening = false;
   r.sigma = o < 0 ? o / law.o_overlap * 2.0 * law.tensile : 0.0;
   r.tau_c = 0;
-  const double k_f = 2.0 * law.cohesion / law.s_p;
-  const double cap = law.tan_phi * std::max(0.0, -r.sigma);
-  double tf = k_f * (s - st.slip_f);
-  if (std::fabs(tf) > cap) {
-    tf = tf > 0 ? cap : -cap;
-    st.slip_f = s - tf / k_f;
-  }
-  r.tau_f = tf;
-  r.tau = tf;
+  r.tau_f = friction_element(law, st, s, r.sigma);
+  r.tau = r.tau_f;
 }
 
 // What a closed CE4's point holds: the compression branch and the friction element.

@@ -109,16 +109,20 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
   }
 }
 
-// fdem bench's model (UCS, activation "all", skin 0.15 h_ave; cases/ucs) at about 7k TRI3:
+// fdem bench's model (UCS, activation "all", skin 0.15 h_ave; cases/ucs) at about 7k TRI3.
+static PreparedCase bench_model(const test::TempDir& dir) {
+  return prepare_case(test::source_path("cases/ucs/case.toml"),
+                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10", "contact.activation=\"all\"",
+                       "contact.rebuild=\"skin\"", "output.dir=\"" + dir.str() + "\""});
+}
+
+// The bench model:
 // what `fdem check` and the too-little-memory refusal say it needs (Solver::bytes_needed)
 // must be what it holds once running, within 10% either way (issue 13: the contact
 // history pool, sized from the touching couples, and the lists grown to the couples met).
 TEST_CASE("memory plan: the bench model's planned bytes match what it holds after 60 steps within 10%") {
   test::TempDir dir;
-  const PreparedCase p = prepare_case(test::source_path("cases/ucs/case.toml"),
-                                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10",
-                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
-                                       "output.dir=\"" + dir.str() + "\""});
+  const PreparedCase p = bench_model(dir);
   ClContext& cl = test::context();
   const size_t needed = Solver::bytes_needed(p.model, cl.group_size());
   const size_t before = settled_bytes(cl);
@@ -143,10 +147,7 @@ TEST_CASE("memory plan: the bench model's planned bytes match what it holds afte
 // that touch stops the run with a NumericalError at the next check.
 TEST_CASE("contact history pool: growing it during the run changes nothing; a full one stops the run") {
   test::TempDir dir;
-  const PreparedCase p = prepare_case(test::source_path("cases/ucs/case.toml"),
-                                      {"mesh.size=1.5e-3", "contact.skin=2.25e-4", "time.dt=5e-10",
-                                       "contact.activation=\"all\"", "contact.rebuild=\"skin\"",
-                                       "output.dir=\"" + dir.str() + "\""});
+  const PreparedCase p = bench_model(dir);
   ClContext& cl = test::context();
   struct Outcome {
     std::vector<real2> x, v, f;

@@ -112,7 +112,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     defines["NO_BOND"] = std::to_string(kNoBond) + "u";
   }
   if (fans) defines["CORNER_FANS"] = "1";
-  const auto program = cl.build(kernel_source::contact_forces, defines);
+  const auto program = cl.build(kernel_source::contact_forces, defines, {&kernel_source::couple_geometry});
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
