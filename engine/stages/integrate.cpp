@@ -30,6 +30,8 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
   node_energy_ = arrays.allocate(cl, "integrate node_energy");
+  // Written on energy rows only: zero until the first, so a total read before it is 0.
+  upload(cl, node_energy_, std::vector<real4>(std::max<size_t>(1, count_)));
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(

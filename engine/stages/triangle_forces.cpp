@@ -27,6 +27,9 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
   upload(cl, viscous_stress_, std::vector<real4>(viscous_ ? std::max<size_t>(1, count_) : 1));
   triangle_energy_ = arrays.allocate(cl, "triangle energy");
+  // Written on energy rows only: zero until the first, so a total read before it is 0
+  // (uninitialised device memory gave a viscous total of -4e252 J in the energy suite).
+  upload(cl, triangle_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
   KernelArgs args(kernel_);
   args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
       "tri_material", a.tri_material)("materials", a.materials)("position", a.position)("velocity", a.velocity)(
