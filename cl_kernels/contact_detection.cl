@@ -193,9 +193,16 @@ __kernel void find_couples(const uint n_triangles,
 #ifdef BONDED_PAIRS
                            , __global const uint* restrict bond_partners
 #endif
+#ifdef OWNED_FIRST
+                           , __global const uchar* restrict owned_first
+#endif
                            ) {
   const uint i = get_global_id(0);
   if (i >= n_triangles) return;
+#ifdef OWNED_FIRST
+  // A split run: this rank lists only the couples whose lower triangle it owns.
+  if (owned_first[i] == 0) return;
+#endif
 #ifdef BONDED_PAIRS
   const uint p0 = bond_partners[3 * i], p1 = bond_partners[3 * i + 1], p2 = bond_partners[3 * i + 2];
   const bool i_active = active[i] != 0;

@@ -29,3 +29,34 @@ __kernel void halo_unpack(const uint n,
   position[i] = p.xy;
   velocity[i] = p.zw;
 }
+
+#ifdef HALO_CONTACT
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+// Contact in a split run (HaloExchange::exchange_contact): the fixed-point contact force
+// (contact_acc, two longs per node) that this rank's couples put on its ghost nodes goes
+// to their owners. One work-item per ghost node k sent: copies local node index[k]'s.
+__kernel void halo_contact_pack(const uint n,
+                                __global const uint* restrict index,
+                                __global const long* restrict contact_acc,
+                                __global long2* restrict packed) {
+  const uint k = get_global_id(0);
+  if (k >= n) return;
+  const uint i = index[k];
+  packed[k] = (long2)(contact_acc[2 * i], contact_acc[2 * i + 1]);
+}
+
+// One work-item per owned node k received from a peer: adds packed[k] to local node
+// index[k]'s. A node held by several peers is in several peers' lists, so the additions
+// are integer atomics (exact, and their order does not matter).
+__kernel void halo_contact_add(const uint n,
+                               __global const uint* restrict index,
+                               __global const long2* restrict packed,
+                               volatile __global long* contact_acc) {
+  const uint k = get_global_id(0);
+  if (k >= n) return;
+  const uint i = index[k];
+  const long2 f = packed[k];
+  if (f.x != 0) atom_add(&contact_acc[2 * i], f.x);
+  if (f.y != 0) atom_add(&contact_acc[2 * i + 1], f.y);
+}
+#endif

@@ -48,6 +48,9 @@ __kernel void integrate(const uint n_nodes,
 #if SKIN_TEST
                         __global const real2* restrict position_at_build,
                         __global uint* restrict monitor,
+#if SKIN_OWNED
+                        __global const uchar* restrict node_owned,
+#endif
                         const uint slot,
                         const uint next_slot,
 #endif
@@ -122,8 +125,14 @@ __kernel void integrate(const uint n_nodes,
     position[i] = x;
 #if SKIN_TEST
     // NaN bits compare above +inf as uint: a NaN node forces a rebuild (and the run's NaN check stops it).
-    my_moved = as_uint((float)length(x - position_at_build[i]));
-    my_speed = as_uint((float)length(v));
+#if SKIN_OWNED
+    if (node_owned[i] != 0) {  // a split run: ghosts' moves are their owners' to report
+#else
+    {
+#endif
+      my_moved = as_uint((float)length(x - position_at_build[i]));
+      my_speed = as_uint((float)length(v));
+    }
 #endif
   }
   // Energy sums: the flags are the same for every work-item, so no barrier is skipped by some only.

@@ -1,6 +1,8 @@
 #include "engine/halo.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <map>
 #include <string>
 
 #include "engine/kernel_args.hpp"
@@ -45,23 +47,28 @@ std::vector<cl_uint> concatenated(const std::vector<std::vector<int>>& lists) {
 }
 }  // namespace
 
-MemoryPlan HaloExchange::memory(const HaloPlan& plan) {
+MemoryPlan HaloExchange::memory(const HaloPlan& plan, bool contact) {
   const size_t sent = std::max<size_t>(1, plan.sent()), received = std::max<size_t>(1, plan.received());
-  return MemoryPlan()
-      .add("halo send_index", sent * sizeof(cl_uint))
+  MemoryPlan p;
+  p.add("halo send_index", sent * sizeof(cl_uint))
       .add("halo receive_index", received * sizeof(cl_uint))
       .add("halo send_values", sent * sizeof(real4))
       .add("halo receive_values", received * sizeof(real4));
+  // Contact forces travel the other way: out of the ghosts, into the owned nodes.
+  if (contact) p.add("halo contact_out", received * sizeof(cl_long2)).add("halo contact_in", sent * sizeof(cl_long2));
+  return p;
 }
 
-HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport)
+HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport, bool contact)
     : cl_(cl), arrays_(arrays), plan_(std::move(plan)), transport_(transport), sent_(plan_.sent()),
-      received_(plan_.received()) {
-  const auto program = cl.build(kernel_source::halo);
+      received_(plan_.received()), contact_(contact) {
+  std::map<std::string, std::string> defines;
+  if (contact_) defines["HALO_CONTACT"] = "1";
+  const auto program = cl.build(kernel_source::halo, defines);
   pack_ = compute::kernel(program, "halo_pack");
   unpack_ = compute::kernel(program, "halo_unpack");
   const auto send_index = concatenated(plan_.send), receive_index = concatenated(plan_.receive);
-  const MemoryPlan own = memory(plan_);
+  const MemoryPlan own = memory(plan_, contact_);
   send_index_ = own.allocate(cl, "halo send_index");
   receive_index_ = own.allocate(cl, "halo receive_index");
   upload(cl, send_index_, send_index);
@@ -74,6 +81,57 @@ HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, T
       "velocity", arrays.velocity)("packed", send_values_).done();
   bind_args(unpack_)("n", static_cast<cl_uint>(received_))("index", receive_index_)("packed", receive_values_)(
       "position", arrays.position)("velocity", arrays.velocity).done();
+  if (contact_) {
+    contact_pack_ = compute::kernel(program, "halo_contact_pack");
+    contact_add_ = compute::kernel(program, "halo_contact_add");
+    contact_out_ = own.allocate(cl, "halo contact_out");
+    contact_in_ = own.allocate(cl, "halo contact_in");
+    contact_out_host_.resize(received_);
+    contact_in_host_.resize(sent_);
+    bind_args(contact_pack_)("n", static_cast<cl_uint>(received_))("index", receive_index_)(
+        "contact_acc", arrays.contact_acc)("packed", contact_out_).done();
+    bind_args(contact_add_)("n", static_cast<cl_uint>(sent_))("index", send_index_)("packed", contact_in_)(
+        "contact_acc", arrays.contact_acc).done();
+  }
+}
+
+void HaloExchange::exchange_contact() {
+  if (!contact_) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (received_) {
+    cl_.enqueue(contact_pack_, received_);
+    cl_.queue().enqueue_read_buffer(contact_out_, 0, received_ * sizeof(cl_long2), contact_out_host_.data());
+  }
+  size_t at = 0;
+  for (size_t q = 0; q < plan_.receive.size(); ++q) {
+    const size_t n = plan_.receive[q].size();
+    if (n)
+      transport_.post(static_cast<int>(q), to_bytes(std::vector<cl_long2>(contact_out_host_.begin() + at,
+                                                                           contact_out_host_.begin() + at + n)));
+    at += n;
+  }
+  at = 0;
+  for (size_t q = 0; q < plan_.send.size(); ++q) {
+    const size_t n = plan_.send[q].size();
+    if (!n) continue;
+    const auto values = from_bytes<cl_long2>(transport_.receive(static_cast<int>(q)));
+    if (values.size() != n)
+      throw DeviceError("contact halo exchange: rank " + std::to_string(transport_.rank()) + " expected " +
+                        std::to_string(n) + " nodes' contact forces from rank " + std::to_string(q) + " and got " +
+                        std::to_string(values.size()));
+    std::copy(values.begin(), values.end(), contact_in_host_.begin() + at);
+    at += n;
+  }
+  transport_.complete();
+  if (sent_) {
+    cl_.queue().enqueue_write_buffer(contact_in_, 0, sent_ * sizeof(cl_long2), contact_in_host_.data());
+    cl_.enqueue(contact_add_, sent_);
+  }
+  if (cl_.profiling()) {
+    cl_.finish();
+    cl_.add_host_time("contact halo exchange (host wall: pack, read, messages, write, add)",
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
 }
 
 void HaloExchange::exchange() {

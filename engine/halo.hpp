@@ -28,9 +28,10 @@ HaloPlan halo_plan(const Model& global, const Partition& partition, const LocalM
 
 class HaloExchange {
  public:
-  HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport);
+  // contact: the model has contact (exchange_contact).
+  HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, Transport& transport, bool contact = false);
   // The device arrays of the exchange of `plan` (index lists and packed values).
-  static MemoryPlan memory(const HaloPlan& plan);
+  static MemoryPlan memory(const HaloPlan& plan, bool contact = false);
   // Packs the sent nodes on the device, reads them (waits for the queue) and posts them.
   void send();
   // Receives every peer's values and writes them into the ghost nodes (enqueued; the
@@ -39,6 +40,12 @@ class HaloExchange {
   // send() then receive(). With profiling, the step is finished first and the exchange
   // timed alone ("halo exchange" in the profile).
   void exchange();
+  // Contact (a split run whose model has contact): the fixed-point contact forces the
+  // couples of this rank put on its ghost nodes go to their owners, which add them
+  // (integers: the sum is exact and does not depend on the order, so an owned node ends
+  // with one rank's total). The same lists as exchange(), travelled the other way. Waits
+  // for the queue (the contact stage), then enqueues the additions.
+  void exchange_contact();
   const HaloPlan& plan() const { return plan_; }
 
  private:
@@ -47,9 +54,11 @@ class HaloExchange {
   HaloPlan plan_;
   Transport& transport_;
   size_t sent_ = 0, received_ = 0;
-  compute::kernel pack_, unpack_;
-  compute::buffer send_index_, receive_index_, send_values_, receive_values_;
+  compute::kernel pack_, unpack_, contact_pack_, contact_add_;
+  compute::buffer send_index_, receive_index_, send_values_, receive_values_, contact_out_, contact_in_;
   std::vector<real4> send_host_, receive_host_;
+  std::vector<cl_long2> contact_out_host_, contact_in_host_;
+  bool contact_ = false;
 };
 
 }  // namespace fdem

@@ -1,6 +1,7 @@
 // fdem: the command-line front end. Library code throws typed errors; this file alone
 // turns them into messages and exit codes (0 done, 2 bad input, 3 numerical failure,
 // 4 device error, 5 output error, 75 stopped cleanly with a checkpoint to resume from).
+#include <cmath>
 #include <unistd.h>
 
 #include <algorithm>
@@ -35,7 +36,8 @@ namespace {
 const char* kUsage =
     "usage:\n"
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
-    "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection]   (one model over N ranks)\n"
+    "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection] [--contact-travel M]\n"
+    "                                                         (one model over N ranks)\n"
     "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
     "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]] [--memory]\n"
     "  fdem check CHECKPOINT.ckpt\n"
@@ -55,6 +57,7 @@ struct Arguments {
   double max_wall = 0;
   int ranks = 0;                  // fdem check --ranks N: print the partition over N ranks
   std::string partition;          // "metis" or "bisection"; empty: metis when built with it
+  double contact_travel = 0;      // mpirun ... --contact-travel D: how far a node may move (split runs with contact)
   bool memory = false;            // fdem check --memory: the device memory plan, array by array
   fdem::BenchOptions bench;
 };
@@ -103,6 +106,15 @@ Arguments parse(int argc, char** argv) {
         if (used != v.size() || a.ranks < 1) throw std::invalid_argument(v);
       } catch (const std::exception&) {
         throw fdem::InputError("--ranks needs a whole number of ranks, 1 or more, not '" + v + "'");
+      }
+    } else if (arg == "--contact-travel") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        a.contact_travel = std::stod(v, &used);
+        if (used != v.size() || !(a.contact_travel > 0) || !std::isfinite(a.contact_travel)) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--contact-travel needs a length in metres above 0, not '" + v + "'");
       }
     } else if (arg == "--partition") {
       a.partition = value(arg);
@@ -195,7 +207,10 @@ void print_partition(const Arguments& a, const fdem::Model& m) {
                                      ? PartitionMethod::Bisection
                                      : PartitionMethod::Metis;
   const auto partition = fdem::partition_model(m, a.ranks, method);
-  const double reach = m.contact.enabled ? m.contact.skin : 0.0;
+  // The contact ghosts a split run holds (engine/scale_out.hpp).
+  const double reach = m.contact.enabled ? fdem::contact_ghost_reach(m, a.contact_travel > 0 ? a.contact_travel
+                                                                                             : fdem::default_contact_travel(m))
+                                         : 0.0;
   const auto stats = fdem::partition_stats(m, partition, reach);
   std::cout << "partition " << a.ranks << " ranks by " << fdem::partition_method_name(method)
             << " (work weights: TRI3 4, CE4 5 a side, contact candidate 100)\n"
@@ -425,6 +440,7 @@ int split_run_command(const Arguments& a) {
   options.info = &out;
   options.transport = &t;
   options.partition = partition_method(a);
+  options.contact_travel = a.contact_travel;
   options.stop = &g_stop;  // mpirun passes SIGTERM and SIGINT on to the ranks
   for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
   const auto s = fdem::run_case(*p, *cl, out, false, options);
@@ -441,8 +457,10 @@ int split_run_command(const Arguments& a) {
       << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error << " (worst "
       << s.worst_energy_error << ")\n"
       << "wrote " << p->exodus_path << " (" << s.frames << " frames), " << p->history_path
-      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path) << " and "
-      << s.checkpoint << " (the whole model's: it continues at any number of ranks)\n" << std::defaultfloat;
+      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path)
+      << (s.checkpoint.empty() ? std::string(" (no checkpoint: a split run with contact writes none yet)")
+                               : " and " + s.checkpoint + " (the whole model's: it continues at any number of ranks)")
+      << "\n" << std::defaultfloat;
   if (a.profile) {
     // Every rank's profile, printed by rank 0 in rank order.
     cl->collect_profile();

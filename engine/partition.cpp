@@ -1,6 +1,8 @@
 #include "engine/partition.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 #include "base/errors.hpp"
@@ -283,6 +285,45 @@ double partition_imbalance(const std::vector<PartStats>& stats) {
 }
 
 namespace {
+// The triangles whose reference bounding box lies within `reach` of the box of a
+// `selected` triangle (the selected ones included), through a uniform grid of cells as
+// large as the largest box plus the reach.
+std::vector<char> within_reach(const Model& model, double reach, const std::vector<char>& selected) {
+  const size_t n = model.num_triangles();
+  std::vector<double> x0(n), y0(n), x1(n), y1(n);
+  double extent = 0, gx = 1e300, gy = 1e300;
+  for (size_t t = 0; t < n; ++t) {
+    const auto& v = model.triangles[t];
+    x0[t] = std::min({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+    x1[t] = std::max({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+    y0[t] = std::min({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+    y1[t] = std::max({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+    extent = std::max({extent, x1[t] - x0[t], y1[t] - y0[t]});
+    gx = std::min(gx, x0[t]), gy = std::min(gy, y0[t]);
+  }
+  const double cell = std::max(extent + reach, 1e-300);
+  auto cell_of = [&](double x, double y) {
+    return std::pair<int64_t, int64_t>{static_cast<int64_t>((x - gx) / cell), static_cast<int64_t>((y - gy) / cell)};
+  };
+  std::map<std::pair<int64_t, int64_t>, std::vector<int>> grid;  // cell of a box's lower corner → triangles
+  for (size_t t = 0; t < n; ++t) grid[cell_of(x0[t], y0[t])].push_back(static_cast<int>(t));
+  std::vector<char> out(selected);
+  for (size_t t = 0; t < n; ++t) {
+    if (!selected[t]) continue;
+    const auto [i, j] = cell_of(x0[t], y0[t]);
+    for (int64_t di = -1; di <= 1; ++di)
+      for (int64_t dj = -1; dj <= 1; ++dj) {
+        const auto it = grid.find({i + di, j + dj});
+        if (it == grid.end()) continue;
+        for (int u : it->second)
+          if (!out[u] && x0[u] <= x1[t] + reach && x1[u] >= x0[t] - reach && y0[u] <= y1[t] + reach &&
+              y1[u] >= y0[t] - reach)
+            out[u] = 1;
+      }
+  }
+  return out;
+}
+
 // The triangles, CE4s and nodes `rank` holds (see partition.hpp).
 struct Held {
   std::vector<char> tri, ce4, node;
@@ -304,6 +345,14 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
       h.ce4[c] = 1;
       h.tri[g.ce4_triangles[c][0]] = h.tri[g.ce4_triangles[c][1]] = 1;
     }
+  if (g.contact.enabled && partition.contact_reach > 0) {
+    // Contact ghosts: every triangle within reach of an owned one (the lower triangle of a
+    // couple is computed by its owner, which must hold the other).
+    std::vector<char> owned(g.num_triangles(), 0);
+    for (size_t t = 0; t < g.num_triangles(); ++t) owned[t] = part[t] == rank;
+    const auto near = within_reach(g, partition.contact_reach, owned);
+    for (size_t t = 0; t < g.num_triangles(); ++t) h.tri[t] = h.tri[t] || near[t];
+  }
   for (size_t t = 0; t < g.num_triangles(); ++t)
     if (h.tri[t])
       for (int v : g.triangles[t]) h.node[v] = 1;
@@ -319,8 +368,11 @@ std::vector<char> held_nodes(const Model& model, const Partition& partition, con
 }
 
 LocalModel local_model(const Model& g, const Partition& partition, int rank) {
-  if (g.contact.enabled)
-    throw InputError("a model with contact cannot be split over ranks yet (its contact ghosts and couples are not built)");
+  if (g.contact.enabled && !g.ce4.empty())
+    throw InputError("a model with contact and CE4s (fracturable materials) cannot be split over ranks yet (the CE4 "
+                     "and corner-fan states contact reads are not kept on contact ghosts)");
+  if (g.contact.enabled && !(partition.contact_reach > 0))
+    throw InputError("a split model with contact needs a contact reach (Partition::contact_reach)");
   if (rank < 0 || rank >= partition.parts) throw InputError("rank " + std::to_string(rank) + " is not one of the partition's");
   const auto owner = node_owners(g, partition);
   const Held h = held(g, partition, owner, rank);
@@ -352,6 +404,18 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
   m.local_damping = g.local_damping;
   m.mass_scaling = g.mass_scaling;
   m.contact = g.contact;
+  if (g.contact.enabled) {
+    double longest = 0, reach = 0;
+    for (const auto& tri : g.triangles)
+      for (int e = 0; e < 3; ++e) {
+        const int p = tri[e], q = tri[(e + 1) % 3];
+        longest = std::max(longest, std::hypot(g.x[q] - g.x[p], g.y[q] - g.y[p]));
+      }
+    for (size_t i = 0; i < g.num_nodes(); ++i) reach = std::max({reach, std::fabs(g.x[i]), std::fabs(g.y[i])});
+    m.whole_longest_edge = std::max(longest, 1e-300);
+    m.whole_reach = reach;
+    for (int v : l.node_global) m.node_owned.push_back(owner[v] == rank ? 1 : 0);
+  }
   // Triangles stay grouped by material: a filtered global order is still in blocks.
   m.block_start.assign(g.materials.size() + 1, 0);
   for (size_t t = 0; t < g.num_triangles(); ++t)
@@ -363,6 +427,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.triangle_tags.push_back(g.triangle_tags[t]);
       if (!g.triangle_fracturable.empty()) m.triangle_fracturable.push_back(g.triangle_fracturable[t]);
       if (!g.contact_active.empty()) m.contact_active.push_back(g.contact_active[t]);
+      if (g.contact.enabled) m.triangle_owned.push_back(partition.triangle_part[t] == rank ? 1 : 0);
       ++m.block_start[g.triangle_material[t] + 1];
     }
   for (size_t k = 1; k < m.block_start.size(); ++k) m.block_start[k] += m.block_start[k - 1];

@@ -35,6 +35,11 @@ struct Partition {
   int parts = 1;
   PartitionMethod method = PartitionMethod::Bisection;
   std::vector<int> triangle_part;  // one per triangle
+  // A split run with contact: how far [m] beyond a triangle's reference bounding box
+  // the triangles it may meet in contact lie (ghost_reach in engine/scale_out.cpp: the
+  // skin plus twice the travel a node may make from its start). Its rank holds all of
+  // them (contact ghosts). 0: no contact ghosts.
+  double contact_reach = 0;
 };
 
 // Splits the triangles into `parts` parts of about equal work. Metis: METIS's k-way
@@ -82,8 +87,11 @@ struct LocalModel {
   std::vector<int> ghost_nodes;                               // local indices of nodes owned elsewhere
 };
 
-// Throws InputError for a model with contact (its ghosts, detection and couples are not
-// built yet: ARCHITECTURE.md, "Scale-out").
+// With contact (partition.contact_reach > 0) the rank also holds every triangle within
+// that reach of one it owns (contact ghosts) and their nodes, and the local model carries
+// its owned masks and the whole model's contact scales (Model::triangle_owned). Throws
+// InputError for contact together with CE4s (the CE4 and corner-fan states contact reads
+// are not kept on contact ghosts).
 LocalModel local_model(const Model& model, const Partition& partition, int rank);
 
 }  // namespace fdem

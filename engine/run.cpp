@@ -86,6 +86,7 @@ FrameData read_frame(const Model& model, Solver& solver, SplitRun* split, bool s
     f.x = split->gather(ItemKind::Node, solver.positions());
     f.v = split->gather(ItemKind::Node, solver.velocities());
     f.stress = split->gather(ItemKind::Triangle, solver.stresses());
+    if (model.contact.enabled) f.contact_force = split->gather(ItemKind::Node, solver.contact_forces());
   }
   if (!model.ce4.empty()) {
     auto& ce4 = *solver.cohesive();
@@ -192,11 +193,16 @@ std::string describe_failure(const Model& model, const Conditions& c) {
 }
 
 // What a split run (N > 1 ranks) does not do yet: one message naming it, exit 2.
-void refuse_split(const PreparedCase& p, int ranks) {
+void refuse_split(const PreparedCase& p, int ranks, const RunOptions& options) {
   const std::string head = p.config.path + ": this run is split over " + std::to_string(ranks) + " ranks, and ";
-  if (p.model.contact.enabled)
-    throw InputError(head + "[contact] cannot run over several ranks yet (contact ghost triangles within the skin, "
-                            "global detection and couples owned by one rank are not built): run it as one process");
+  if (p.model.contact.enabled && !p.model.ce4.empty())
+    throw InputError(head + "[contact] together with fracturable materials (CE4s) cannot run over several ranks yet "
+                            "(the CE4 and corner-fan states that contact reads are not kept on contact ghosts): run it "
+                            "as one process");
+  if (p.model.contact.enabled && (!options.restart.empty() || p.config.output.checkpoint_every > 0 || options.max_wall > 0))
+    throw InputError(head + "a [contact] run over several ranks cannot write or continue from checkpoints yet (the "
+                            "couple list is not gathered): run it as one process, or without output.checkpoint_every, "
+                            "--restart and --max-wall");
 }
 
 }  // namespace
@@ -271,9 +277,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   if (transport) {
     std::exception_ptr failure;
     try {
-      refuse_split(p, transport->size());
+      refuse_split(p, transport->size(), options);
       make_output_dir();
-      split = std::make_unique<SplitRun>(model, *transport, options.partition);
+      split = std::make_unique<SplitRun>(model, *transport, options.partition, options.contact_travel);
       solver_holder = std::make_unique<Solver>(cl, split->local_model(), p.dt);
       split->attach(cl, *solver_holder);
     } catch (...) {
@@ -426,7 +432,11 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   };
 
   const std::string ckpt_path = checkpoint_path(p);
+  // A split run with contact writes none (its couple list is not gathered; refuse_split
+  // refuses what would need one).
+  const bool checkpoints = !(split && model.contact.enabled);
   auto write_checkpoint = [&]() {
+    if (!checkpoints) return;
     const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
     if (split) record_breaks();  // the whole catalogue up to now, for the file's break log

@@ -61,6 +61,9 @@ struct RunOptions {
   // calls run_case with the same case), partitioned by `partition`. Rank 0 writes the files.
   Transport* transport = nullptr;
   PartitionMethod partition = PartitionMethod::Bisection;
+  // A split run with contact: how far [m] a node may move from its start (its contact
+  // ghosts; SplitRun). 0: default_contact_travel.
+  double contact_travel = 0;
 };
 
 // OUT/NAME.ckpt: where a case's checkpoints go.

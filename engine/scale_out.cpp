@@ -4,16 +4,29 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <numeric>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
+#include "engine/layouts.hpp"
 
 namespace fdem {
 
-SplitRun::SplitRun(const Model& global, Transport& transport, PartitionMethod method)
+double default_contact_travel(const Model& model) { return 10.0 * model.contact.skin; }
+
+double contact_ghost_reach(const Model& model, double travel) {
+  return (model.contact.skin + 2.0 * travel) * (1.0 + 1e-6) + 1e-300;
+}
+
+SplitRun::SplitRun(const Model& global, Transport& transport, PartitionMethod method, double travel)
     : transport_(transport), global_(global) {
   partition_ = partition_model(global, transport.size(), method);
+  if (global.contact.enabled) {
+    travel_ = travel > 0 ? travel : default_contact_travel(global);
+    partition_.contact_reach = contact_ghost_reach(global, travel_);
+  }
   local_ = fdem::local_model(global, partition_, transport.rank());
   const int rank = transport.rank();
   const auto owner = node_owners(global, partition_);
@@ -35,9 +48,55 @@ SplitRun::SplitRun(const Model& global, Transport& transport, PartitionMethod me
 }
 
 void SplitRun::attach(ClContext& cl, Solver& solver) {
+  const bool contact = global_.contact.enabled;
   halo_ = std::make_unique<HaloExchange>(cl, solver.arrays(), halo_plan(global_, partition_, local_, transport_.rank()),
-                                         transport_);
+                                         transport_, contact);
   solver.set_scope(&scope_);
+  if (!contact) return;
+  // Contact: each couple is listed by the owner of its lower triangle (the detection's
+  // owned mask, Model::triangle_owned); its forces on nodes owned elsewhere travel to them
+  // before the gather; the skin readings are the largest over the ranks, so every rank
+  // detects at the same steps as one rank does.
+  solver.set_split_hooks([this, &solver] { check_travel(solver); }, [this] { halo_->exchange_contact(); });
+  if (ContactSkin* skin = solver.skin()) {
+    skin->set_reduce([this](cl_uint* words, unsigned count) {
+      constexpr int kept = 3;  // RING_MOVED, RING_SPEED, RING_JOINED (the pool word is each rank's)
+      static_assert(layout::RING_MOVED < kept && layout::RING_SPEED < kept && layout::RING_JOINED < kept, "ring layout");
+      std::vector<cl_uint> mine;
+      for (unsigned s = 0; s < count; ++s)
+        for (int w = 0; w < kept; ++w) mine.push_back(words[layout::RING_WORDS * s + w]);
+      const auto all = transport_.gather(to_bytes(mine));
+      std::vector<cl_uint> largest(mine.size(), 0);
+      for (const auto& b : all) {
+        const auto v = from_bytes<cl_uint>(b);
+        for (size_t k = 0; k < largest.size(); ++k) largest[k] = std::max(largest[k], v[k]);
+      }
+      largest = from_bytes<cl_uint>(transport_.broadcast(to_bytes(largest)));
+      for (unsigned s = 0; s < count; ++s)
+        for (int w = 0; w < kept; ++w) words[layout::RING_WORDS * s + w] = largest[kept * s + w];
+    });
+  }
+}
+
+void SplitRun::check_travel(Solver& solver) {
+  const auto x = solver.positions();
+  const Model& m = local_.model;
+  const auto& owned = scope_.owned[static_cast<int>(ItemKind::Node)];
+  double moved = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    if (owned[i]) moved = std::max({moved, std::fabs(double(x[i].x) - m.x[i]), std::fabs(double(x[i].y) - m.y[i])});
+  if (!(moved <= travel_)) moved = std::numeric_limits<double>::infinity();  // NaN too
+  int64_t bits;
+  std::memcpy(&bits, &moved, sizeof bits);  // non-negative doubles order as their bits
+  const int64_t largest_bits = transport_.max(bits);
+  double largest;
+  std::memcpy(&largest, &largest_bits, sizeof largest);
+  if (largest <= travel_) return;
+  failure_agreed() = true;  // every rank stops here with the same message
+  throw InputError("step " + std::to_string(solver.steps_done()) + ": a node has moved more than " +
+                   format_number(travel_) + " m from its start (in x or y), the contact travel of this split run: "
+                   "its contact ghost triangles no longer cover every couple. Rerun with a larger --contact-travel "
+                   "(each rank then holds more ghosts) or as one process");
 }
 
 Conditions SplitRun::conditions(Solver& solver) {

@@ -27,15 +27,21 @@ class SplitRun {
  public:
   // Partitions `global` (the whole model, the same on every rank) and builds this rank's
   // share. InputError when the model cannot be split (contact).
-  SplitRun(const Model& global, Transport& transport, PartitionMethod method);
+  // InputError when the model cannot be split (contact with CE4s). With contact, every
+  // rank holds the triangles within contact_ghost_reach(global, travel) of its own, and
+  // the run stops (InputError, on every rank at once) at a detection where some node has
+  // moved more than `travel` [m] from its start (0: default_contact_travel).
+  SplitRun(const Model& global, Transport& transport, PartitionMethod method, double travel = 0);
 
   Transport& transport() { return transport_; }
   bool root() const { return transport_.rank() == 0; }
   const Model& local_model() const { return local_.model; }
   const LocalModel& local() const { return local_; }
   const ItemScope& scope() const { return scope_; }
-  // Builds the exchange on the solver's arrays and gives the solver the item scope.
+  // Builds the exchange on the solver's arrays and gives the solver the item scope (and,
+  // with contact, the contact force exchange, the detection guard and the skin's reduction).
   void attach(ClContext& cl, Solver& solver);
+  double contact_travel() const { return travel_; }
   // The ghost exchange after a step.
   void exchange() { halo_->exchange(); }
 
@@ -89,7 +95,19 @@ class SplitRun {
   LocalModel local_;
   ItemScope scope_;
   std::unique_ptr<HaloExchange> halo_;
+  double travel_ = 0;
+  // At a detection (contact): the largest move of an owned node from its start, over all
+  // ranks; stops every rank when it exceeds travel_. Collective.
+  void check_travel(Solver& solver);
 };
+
+// Contact in a split run: how far a node may travel from its start before the contact
+// ghosts no longer cover every couple (default: 10 × the contact skin), and the reach of
+// the ghosts around a rank's triangles' reference boxes that this allows: the skin (two
+// boxes grown by skin/2 each) plus twice the travel (both triangles may move), with a
+// little room for rounding.
+double default_contact_travel(const Model& model);
+double contact_ghost_reach(const Model& model, double travel);
 
 // The pieces of the body from the CE4s' broken flags, on the host: per triangle the
 // smallest triangle index of its piece (triangles joined through shared nodes and intact

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "base/errors.hpp"
+#include "engine/transport.hpp"
 
 namespace fdem {
 
@@ -52,7 +53,8 @@ CohesiveModel cohesive_model(const Model& model) {
 std::unique_ptr<ContactDetection> Solver::build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
                                                           const Model& model) {
   if (!wanted) return nullptr;
-  auto detection = std::make_unique<ContactDetection>(cl, arrays, model.contact.skin, 0, detection_bonds(model));
+  auto detection = std::make_unique<ContactDetection>(cl, arrays, model.contact.skin, 0, detection_bonds(model),
+                                                      model.triangle_owned);
   if (!model.contact_active.empty()) detection->set_active(model.contact_active);
   return detection;
 }
@@ -80,9 +82,9 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());
-    plan.add(ContactDetection::plan(triangles, group_size, 0, !detection_bonds(model).empty()));
+    plan.add(ContactDetection::plan(triangles, group_size, 0, !detection_bonds(model).empty(), !model.triangle_owned.empty()));
   }
-  if (p.skin) plan.add(ContactSkin::plan(nodes));
+  if (p.skin) plan.add(ContactSkin::plan(nodes, !model.node_owned.empty()));
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size()));
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
@@ -158,7 +160,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       ring_(build_if(parts_.contact, [&] { return std::make_unique<MonitorRing>(cl); })),
       detection_(build_detection(parts_.contact, cl, arrays_, model)),
       skin_(build_if(parts_.skin,
-                     [&] { return std::make_unique<ContactSkin>(cl, arrays_, *ring_, model.contact.skin, dt); })),
+                     [&] { return std::make_unique<ContactSkin>(cl, arrays_, *ring_, model.contact.skin, dt, model.node_owned); })),
       activation_(build_if(parts_.activation,
                            [&] {
                              return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
@@ -183,6 +185,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     for (const auto& tri : model.triangles)
       for (int k = 0; k < 3; ++k)
         longest = std::max(longest, std::hypot(model.x[tri[(k + 1) % 3]] - model.x[tri[k]], model.y[tri[(k + 1) % 3]] - model.y[tri[k]]));
+    if (model.whole_longest_edge > 0) longest = model.whole_longest_edge, reach = model.whole_reach;  // a split run
     contact_round_off_ = model.contact.max_normal_penalty * model.thickness * std::numeric_limits<real>::epsilon() * reach *
                          3 * longest;
   }
@@ -230,6 +233,7 @@ void Solver::step(bool energy_row) {
     const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
     if (rebuild) {
       const auto start = std::chrono::steady_clock::now();
+      if (before_detection_) before_detection_();
       contact_->carry_before_detection();  // the detection rewrites the list the stage reads
       const size_t count = detection_->run();
       if (cl_.profiling())
@@ -246,6 +250,7 @@ void Solver::step(bool energy_row) {
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
   triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
+  if (contact_exchange_) contact_exchange_();
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);
@@ -281,7 +286,9 @@ EnergyTotals Solver::energy() {
     e.fracture += sum[0];
     e.cohesive_stored += sum[1];
   }
-  if (contact_) {
+  if (contact_ && scope_) {
+    add_split_contact_energy(e);
+  } else if (contact_) {
     // Each touching couple's potential is P_n t times areas whose vertices are known to
     // ε |x|: an error of about P_n t ε |x| (perimeter); independent errors add like √N.
     e.resolution += std::sqrt(double(contact_->touching())) * contact_round_off_;
@@ -293,6 +300,63 @@ EnergyTotals Solver::energy() {
     cl_.add_host_time("energy account (host wall: per-item reads and ordered sums, at history rows)",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return e;
+}
+
+void Solver::add_split_contact_energy(EnergyTotals& e) {
+  // Every rank lists the couples whose lower triangle it owns, each couple of the whole
+  // model exactly once. The fixed-point words and the counts are integers: their sums over
+  // the ranks are one rank's. The stored energy one rank sums per work-group of its list
+  // (contact_stored_partials, the tree of group_sum4) and then the groups in order in
+  // double: rank 0 merges every rank's (key, value) into the whole list's order and does
+  // the same on the host.
+  Transport& transport = *scope_->transport;
+  const auto& tri_global = scope_->global[static_cast<int>(ItemKind::Triangle)];
+  const auto keys = contact_->list_keys();
+  const auto values = contact_->stored_per_couple();
+  std::vector<cl_ulong> global_keys(keys.size());
+  for (size_t c = 0; c < keys.size(); ++c)
+    global_keys[c] = (cl_ulong(tri_global[keys[c] >> 32]) << 32) | cl_ulong(tri_global[keys[c] & 0xffffffffu]);
+  const auto words = contact_->energy_account();
+  std::vector<cl_long> mine(words.begin(), words.end());
+  mine.push_back(static_cast<cl_long>(contact_->touching()));
+  mine.push_back(static_cast<cl_long>(contact_->couples()));
+  const auto all_words = transport.gather(to_bytes(mine));
+  const auto all_keys = transport.gather(to_bytes(global_keys));
+  const auto all_values = transport.gather(to_bytes(values));
+  std::vector<double> totals;  // friction, damping, touching, candidates, stored (rank 0)
+  if (transport.rank() == 0) {
+    std::vector<cl_long> sum(mine.size(), 0);
+    for (const auto& b : all_words) {
+      const auto w = from_bytes<cl_long>(b);
+      for (size_t k = 0; k < sum.size(); ++k) sum[k] += w[k];
+    }
+    std::vector<std::pair<cl_ulong, real>> list;
+    for (size_t r = 0; r < all_keys.size(); ++r) {
+      const auto k = from_bytes<cl_ulong>(all_keys[r]);
+      const auto v = from_bytes<real>(all_values[r]);
+      for (size_t c = 0; c < k.size(); ++c) list.emplace_back(k[c], v[c]);
+    }
+    std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const size_t group = cl_.group_size();
+    std::vector<real> scratch(group);
+    double stored = 0;
+    for (size_t begin = 0; begin < list.size(); begin += group) {
+      for (size_t l = 0; l < group; ++l) scratch[l] = begin + l < list.size() ? list[begin + l].second : real(0);
+      for (size_t s = group / 2; s > 0; s >>= 1)
+        for (size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
+      stored += static_cast<double>(scratch[0]);
+    }
+    const double scale = contact_->energy_scale();
+    totals = {static_cast<double>(sum[layout::ENERGY_FRICTION]) / scale, static_cast<double>(sum[layout::ENERGY_DAMPING]) / scale,
+              static_cast<double>(sum[words.size()]), static_cast<double>(sum[words.size() + 1]), stored};
+  }
+  totals = from_bytes<double>(transport.broadcast(to_bytes(totals)));
+  split_touching_ = static_cast<size_t>(totals[2]);
+  split_candidates_ = static_cast<size_t>(totals[3]);
+  e.resolution += std::sqrt(totals[2]) * contact_round_off_;
+  e.contact_stored += totals[4];
+  e.friction += totals[0];
+  e.contact_damping += totals[1];
 }
 
 void Solver::save_state(StateWriter& out) {

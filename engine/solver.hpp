@@ -1,5 +1,6 @@
 // The solver: the model's arrays on the device and the step as a plain list of stages.
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -111,8 +112,9 @@ class Solver {
 
   // Contact (all zero / empty when the case has no [contact]).
   bool has_contact() const { return contact_ != nullptr; }
-  size_t contact_candidates() const { return contact_ ? contact_->couples() : 0; }
-  size_t contact_touching() { return contact_ ? contact_->touching() : 0; }
+  // In a split run the whole model's counts as of the last energy() (every rank's list).
+  size_t contact_candidates() const { return scope_ ? split_candidates_ : contact_ ? contact_->couples() : 0; }
+  size_t contact_touching() { return scope_ ? split_touching_ : contact_ ? contact_->touching() : 0; }
   size_t contact_pool_rows() const { return contact_ ? contact_->pool_rows() : 0; }  // ContactForces::pool_rows
   double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
   std::vector<real2> contact_forces();  // per node [N] (waits)
@@ -138,6 +140,16 @@ class Solver {
   // which is then collective (every rank calls it at the same step). Null: all items.
   // Set before the first step.
   void set_scope(const ItemScope* scope) { scope_ = scope; }
+  // A split run with contact (engine/scale_out.*): `before_detection` runs on the host
+  // just before each contact detection (collective: the decision is the same on every
+  // rank), `contact_exchange` after the contact stage is enqueued and before the node
+  // gather reads the fixed-point contact forces (the couples one rank computed that act
+  // on nodes another owns). Set before the first step.
+  void set_split_hooks(std::function<void()> before_detection, std::function<void()> contact_exchange) {
+    before_detection_ = std::move(before_detection);
+    contact_exchange_ = std::move(contact_exchange);
+  }
+  ContactSkin* skin() { return skin_.get(); }
 
   ClContext& context() { return cl_; }
   DeviceArrays& arrays() { return arrays_; }
@@ -174,6 +186,10 @@ class Solver {
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
   const ItemScope* scope_ = nullptr;
+  std::function<void()> before_detection_, contact_exchange_;
+  size_t split_touching_ = 0, split_candidates_ = 0;
+  // A split run: the contact terms of energy() over every rank (collective).
+  void add_split_contact_energy(EnergyTotals& e);
   compute::buffer saved_position_, saved_velocity_;
   long checkpoint_step_ = -1;
 };

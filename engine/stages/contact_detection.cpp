@@ -37,7 +37,8 @@ MemoryPlan ContactDetection::couple_list(size_t capacity) {
   return MemoryPlan().add("contact couples", capacity * sizeof(cl_ulong));
 }
 
-MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t initial_capacity, bool bonds) {
+MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t initial_capacity, bool bonds,
+                                  bool owned_first) {
   const size_t n = std::max<size_t>(triangles, 1), groups = std::max<size_t>(groups_for(triangles, group_size), 1);
   const size_t capacity = first_capacity(triangles, initial_capacity);
   MemoryPlan p;
@@ -54,6 +55,7 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
       .add("contact couple counter", sizeof(cl_uint))
       .add(couple_list(capacity));
   if (bonds) p.add("contact bond partners", 3 * n * sizeof(cl_uint));
+  if (owned_first) p.add("contact owned triangles", n * sizeof(cl_uchar));
   // The two sorts of a run, one after the other; the couples' at the first capacity.
   using L = MemoryPlan::Lifetime;
   p.add("sort scratch: cell hashes", sort_scratch(triangles, sizeof(cl_uint), sizeof(cl_uint)), L::Scratch)
@@ -62,7 +64,7 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
 }
 
 ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, size_t initial_capacity,
-                                   const std::vector<std::array<int, 2>>& bonds)
+                                   const std::vector<std::array<int, 2>>& bonds, const std::vector<char>& owned_first)
     : cl_(cl), count_(a.num_triangles) {
   const size_t group = cl.group_size();
   if (group == 0 || (group & (group - 1)) != 0)
@@ -73,7 +75,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   capacity_ = first_capacity(count_, initial_capacity);
 
   const size_t n = std::max<size_t>(count_, 1);
-  const MemoryPlan arrays = plan(count_, group, initial_capacity, !bonds.empty());
+  const MemoryPlan arrays = plan(count_, group, initial_capacity, !bonds.empty(), !owned_first.empty());
   boxes_ = arrays.allocate(cl, "contact boxes");
   partial_bounds_ = arrays.allocate(cl, "contact partial bounds");
   partial_side_ = arrays.allocate(cl, "contact partial sides");
@@ -110,6 +112,12 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
                                                             {"NO_PARTNER", std::to_string(kNoPartner) + "u"},
                                                             {"SMALL_SORT", std::to_string(kSmallSort)}};
   if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
+  if (!owned_first.empty()) {
+    if (owned_first.size() != count_) throw DeviceError("contact detection: the owned-triangle mask has the wrong size");
+    defines["OWNED_FIRST"] = "1";
+    owned_first_ = arrays.allocate(cl, "contact owned triangles");
+    upload(cl, owned_first_, std::vector<cl_uchar>(owned_first.begin(), owned_first.end()));
+  }
   const auto program = cl.build(kernel_source::contact_detection, defines);
   const cl_uint nt = static_cast<cl_uint>(count_);
 
@@ -157,6 +165,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   couples("count", counter_);
   couples_keys_ = couples.later("keys", keys_);
   if (!bonds.empty()) couples("bond_partners", bond_partners_);
+  if (!owned_first.empty()) couples("owned_first", owned_first_);
   couples.done();
 }
 

@@ -18,8 +18,11 @@ class ContactDetection {
   // bonds: pairs of triangles (each joined by a CE4) that are candidates whatever the
   // active mask says (activation "fractured"; see find_couples in the kernel file). A
   // triangle has at most three (one per edge).
+  // owned_first (a split run, one per triangle; empty: every triangle): only couples whose
+  // lower triangle i has owned_first[i] != 0 are listed, so each couple of the whole
+  // model is listed by exactly one rank (ARCHITECTURE.md, "Scale-out").
   ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
-                   const std::vector<std::array<int, 2>>& bonds = {});
+                   const std::vector<std::array<int, 2>>& bonds = {}, const std::vector<char>& owned_first = {});
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
   // Sorts of at most this many entries run in one work-group's local memory (16 KiB of
   // ulongs), not through Boost.Compute (use_radix_sort(true) still forces the library's).
@@ -33,7 +36,8 @@ class ContactDetection {
   // The arrays the constructor allocates (`group_size`: ClContext::group_size(); `bonds`:
   // some are given), and the scratch of the sorts of a run (Boost.Compute's own
   // allocations, outside ClContext, while a detection runs).
-  static MemoryPlan plan(size_t triangles, size_t group_size, size_t initial_capacity = 0, bool bonds = false);
+  static MemoryPlan plan(size_t triangles, size_t group_size, size_t initial_capacity = 0, bool bonds = false,
+                         bool owned_first = false);
   // The couple list of `capacity` couples (the constructor's and grow()'s).
   static MemoryPlan couple_list(size_t capacity);
   // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
@@ -74,7 +78,7 @@ class ContactDetection {
   bool force_radix_ = false;
 
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
-  compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_;
+  compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_, owned_first_;
   compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
   compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
   // Sorts of up to kSmallSort entries: one work-group in local memory (a small model's

@@ -98,6 +98,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
       const int p = tri[e], q = tri[(e + 1) % 3];
       longest = std::max(longest, std::hypot(model.x[q] - model.x[p], model.y[q] - model.y[p]));
     }
+  if (model.whole_longest_edge > 0) longest = model.whole_longest_edge;  // a split run: one rank's scale
   const double worst_force = 300.0 * model.contact.max_normal_penalty * model.thickness * std::max(longest, 1e-300);
   force_scale_ = std::exp2(std::floor(std::log2(std::ldexp(1.0, 62) / worst_force)));
   energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
@@ -371,6 +372,23 @@ size_t ContactForces::touching() {
 }
 
 std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, layout::CONTACT_ENERGY_WORDS); }
+
+std::vector<cl_ulong> ContactForces::list_keys() {
+  if (count_ == 0) return {};
+  return download<cl_ulong>(cl_, keys_, count_);
+}
+
+std::vector<real> ContactForces::stored_per_couple() {
+  std::vector<real> out(count_, real(0));
+  if (count_ == 0) return out;
+  const auto live = download<cl_uchar>(cl_, live_, count_);
+  const auto slot = slots();
+  if (pool_rows_ == 0) return out;
+  const auto rows = download<real>(cl_, couple_stored_, pool_rows_);
+  for (size_t c = 0; c < count_; ++c)
+    if (live[c] == 1 && slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_) out[c] = rows[slot[c]];
+  return out;
+}
 
 double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }
 

@@ -123,6 +123,13 @@ class ContactForces {
   // cumulative (never decreasing but for rounding). Kinetic energy + these + the other
   // stages' energies is conserved to the integrator's O(Δt²) (tests/test_contact_energy.cpp).
   double stored_energy();
+  double energy_scale() const { return energy_scale_; }
+  std::vector<cl_long> energy_account();  // the CONTACT_ENERGY_WORDS fixed-point words (waits)
+  // A split run's account (engine/solver.cpp): the keys of the list (i << 32 | j, local
+  // triangles) and each couple's stored energy of the last energy row (0 where its
+  // `live` flag is not 1), the values contact_stored_partials sums. Waits.
+  std::vector<cl_ulong> list_keys();
+  std::vector<real> stored_per_couple();
   double friction_dissipation();
   double damping_dissipation();
   // friction_dissipation() + damping_dissipation() (one read).
@@ -187,7 +194,6 @@ class ContactForces {
   compute::kernel stored_partials_;
   compute::buffer couple_stored_, stored_slots_;
   size_t stored_groups_ = 0;
-  std::vector<cl_long> energy_account();  // the two fixed-point dissipation sums (waits)
 };
 
 }  // namespace fdem

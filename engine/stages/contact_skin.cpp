@@ -18,9 +18,17 @@ double as_value(cl_uint bits) {
 
 }  // namespace
 
-ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, double skin, double dt)
+ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, double skin, double dt,
+                         const std::vector<char>& node_owned)
     : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), ring_(ring), host_(layout::RING_WORDS * kSlots, 0) {
-  at_build_ = plan(a.num_nodes).allocate(cl, "position_at_build");
+  owned_ = !node_owned.empty();
+  const MemoryPlan arrays = plan(a.num_nodes, owned_);
+  at_build_ = arrays.allocate(cl, "position_at_build");
+  if (owned_) {
+    if (node_owned.size() != a.num_nodes) throw DeviceError("contact skin: the owned-node mask has the wrong size");
+    node_owned_ = arrays.allocate(cl, "skin node_owned");
+    upload(cl, node_owned_, std::vector<cl_uchar>(node_owned.begin(), node_owned.end()));
+  }
 }
 
 void ContactSkin::mark() {
@@ -43,6 +51,7 @@ bool ContactSkin::decide(unsigned slot, bool exact) {
 bool ContactSkin::decide_batch() {
   if (batch_read_.get()) batch_read_.wait();  // none after a restart: the checkpoint held the batch
   batch_pending_ = false;
+  if (reduce_) reduce_(&host_[layout::RING_WORDS * batch_first_], kBatch);
   speed_known_ = true;
   largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
   bool due = false;
@@ -75,6 +84,7 @@ bool ContactSkin::rebuild_due(long step) {
     constexpr size_t words = layout::RING_WORDS;
     cl_.queue().enqueue_read_buffer(ring_.buffer(), words * slot * sizeof(cl_uint), words * sizeof(cl_uint),
                                     &host_[words * slot]);
+    if (reduce_) reduce_(&host_[words * slot], 1);
     const double speed_before = largest_speed_;
     due = decide(slot, true) || due;
     largest_speed_ = std::max(speed_before, largest_speed_);

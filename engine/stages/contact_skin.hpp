@@ -1,6 +1,7 @@
 // Skin rebuild test for contact detection (the test itself runs in cl_kernels/integrate.cl).
 #pragma once
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "engine/checkpoint.hpp"
@@ -25,9 +26,23 @@ class ContactSkin {
   static constexpr unsigned kSlots = MonitorRing::kSlots, kBatch = MonitorRing::kBatch;
 
   // Reads the tests (and the activation's join flags) from `ring`.
-  ContactSkin(ClContext& cl, DeviceArrays& arrays, MonitorRing& ring, double skin, double dt);
+  // node_owned (a split run; empty: every node): the test takes only these nodes, and
+  // set_reduce() makes every rank see the same readings.
+  ContactSkin(ClContext& cl, DeviceArrays& arrays, MonitorRing& ring, double skin, double dt,
+              const std::vector<char>& node_owned = {});
   // The arrays the constructor allocates.
-  static MemoryPlan plan(size_t nodes) { return MemoryPlan().add("position_at_build", nodes * sizeof(real2)); }
+  static MemoryPlan plan(size_t nodes, bool owned = false) {
+    MemoryPlan p;
+    p.add("position_at_build", nodes * sizeof(real2));
+    if (owned) p.add("skin node_owned", std::max<size_t>(nodes, 1) * sizeof(cl_uchar));
+    return p;
+  }
+  const compute::buffer* owned_mask() const { return owned_ ? &node_owned_ : nullptr; }
+  // A split run: called with `count` consecutive ring slots (RING_WORDS words each) as
+  // this rank read them, it must leave in words RING_MOVED, RING_SPEED and RING_JOINED
+  // the largest over all ranks (collective: every rank calls it at the same steps, since
+  // every rank then decides the same). The pool word stays this rank's own.
+  void set_reduce(std::function<void(cl_uint* words, unsigned count)> reduce) { reduce_ = std::move(reduce); }
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
   // The integration that ends step − 1 has enqueued the test of `step` (positions then
@@ -59,7 +74,9 @@ class ContactSkin {
   DeviceArrays& arrays_;
   double half_skin_, dt_;
   MonitorRing& ring_;
-  compute::buffer at_build_;
+  compute::buffer at_build_, node_owned_;
+  bool owned_ = false;
+  std::function<void(cl_uint*, unsigned)> reduce_;
   std::vector<cl_uint> host_;                  // kSlots × RING_WORDS words, filled by async reads
   compute::event batch_read_;                  // the last batch read (slots batch_first_ …)
   unsigned batch_first_ = 0;

@@ -1,5 +1,6 @@
 #include "engine/stages/integrate.hpp"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,12 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
                      bool prescribed, bool account, ContactSkin* skin)
     : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
       account_work_(accounts_work(prescribed, local_damping, account)), skin_test_(skin != nullptr) {
-  kernel_ = compute::kernel(cl.build(kernel_source::integrate, {{"GROUP_SIZE", std::to_string(cl.group_size())},
-                                                                {"SKIN_TEST", skin_test_ ? "1" : "0"}}),
-                            "integrate");
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())},
+                                             {"SKIN_TEST", skin_test_ ? "1" : "0"}};
+  // A split run: the skin test takes the nodes this rank owns only (ghosts are integrated
+  // with a part of their forces before the exchange overwrites them).
+  if (skin && skin->owned_mask()) defines["SKIN_OWNED"] = "1";
+  kernel_ = compute::kernel(cl.build(kernel_source::integrate, defines), "integrate");
   const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);
   group_work_ = arrays.allocate(cl, "integrate group_work");
   group_row_ = arrays.allocate(cl, "integrate group_row");
@@ -42,6 +46,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   args("conditions", a.conditions);
   if (skin) {
     args("position_at_build", skin->position_at_build())("monitor", skin->ring().buffer());
+    if (skin->owned_mask()) args("node_owned", *skin->owned_mask());
     slot_ = args.later("slot", cl_uint(0));
     next_slot_ = args.later("next_slot", cl_uint(0));
   }
