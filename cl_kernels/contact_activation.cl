@@ -11,6 +11,9 @@ __kernel void activate_broken(const uint n_ce4,
                               __global const uint2* restrict ce4_triangles,
                               __global uint* restrict active,
                               __global uint* restrict monitor,
+#ifdef OWNED_FLAG
+                              __global const uchar* restrict ce4_owned,
+#endif
                               const uint slot,
                               const uint stamp) {
   const uint e = get_global_id(0);
@@ -19,6 +22,11 @@ __kernel void activate_broken(const uint n_ce4,
   if (active[t.x] == 0u || active[t.y] == 0u) {
     if (active[t.x] == 0u) active[t.x] = stamp;
     if (active[t.y] == 0u) active[t.y] = stamp;
+#ifdef OWNED_FLAG
+    // A split run: the flag is the owner's (see ContactActivation); the host takes the
+    // largest over the ranks.
+    if (ce4_owned[e] != 0)
+#endif
     monitor[RING_WORDS * slot + RING_JOINED] = 1u;
   }
 }

@@ -116,10 +116,11 @@ struct Model {
   // One rank's share of a split model with contact (engine/partition.* local_model; all
   // empty or zero for a whole model): per triangle 1 where this rank owns it (detection
   // lists only the couples whose lower triangle it owns, so each couple is computed once),
-  // per node 1 where it owns the node (the skin test reads only those), and the whole
+  // per node 1 where it owns the node (the skin test reads only those), per CE4 1 where
+  // it owns the CE4 (only those flag a join of contact candidates), and the whole
   // model's longest edge and largest |coordinate| (the fixed-point scale and the contact
   // round-off must be those of one rank).
-  std::vector<char> triangle_owned, node_owned;
+  std::vector<char> triangle_owned, node_owned, ce4_owned;
   double whole_longest_edge = 0, whole_reach = 0;
 
   // Cohesive elements (fracturable regions own their nodes: three per triangle).

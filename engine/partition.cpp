@@ -352,6 +352,21 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
     for (size_t t = 0; t < g.num_triangles(); ++t) owned[t] = part[t] == rank;
     const auto near = within_reach(g, partition.contact_reach, owned);
     for (size_t t = 0; t < g.num_triangles(); ++t) h.tri[t] = h.tri[t] || near[t];
+    // With CE4s, contact reads the states of the CE4s on a couple's triangles' edges (its
+    // own CE4, the candidate mask's joins) and of every CE4 at their mesh nodes (the
+    // corner fans' state words): every CE4 with an end at a mesh node of an owned or
+    // contact ghost triangle is held, so it is computed here as its owner computes it.
+    if (!g.ce4.empty() && g.node_origin.size() == g.num_nodes()) {
+      std::vector<char> mesh(g.vertex_bonded.size(), 0);
+      for (size_t t = 0; t < g.num_triangles(); ++t)
+        if (near[t])
+          for (int v : g.triangles[t]) mesh[g.node_origin[v]] = 1;
+      for (size_t c = 0; c < g.ce4.size(); ++c)
+        if (mesh[g.node_origin[g.ce4[c][0]]] || mesh[g.node_origin[g.ce4[c][1]]]) {
+          h.ce4[c] = 1;
+          h.tri[g.ce4_triangles[c][0]] = h.tri[g.ce4_triangles[c][1]] = 1;
+        }
+    }
   }
   for (size_t t = 0; t < g.num_triangles(); ++t)
     if (h.tri[t])
@@ -368,9 +383,6 @@ std::vector<char> held_nodes(const Model& model, const Partition& partition, con
 }
 
 LocalModel local_model(const Model& g, const Partition& partition, int rank) {
-  if (g.contact.enabled && !g.ce4.empty())
-    throw InputError("a model with contact and CE4s (fracturable materials) cannot be split over ranks yet (the CE4 "
-                     "and corner-fan states contact reads are not kept on contact ghosts)");
   if (g.contact.enabled && !(partition.contact_reach > 0))
     throw InputError("a split model with contact needs a contact reach (Partition::contact_reach)");
   if (rank < 0 || rank >= partition.parts) throw InputError("rank " + std::to_string(rank) + " is not one of the partition's");
@@ -415,6 +427,11 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
     m.whole_longest_edge = std::max(longest, 1e-300);
     m.whole_reach = reach;
     for (int v : l.node_global) m.node_owned.push_back(owner[v] == rank ? 1 : 0);
+    // The corner fans by the whole mesh's node numbers (mesh_node_state is per mesh node).
+    if (g.node_origin.size() == g.num_nodes()) {
+      for (int v : l.node_global) m.node_origin.push_back(g.node_origin[v]);
+      m.vertex_bonded = g.vertex_bonded;
+    }
   }
   // Triangles stay grouped by material: a filtered global order is still in blocks.
   m.block_start.assign(g.materials.size() + 1, 0);
@@ -438,6 +455,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.ce4.push_back({local_node[n[0]], local_node[n[1]], local_node[n[2]], local_node[n[3]]});
       m.ce4_triangles.push_back({local_tri[g.ce4_triangles[c][0]], local_tri[g.ce4_triangles[c][1]]});
       m.ce4_properties.push_back(g.ce4_properties[c]);
+      if (g.contact.enabled) m.ce4_owned.push_back(partition.triangle_part[g.ce4_triangles[c][0]] == rank ? 1 : 0);
     }
   for (size_t k = 0; k < g.loaded_edges.size(); ++k) {
     const auto& e = g.loaded_edges[k];

@@ -89,9 +89,9 @@ struct LocalModel {
 
 // With contact (partition.contact_reach > 0) the rank also holds every triangle within
 // that reach of one it owns (contact ghosts) and their nodes, and the local model carries
-// its owned masks and the whole model's contact scales (Model::triangle_owned). Throws
-// InputError for contact together with CE4s (the CE4 and corner-fan states contact reads
-// are not kept on contact ghosts).
+// its owned masks and the whole model's contact scales (Model::triangle_owned); with CE4s
+// also every CE4 with an end at a mesh node of those triangles (the CE4 and corner-fan
+// states contact reads are then computed on the rank, as by their owner).
 LocalModel local_model(const Model& model, const Partition& partition, int rank);
 
 }  // namespace fdem

@@ -195,10 +195,6 @@ std::string describe_failure(const Model& model, const Conditions& c) {
 // What a split run (N > 1 ranks) does not do yet: one message naming it, exit 2.
 void refuse_split(const PreparedCase& p, int ranks, const RunOptions& options) {
   const std::string head = p.config.path + ": this run is split over " + std::to_string(ranks) + " ranks, and ";
-  if (p.model.contact.enabled && !p.model.ce4.empty())
-    throw InputError(head + "[contact] together with fracturable materials (CE4s) cannot run over several ranks yet "
-                            "(the CE4 and corner-fan states that contact reads are not kept on contact ghosts): run it "
-                            "as one process");
   if (p.model.contact.enabled && (!options.restart.empty() || p.config.output.checkpoint_every > 0 || options.max_wall > 0))
     throw InputError(head + "a [contact] run over several ranks cannot write or continue from checkpoints yet (the "
                             "couple list is not gathered): run it as one process, or without output.checkpoint_every, "

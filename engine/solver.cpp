@@ -85,7 +85,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
     plan.add(ContactDetection::plan(triangles, group_size, 0, !detection_bonds(model).empty(), !model.triangle_owned.empty()));
   }
   if (p.skin) plan.add(ContactSkin::plan(nodes, !model.node_owned.empty()));
-  if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size()));
+  if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size(), !model.ce4_owned.empty()));
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
   plan.add(TriangleForces::plan(triangles, group_size, p.viscous));
@@ -164,7 +164,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       activation_(build_if(parts_.activation,
                            [&] {
                              return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
-                                                                        detection_->active_mask(), *ring_);
+                                                                        detection_->active_mask(), *ring_,
+                                                                        model.ce4_owned);
                            })),
       contact_(build_if(parts_.contact,
                         [&] {

@@ -1,24 +1,39 @@
 #include "engine/stages/contact_activation.hpp"
 
 #include <algorithm>
+#include <map>
+#include <string>
 
 namespace fdem {
 
-MemoryPlan ContactActivation::plan(size_t ce4) {
-  return MemoryPlan().add("ce4_triangles", std::max<size_t>(2 * ce4, 2) * sizeof(cl_uint));
+MemoryPlan ContactActivation::plan(size_t ce4, bool owned) {
+  MemoryPlan p;
+  p.add("ce4_triangles", std::max<size_t>(2 * ce4, 2) * sizeof(cl_uint));
+  if (owned) p.add("activation ce4_owned", std::max<size_t>(ce4, 1) * sizeof(cl_uchar));
+  return p;
 }
 
 ContactActivation::ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles,
-                                     compute::buffer& status, compute::buffer& active, MonitorRing& ring)
+                                     compute::buffer& status, compute::buffer& active, MonitorRing& ring,
+                                     const std::vector<char>& owned)
     : cl_(cl), count_(ce4_triangles.size()) {
   std::vector<cl_uint> pairs;
   for (const auto& t : ce4_triangles) pairs.insert(pairs.end(), {cl_uint(t[0]), cl_uint(t[1])});
-  triangles_ = plan(count_).allocate(cl, "ce4_triangles");
+  const MemoryPlan arrays = plan(count_, !owned.empty());
+  triangles_ = arrays.allocate(cl, "ce4_triangles");
   if (!pairs.empty()) upload(cl, triangles_, pairs);
-  kernel_ = compute::kernel(cl.build(kernel_source::contact_activation), "activate_broken");
+  std::map<std::string, std::string> defines;
+  if (!owned.empty()) {
+    if (owned.size() != count_) throw DeviceError("contact activation: the owned-CE4 mask has the wrong size");
+    defines["OWNED_FLAG"] = "1";
+    owned_ = arrays.allocate(cl, "activation ce4_owned");
+    upload(cl, owned_, std::vector<cl_uchar>(owned.begin(), owned.end()));
+  }
+  kernel_ = compute::kernel(cl.build(kernel_source::contact_activation, defines), "activate_broken");
   KernelArgs args(kernel_);
   args("n_ce4", static_cast<cl_uint>(count_))("status", status)("ce4_triangles", triangles_)("active", active)(
       "monitor", ring.buffer());
+  if (!owned.empty()) args("ce4_owned", owned_);
   slot_ = args.later("slot", cl_uint(0));
   stamp_ = args.later("stamp", cl_uint(0));
   args.done();

@@ -15,10 +15,13 @@ class ContactActivation {
   // `status`: the CE4 stage's (broken, mode) per CE4; `active`: the detection's
   // candidate mask (one uint per triangle); `ring`: where a join is flagged (word
   // RING_JOINED) for the host to read later (ContactSkin).
+  // `owned` (a split run, one per CE4; empty: all): only these flag a join (the owner's
+  // candidate mask is right for both triangles of its CE4s; a rank's mask of a triangle
+  // it holds only for a CE4's sake may lag, and must not flag a join one rank never sees).
   ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
-                    compute::buffer& active, MonitorRing& ring);
+                    compute::buffer& active, MonitorRing& ring, const std::vector<char>& owned = {});
   // The arrays the constructor allocates for `ce4` CE4s (their triangle pairs).
-  static MemoryPlan plan(size_t ce4);
+  static MemoryPlan plan(size_t ce4, bool owned = false);
   // Marks the triangles of broken CE4s as candidates (mask value join_stamp(step)) and
   // flags a join in the ring's slot of `step`. Never waits.
   void enqueue(long step);
@@ -30,7 +33,7 @@ class ContactActivation {
   size_t count_;
   compute::kernel kernel_;
   KernelArg<cl_uint> slot_, stamp_;
-  compute::buffer triangles_;
+  compute::buffer triangles_, owned_;
 };
 
 }  // namespace fdem
