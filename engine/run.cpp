@@ -192,14 +192,6 @@ std::string describe_failure(const Model& model, const Conditions& c) {
   return msg.str();
 }
 
-// What a split run (N > 1 ranks) does not do yet: one message naming it, exit 2.
-void refuse_split(const PreparedCase& p, int ranks, const RunOptions& options) {
-  const std::string head = p.config.path + ": this run is split over " + std::to_string(ranks) + " ranks, and ";
-  if (p.model.contact.enabled && (!options.restart.empty() || p.config.output.checkpoint_every > 0 || options.max_wall > 0))
-    throw InputError(head + "a [contact] run over several ranks cannot write or continue from checkpoints yet (the "
-                            "couple list is not gathered): run it as one process, or without output.checkpoint_every, "
-                            "--restart and --max-wall");
-}
 
 }  // namespace
 
@@ -273,7 +265,6 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   if (transport) {
     std::exception_ptr failure;
     try {
-      refuse_split(p, transport->size(), options);
       make_output_dir();
       split = std::make_unique<SplitRun>(model, *transport, options.partition, options.contact_travel);
       solver_holder = std::make_unique<Solver>(cl, split->local_model(), p.dt);
@@ -428,11 +419,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   };
 
   const std::string ckpt_path = checkpoint_path(p);
-  // A split run with contact writes none (its couple list is not gathered; refuse_split
-  // refuses what would need one).
-  const bool checkpoints = !(split && model.contact.enabled);
   auto write_checkpoint = [&]() {
-    if (!checkpoints) return;
     const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
     if (split) record_breaks();  // the whole catalogue up to now, for the file's break log

@@ -179,15 +179,33 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
       {"ce4_last_chord", {ItemKind::Ce4, 1}},
       {"ce4_energy", {ItemKind::Ce4, 1}},
+      {"contact_active", {ItemKind::Triangle, 1}},
+      {"skin_position_at_build", {ItemKind::Node, 1}},
   };
   return items;
+}
+// Contact's arrays that are not per item (gather_contact, local_contact): the couple list
+// (keys, per-couple history and live flags), the fixed-point energy words (summed over
+// the ranks), the skin's ring on the device and as the host read it (words RING_MOVED,
+// RING_SPEED, RING_JOINED: the largest over the ranks, which is what one rank's device
+// maxima give; RING_POOL, history rows taken: the sum), the corner fans' state words per
+// mesh node (each rank holds all of them; a rank's word is right where it holds every
+// CE4 at the node, else 0 or a later break's: the smallest break step over the ranks) and
+// the skin's host counters (the same on every rank).
+bool contact_list_array(const std::string& name) {
+  return name == "contact_keys" || name == "contact_history" || name == "contact_live";
+}
+bool contact_other_array(const std::string& name) {
+  return name == "contact_energy" || name == "skin_ring" || name == "skin_ring_read" || name == "mesh_node_state" ||
+         name == "skin_generations";
 }
 // Per-work-group sums (not read by the account any more; kept for the file's layout): rank 0's.
 bool rank_zero_array(const std::string& name) { return name == "integrate_work" || name == "triangle_energy"; }
 bool break_log_array(const std::string& name) { return name == "ce4_break_ids" || name == "ce4_break_records"; }
 
 void check_known(const std::string& name) {
-  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name))
+  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name) &&
+      !contact_list_array(name) && !contact_other_array(name))
     throw InputError("checkpoint array '" + name + "' is not known to the split run (engine/scale_out.cpp, "
                      "checkpoint_items): a checkpoint of this model cannot be written or read over several ranks");
 }
@@ -239,7 +257,146 @@ io::CheckpointData SplitRun::gather_state(const io::CheckpointData& local, const
       }
   }
   if (root() && global.find("ce4_break_ids")) put_break_log(global, catalogue);
+  if (global.find("contact_keys")) gather_contact(global, local);
   return global;
+}
+
+namespace {
+io::CheckpointArray* array_named(io::CheckpointData& data, const std::string& name) {
+  for (auto& a : data.arrays)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+template <class T>
+std::vector<T> values_of(const io::CheckpointArray& a) {
+  std::vector<T> v(a.bytes.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), a.bytes.data(), v.size() * sizeof(T));
+  return v;
+}
+template <class T>
+void set_values(io::CheckpointArray& a, const std::vector<T>& v) {
+  a.bytes.assign(reinterpret_cast<const unsigned char*>(v.data()), reinterpret_cast<const unsigned char*>(v.data() + v.size()));
+}
+}  // namespace
+
+void SplitRun::gather_contact(io::CheckpointData& global, const io::CheckpointData& local) {
+  const auto* keys_array = local.find("contact_keys");
+  const auto* history_array = local.find("contact_history");
+  const auto* live_array = local.find("contact_live");
+  if (!keys_array || !history_array || !live_array) throw InputError("a split run's checkpoint lacks the contact list");
+  const auto& tri_global = scope_.global[static_cast<int>(ItemKind::Triangle)];
+  // Every couple this rank lists: (global key, history row, live flag).
+  const auto keys = values_of<cl_ulong>(*keys_array);
+  const auto history = values_of<real>(*history_array);
+  const auto live = values_of<cl_uchar>(*live_array);
+  const size_t width = history_array->width;
+  if (history.size() != keys.size() * width || live.size() != keys.size())
+    throw InputError("a split run's checkpoint has a contact list of mismatched lengths");
+  std::vector<cl_ulong> global_keys(keys.size());
+  for (size_t c = 0; c < keys.size(); ++c)
+    global_keys[c] = (cl_ulong(tri_global[keys[c] >> 32]) << 32) | cl_ulong(tri_global[keys[c] & 0xffffffffu]);
+  const auto all_keys = transport_.gather(to_bytes(global_keys));
+  const auto all_history = transport_.gather(to_bytes(history));
+  const auto all_live = transport_.gather(to_bytes(live));
+  // The other contact arrays, gathered whole.
+  std::map<std::string, std::vector<Bytes>> others;
+  for (const auto& a : local.arrays)
+    if (contact_other_array(a.name)) others[a.name] = transport_.gather(Bytes(a.bytes.begin(), a.bytes.end()));
+  if (!root()) return;
+  struct Couple {
+    cl_ulong key;
+    size_t rank, index;
+  };
+  std::vector<Couple> list;
+  std::vector<std::vector<cl_ulong>> rank_keys(all_keys.size());
+  std::vector<std::vector<real>> rank_history(all_keys.size());
+  std::vector<std::vector<cl_uchar>> rank_live(all_keys.size());
+  for (size_t r = 0; r < all_keys.size(); ++r) {
+    rank_keys[r] = from_bytes<cl_ulong>(all_keys[r]);
+    rank_history[r] = from_bytes<real>(all_history[r]);
+    rank_live[r] = from_bytes<cl_uchar>(all_live[r]);
+    for (size_t c = 0; c < rank_keys[r].size(); ++c) list.push_back({rank_keys[r][c], r, c});
+  }
+  std::sort(list.begin(), list.end(), [](const Couple& a, const Couple& b) { return a.key < b.key; });
+  std::vector<cl_ulong> out_keys;
+  std::vector<real> out_history;
+  std::vector<cl_uchar> out_live;
+  for (const auto& c : list) {
+    out_keys.push_back(c.key);
+    const real* h = &rank_history[c.rank][c.index * width];
+    out_history.insert(out_history.end(), h, h + width);
+    out_live.push_back(rank_live[c.rank][c.index]);
+  }
+  set_values(*array_named(global, "contact_keys"), out_keys);
+  set_values(*array_named(global, "contact_history"), out_history);
+  set_values(*array_named(global, "contact_live"), out_live);
+  global.integers["contact_couples"] = static_cast<std::int64_t>(out_keys.size());
+  for (auto& [name, parts] : others) {
+    io::CheckpointArray& a = *array_named(global, name);
+    if (name == "skin_generations") continue;  // rank 0's: the same everywhere
+    if (name == "contact_energy") {
+      std::vector<cl_long> sum(a.bytes.size() / sizeof(cl_long), 0);
+      for (const auto& b : parts) {
+        const auto w = from_bytes<cl_long>(b);
+        for (size_t k = 0; k < sum.size() && k < w.size(); ++k) sum[k] += w[k];
+      }
+      set_values(a, sum);
+    } else if (name == "mesh_node_state") {
+      auto state = values_of<cl_int>(a);
+      for (const auto& b : parts) {
+        const auto w = from_bytes<cl_int>(b);
+        for (size_t k = 0; k < state.size() && k < w.size(); ++k)
+          if (w[k] >= 2 && (state[k] < 2 || w[k] < state[k])) state[k] = w[k];
+      }
+      set_values(a, state);
+    } else {  // skin_ring, skin_ring_read
+      std::vector<cl_uint> words(a.bytes.size() / sizeof(cl_uint), 0);
+      for (const auto& b : parts) {
+        const auto w = from_bytes<cl_uint>(b);
+        for (size_t k = 0; k < words.size() && k < w.size(); ++k)
+          words[k] = k % layout::RING_WORDS == layout::RING_POOL ? words[k] + w[k] : std::max(words[k], w[k]);
+      }
+      set_values(a, words);
+    }
+  }
+}
+
+void SplitRun::local_contact(io::CheckpointData& local) const {
+  auto* keys_array = array_named(local, "contact_keys");
+  auto* history_array = array_named(local, "contact_history");
+  auto* live_array = array_named(local, "contact_live");
+  if (!keys_array || !history_array || !live_array) return;  // StateReader names what is missing
+  const auto keys = values_of<cl_ulong>(*keys_array);
+  const auto history = values_of<real>(*history_array);
+  const auto live = values_of<cl_uchar>(*live_array);
+  const size_t width = history_array->width;
+  if (history.size() != keys.size() * width || live.size() != keys.size()) return;
+  std::vector<int> local_of(global_.num_triangles(), -1);
+  for (size_t i = 0; i < local_.triangle_global.size(); ++i) local_of[local_.triangle_global[i]] = static_cast<int>(i);
+  // The couples whose lower triangle this rank owns (the ones its detection lists).
+  std::vector<cl_ulong> out_keys;
+  std::vector<real> out_history;
+  std::vector<cl_uchar> out_live;
+  for (size_t c = 0; c < keys.size(); ++c) {
+    const size_t i = keys[c] >> 32, j = keys[c] & 0xffffffffu;
+    if (i >= global_.num_triangles() || j >= global_.num_triangles())
+      throw InputError("the checkpoint's contact list names a triangle the model does not have");
+    if (partition_.triangle_part[i] != transport_.rank()) continue;
+    if (local_of[j] < 0)
+      throw InputError("the checkpoint's contact couple of triangles " + std::to_string(i) + " and " + std::to_string(j) +
+                       " lies beyond the contact ghosts of rank " + std::to_string(transport_.rank()) +
+                       ": continue it with a larger --contact-travel");
+    out_keys.push_back((cl_ulong(local_of[i]) << 32) | cl_ulong(local_of[j]));
+    out_history.insert(out_history.end(), history.begin() + c * width, history.begin() + (c + 1) * width);
+    out_live.push_back(live[c]);
+  }
+  set_values(*keys_array, out_keys);
+  set_values(*history_array, out_history);
+  set_values(*live_array, out_live);
+  local.integers["contact_couples"] = static_cast<std::int64_t>(out_keys.size());
+  // The energy words: rank 0 keeps the whole model's, so the sum over the ranks is it.
+  if (auto* energy = array_named(local, "contact_energy"); energy && !root())
+    std::fill(energy->bytes.begin(), energy->bytes.end(), 0);
 }
 
 io::CheckpointData SplitRun::local_state(const io::CheckpointData& global) const {
@@ -280,6 +437,7 @@ io::CheckpointData SplitRun::local_state(const io::CheckpointData& global) const
       put_break_log(local, log);
     }
   }
+  if (local.find("contact_keys")) local_contact(local);
   return local;
 }
 

@@ -96,6 +96,9 @@ class SplitRun {
   ItemScope scope_;
   std::unique_ptr<HaloExchange> halo_;
   double travel_ = 0;
+  // The contact arrays of a checkpoint that are not per item (engine/scale_out.cpp).
+  void gather_contact(io::CheckpointData& global, const io::CheckpointData& local);
+  void local_contact(io::CheckpointData& local) const;
   // At a detection (contact): the largest move of an owned node from its start, over all
   // ranks; stops every rank when it exceeds travel_. Collective.
   void check_travel(Solver& solver);
