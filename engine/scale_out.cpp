@@ -14,7 +14,10 @@
 
 namespace fdem {
 
-double default_contact_travel(const Model& model) { return 10.0 * model.contact.skin; }
+double default_contact_travel(const Model& model) {
+  // Two mean edges (default_skin is a fraction of the mean edge), or ten skins if larger.
+  return std::max(10.0 * model.contact.skin, 2.0 * default_skin(model) / kDefaultSkinFraction);
+}
 
 double contact_ghost_reach(const Model& model, double travel) {
   return (model.contact.skin + 2.0 * travel) * (1.0 + 1e-6) + 1e-300;

@@ -105,7 +105,8 @@ class SplitRun {
 };
 
 // Contact in a split run: how far a node may travel from its start before the contact
-// ghosts no longer cover every couple (default: 10 × the contact skin), and the reach of
+// ghosts no longer cover every couple (default: two mean edges of the mesh, or ten contact
+// skins if that is more), and the reach of
 // the ghosts around a rank's triangles' reference boxes that this allows: the skin (two
 // boxes grown by skin/2 each) plus twice the travel (both triangles may move), with a
 // little room for rounding.

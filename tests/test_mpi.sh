@@ -1,12 +1,13 @@
 #!/bin/bash
 # The split run (`mpirun -np N fdem run`, ARCHITECTURE.md "Scale-out") on PoCL: a small
 # blast (tests/data/cases/blast_small.msh, CE4s breaking around the hole, a blast load,
-# an absorbing rim, two probes; [contact] left out, which a split run refuses) and a small
-# geostatic column (tests/data/cases/column_small.*) run as one process and
-# over 1, 2 and 4 ranks gives byte-identical .exo, history, fragments and events files;
-# a failure on the ranks ends every rank with one rank's exit code and message;
-# checkpoints continue at any number of ranks; what a split run does not do is refused
-# with exit 2.
+# an absorbing rim, two probes; once without its [contact] table, once with it), a small
+# geostatic column (tests/data/cases/column_small.*), a coarse Brazilian disc (contact
+# between platens and a disc that cracks) and a coarse disc impact (contact without CE4s)
+# run as one process and over 1, 2 and 4 ranks give byte-identical .exo, history,
+# fragments and events files; a failure on the ranks ends every rank with one rank's exit
+# code and message; checkpoints continue at any number of ranks, with contact too; a node
+# travelling beyond the contact ghosts stops every rank with exit 2.
 # Usage: test_mpi.sh FDEM [MPIRUN]
 set -u
 fdem=$(readlink -f "$1")
@@ -20,6 +21,8 @@ export FDEM_DEVICE=${FDEM_DEVICE:-cpu}
 src=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# The .geo cases mesh once (every rank reads the case, and meshes it when not cached).
+export FDEM_MESH_CACHE="$tmp/meshes"
 fails=0
 check() {  # check WHAT COMMAND...: counts a failure when the command fails
   local what=$1
@@ -111,11 +114,78 @@ for out in half half1 wall; do
   done
 done
 
-# Refused under N > 1 with one message and exit 2: contact.
-"$mpirun" --oversubscribe -np 2 "$fdem" run contact.toml --set 'output.dir="c"' > c.log 2>&1
-check "contact over 2 ranks: exit 2" test $? -eq 2
-check "... saying what is missing" grep -q "\[contact\] cannot run over several ranks yet" c.log
-check "... once" test "$(grep -c '^error:' c.log)" -eq 1
+# Contact across ranks. The small blast with its [contact] table (activation
+# "fractured", skin rebuilds, couples across intact and broken CE4s and corner fans):
+# 2 ranks with tight contact ghosts (--contact-travel 0.02 m), 4 with the default ones.
+"$fdem" run contact.toml --quiet --set 'output.dir="cone"' > cone.log 2>&1
+check "one process runs the small blast with contact" test $? -eq 0
+csplit() {  # csplit NP OUT [ARGS...]
+  local np=$1 out=$2
+  shift 2
+  "$mpirun" --oversubscribe -np "$np" "$fdem" run contact.toml --set "output.dir=\"$out\"" "$@" > "$out.log" 2>&1
+}
+csplit 2 cnp2 --partition metis --contact-travel 0.02
+check "contact: mpirun -np 2 (METIS, tight ghosts) runs" test $? -eq 0
+csplit 4 cnp4 --partition bisection
+check "contact: mpirun -np 4 (bisection) runs" test $? -eq 0
+# A chain over rank counts with contact: 2 ranks to half the time, 4 on; one process, then 2.
+csplit 2 chalf --set 'time.end=1e-4'
+check "contact: 2 ranks to half the time" test $? -eq 0
+csplit 4 chalf --restart
+check "contact: 4 ranks continue its checkpoint" test $? -eq 0
+"$fdem" run contact.toml --quiet --set 'output.dir="chalf1"' --set 'time.end=1e-4' > chalf1.log 2>&1
+csplit 2 chalf1 --restart
+check "contact: 2 ranks continue one process's checkpoint" test $? -eq 0
+for out in cnp2 cnp4 chalf chalf1; do
+  for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
+    check "contact: $out/$f byte-identical to one process" cmp -s "cone/$f" "$out/$f"
+  done
+done
+
+# A coarse Brazilian disc (5 mm, platens at 1 m/s, 0.12 ms: CE4s break under the platens)
+# over 2 ranks.
+cp "$src/../cases/brazilian/case.toml" brazilian.toml
+cp "$src/../cases/brazilian/"*.geo .
+bset=(--set 'mesh.size=5e-3' --set 'time.end=0.12e-3' --set 'output.frames=3'
+      --set 'boundary.0.velocity=[0.0, -1.0]' --set 'boundary.1.velocity=[0.0, 1.0]')
+"$fdem" run brazilian.toml --quiet "${bset[@]}" --set 'output.dir="bone"' > bone.log 2>&1
+check "one process runs the coarse Brazilian disc" test $? -eq 0
+check "... and CE4s break in it" grep -q "[1-9][0-9]* CE4s broken" bone.log
+"$mpirun" --oversubscribe -np 2 "$fdem" run brazilian.toml "${bset[@]}" --set 'output.dir="bnp2"' > bnp2.log 2>&1
+check "the Brazilian disc over 2 ranks runs" test $? -eq 0
+for f in brazilian.exo brazilian_history.nc brazilian_fragments.nc brazilian_events.nc; do
+  check "bnp2/$f byte-identical to one process" cmp -s "bone/$f" "bnp2/$f"
+done
+
+# A coarse disc impact (no CE4s, activation "all"): skin rebuilds over 2 and 4 ranks,
+# rebuilds every step over 2.
+cp "$src/../cases/impact/case.toml" impact.toml
+cp "$src/../cases/impact/"*.geo .
+iset=(--set 'mesh.size=0.02' --set 'time.end=0.004')
+"$fdem" run impact.toml --quiet "${iset[@]}" --set 'output.dir="ione"' > ione.log 2>&1
+check "one process runs the coarse impact" test $? -eq 0
+"$fdem" run impact.toml --quiet "${iset[@]}" --set 'contact.rebuild="step"' --set 'output.dir="istep1"' > istep1.log 2>&1
+check "... and with rebuild = step" test $? -eq 0
+for np in 2 4; do
+  "$mpirun" --oversubscribe -np "$np" "$fdem" run impact.toml "${iset[@]}" --set "output.dir=\"inp$np\"" > "inp$np.log" 2>&1
+  check "the impact over $np ranks runs" test $? -eq 0
+done
+"$mpirun" --oversubscribe -np 2 "$fdem" run impact.toml "${iset[@]}" --set 'contact.rebuild="step"' \
+  --set 'output.dir="istep2"' > istep2.log 2>&1
+check "the impact with rebuild = step over 2 ranks runs" test $? -eq 0
+for f in impact.exo impact_history.nc; do
+  check "inp2/$f byte-identical to one process" cmp -s "ione/$f" "inp2/$f"
+  check "inp4/$f byte-identical to one process" cmp -s "ione/$f" "inp4/$f"
+  check "istep2/$f (rebuild = step) byte-identical to one process" cmp -s "istep1/$f" "istep2/$f"
+done
+
+# A node that travels beyond the contact ghosts (--contact-travel 1 mm; the disc falls
+# further) stops every rank at a detection with exit 2 and one message.
+"$mpirun" --oversubscribe -np 2 "$fdem" run impact.toml "${iset[@]}" --contact-travel 0.001 \
+  --set 'output.dir="itravel"' > itravel.log 2>&1
+check "travel beyond the contact ghosts: exit 2" test $? -eq 2
+check "... saying so" grep -q "more than 0.001 m from its start" itravel.log
+check "... once" test "$(grep -c '^error:' itravel.log)" -eq 1
 
 if [ "$fails" -ne 0 ]; then
   echo "$fails check(s) failed"

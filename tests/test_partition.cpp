@@ -297,10 +297,48 @@ TEST_SUITE("partition") {
     CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node) == on_host);
   }
 
-  TEST_CASE("a model with contact is not split yet") {
-    Model m = grid(4, 4, 0.01, false);
-    m.contact.enabled = true;
-    CHECK_THROWS_AS(local_model(m, partition_model(m, 2, PartitionMethod::Bisection), 0), InputError);
+  TEST_CASE("contact ghosts: every triangle within the reach of an owned one, and the owned masks") {
+    for (bool cohesive : {false, true}) {
+      CAPTURE(cohesive);
+      Model m = grid(12, 6, 0.01, cohesive);
+      m.ce4_properties.assign(m.ce4.size(), 0);
+      m.contact.enabled = true;
+      m.contact.skin = 0.002;
+      Partition p = partition_model(m, 3, PartitionMethod::Bisection);
+      // Without a reach a split model with contact is refused (it would miss couples).
+      CHECK_THROWS_AS(local_model(m, p, 0), InputError);
+      p.contact_reach = contact_ghost_reach(m, 0.004);
+      auto box = [&](size_t t) {
+        std::array<double, 4> b{1e300, 1e300, -1e300, -1e300};
+        for (int v : m.triangles[t])
+          b = {std::min(b[0], m.x[v]), std::min(b[1], m.y[v]), std::max(b[2], m.x[v]), std::max(b[3], m.y[v])};
+        return b;
+      };
+      for (int rank = 0; rank < 3; ++rank) {
+        const LocalModel l = local_model(m, p, rank);
+        std::vector<char> held(m.num_triangles(), 0);
+        for (int g : l.triangle_global) held[g] = 1;
+        size_t owned = 0;
+        for (size_t t = 0; t < l.triangle_global.size(); ++t) {
+          CHECK(l.model.triangle_owned[t] == (p.triangle_part[l.triangle_global[t]] == rank ? 1 : 0));
+          owned += l.model.triangle_owned[t];
+        }
+        CHECK(owned == static_cast<size_t>(std::count(p.triangle_part.begin(), p.triangle_part.end(), rank)));
+        for (size_t t = 0; t < m.num_triangles(); ++t) {
+          if (p.triangle_part[t] != rank) continue;
+          const auto a = box(t);
+          for (size_t u = 0; u < m.num_triangles(); ++u) {
+            const auto b = box(u);
+            const bool near = b[0] <= a[2] + p.contact_reach && b[2] >= a[0] - p.contact_reach &&
+                              b[1] <= a[3] + p.contact_reach && b[3] >= a[1] - p.contact_reach;
+            if (near) CHECK(held[u]);
+          }
+        }
+        CHECK(l.model.node_owned.size() == l.model.num_nodes());
+        CHECK(l.model.whole_longest_edge > 0);
+        if (cohesive) CHECK(l.model.ce4_owned.size() == l.model.ce4.size());
+      }
+    }
   }
 
   TEST_CASE("every triangle in exactly one part, every part used, the same twice") {
