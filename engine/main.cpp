@@ -36,10 +36,10 @@ namespace {
 const char* kUsage =
     "usage:\n"
     "  fdem run CASE.toml [--device auto|gpu|cpu|P:D] [--set KEY=VALUE]... [--quiet] [--profile]\n"
-    "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection] [--contact-travel M]\n"
-    "                                                         (one model over N ranks)\n"
-    "           [--restart [CHECKPOINT]] [--max-wall SECONDS]\n"
-    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]] [--memory]\n"
+    "  mpirun -np N fdem run CASE.toml [--device gpu|cpu] [--partition metis|bisection]   (one model over N ranks)\n"
+    "           [--restart [CHECKPOINT]] [--max-wall SECONDS] [--contact-travel METRES (split runs)]\n"
+    "  fdem check CASE.toml [--device ...] [--set KEY=VALUE]... [--ranks N [--partition metis|bisection]\n"
+    "             [--contact-travel METRES]] [--memory]\n"
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
@@ -457,10 +457,8 @@ int split_run_command(const Arguments& a) {
       << s.final_unbalanced_ratio << ", energy_error " << std::setprecision(3) << s.final_energy_error << " (worst "
       << s.worst_energy_error << ")\n"
       << "wrote " << p->exodus_path << " (" << s.frames << " frames), " << p->history_path
-      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path)
-      << (s.checkpoint.empty() ? std::string(" (no checkpoint: a split run with contact writes none yet)")
-                               : " and " + s.checkpoint + " (the whole model's: it continues at any number of ranks)")
-      << "\n" << std::defaultfloat;
+      << (p->model.ce4.empty() ? std::string() : ", " + p->fragments_path + ", " + p->events_path) << " and "
+      << s.checkpoint << " (the whole model's: it continues at any number of ranks)\n" << std::defaultfloat;
   if (a.profile) {
     // Every rank's profile, printed by rank 0 in rank order.
     cl->collect_profile();
