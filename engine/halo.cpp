@@ -95,13 +95,17 @@ HaloExchange::HaloExchange(ClContext& cl, DeviceArrays& arrays, HaloPlan plan, T
   }
 }
 
-void HaloExchange::exchange_contact() {
+void HaloExchange::begin_contact() {
+  if (!contact_ || !received_) return;
+  cl_.enqueue(contact_pack_, received_);
+  contact_read_ = cl_.queue().enqueue_read_buffer_async(contact_out_, 0, received_ * sizeof(cl_long2),
+                                                         contact_out_host_.data());
+}
+
+void HaloExchange::finish_contact() {
   if (!contact_) return;
   const auto start = std::chrono::steady_clock::now();
-  if (received_) {
-    cl_.enqueue(contact_pack_, received_);
-    cl_.queue().enqueue_read_buffer(contact_out_, 0, received_ * sizeof(cl_long2), contact_out_host_.data());
-  }
+  if (received_) contact_read_.wait();
   size_t at = 0;
   for (size_t q = 0; q < plan_.receive.size(); ++q) {
     const size_t n = plan_.receive[q].size();
@@ -129,7 +133,7 @@ void HaloExchange::exchange_contact() {
   }
   if (cl_.profiling()) {
     cl_.finish();
-    cl_.add_host_time("contact halo exchange (host wall: pack, read, messages, write, add)",
+    cl_.add_host_time("contact halo exchange (host wall: wait for the read, messages, write, add)",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
 }

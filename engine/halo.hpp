@@ -44,8 +44,16 @@ class HaloExchange {
   // couples of this rank put on its ghost nodes go to their owners, which add them
   // (integers: the sum is exact and does not depend on the order, so an owned node ends
   // with one rank's total). The same lists as exchange(), travelled the other way. Waits
-  // for the queue (the contact stage), then enqueues the additions.
-  void exchange_contact();
+  // for the queue (the contact stage), then enqueues the additions. In two halves so that
+  // the messages overlap the device's next kernels: begin_contact() enqueues the pack and
+  // an asynchronous read (never waits), finish_contact() waits for that read, posts and
+  // receives the messages and enqueues the additions.
+  void exchange_contact() {
+    begin_contact();
+    finish_contact();
+  }
+  void begin_contact();
+  void finish_contact();
   const HaloPlan& plan() const { return plan_; }
 
  private:
@@ -58,6 +66,7 @@ class HaloExchange {
   compute::buffer send_index_, receive_index_, send_values_, receive_values_, contact_out_, contact_in_;
   std::vector<real4> send_host_, receive_host_;
   std::vector<cl_long2> contact_out_host_, contact_in_host_;
+  compute::event contact_read_;
   bool contact_ = false;
 };
 

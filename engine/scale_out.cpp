@@ -60,7 +60,8 @@ void SplitRun::attach(ClContext& cl, Solver& solver) {
   // owned mask, Model::triangle_owned); its forces on nodes owned elsewhere travel to them
   // before the gather; the skin readings are the largest over the ranks, so every rank
   // detects at the same steps as one rank does.
-  solver.set_split_hooks([this, &solver] { check_travel(solver); }, [this] { halo_->exchange_contact(); });
+  solver.set_split_hooks([this, &solver] { check_travel(solver); }, [this] { halo_->begin_contact(); },
+                         [this] { halo_->finish_contact(); });
   if (ContactSkin* skin = solver.skin()) {
     skin->set_reduce([this](cl_uint* words, unsigned count) {
       constexpr int kept = 3;  // RING_MOVED, RING_SPEED, RING_JOINED (the pool word is each rank's)

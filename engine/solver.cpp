@@ -247,11 +247,12 @@ void Solver::step(bool energy_row) {
       if (skin_) contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
+    if (contact_sent_) contact_sent_();
   }
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
   triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
-  if (contact_exchange_) contact_exchange_();
+  if (contact_received_) contact_received_();
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);

@@ -142,12 +142,16 @@ class Solver {
   void set_scope(const ItemScope* scope) { scope_ = scope; }
   // A split run with contact (engine/scale_out.*): `before_detection` runs on the host
   // just before each contact detection (collective: the decision is the same on every
-  // rank), `contact_exchange` after the contact stage is enqueued and before the node
-  // gather reads the fixed-point contact forces (the couples one rank computed that act
-  // on nodes another owns). Set before the first step.
-  void set_split_hooks(std::function<void()> before_detection, std::function<void()> contact_exchange) {
+  // rank); the exchange of the fixed-point contact forces that one rank's couples put on
+  // nodes another owns: `contact_sent` right after the contact stage is enqueued (it must
+  // not wait), `contact_received` after the other force stages and before the node gather
+  // reads them, so that the messages overlap those stages on the device. Set before the
+  // first step.
+  void set_split_hooks(std::function<void()> before_detection, std::function<void()> contact_sent,
+                       std::function<void()> contact_received) {
     before_detection_ = std::move(before_detection);
-    contact_exchange_ = std::move(contact_exchange);
+    contact_sent_ = std::move(contact_sent);
+    contact_received_ = std::move(contact_received);
   }
   ContactSkin* skin() { return skin_.get(); }
 
@@ -186,7 +190,7 @@ class Solver {
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
   const ItemScope* scope_ = nullptr;
-  std::function<void()> before_detection_, contact_exchange_;
+  std::function<void()> before_detection_, contact_sent_, contact_received_;
   size_t split_touching_ = 0, split_candidates_ = 0;
   // A split run: the contact terms of energy() over every rank (collective).
   void add_split_contact_energy(EnergyTotals& e);
