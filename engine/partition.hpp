@@ -1,7 +1,7 @@
 // Domain decomposition of a model over ranks: which rank owns each triangle, node and
 // CE4, and what each rank would have to hold besides (its ghosts). This is the first
 // piece of the scale-out design (ARCHITECTURE.md, "Scale-out"); `fdem check --ranks N`
-// prints it. No run is split yet.
+// prints it; engine/scale_out.* runs the split.
 //
 // Ownership rules (deterministic, independent of the partitioner):
 // - a triangle belongs to the part the partitioner gives it;
@@ -13,7 +13,9 @@
 // - ghost CE4: CE4s of other parts that use a node p owns;
 // - ghost nodes: nodes of p's triangles, CE4s and ghost elements that p does not own;
 // - contact ghost TRI3 (models with contact): triangles of other parts whose bounding
-//   box, grown by the contact reach, overlaps the box of one of p's triangles.
+//   box, grown by the contact reach, overlaps the box of one of p's triangles; with CE4s
+//   also every CE4 with an end at a mesh node of p's or its contact ghosts' triangles,
+//   and that CE4's triangles and nodes (local_model).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -36,7 +38,7 @@ struct Partition {
   PartitionMethod method = PartitionMethod::Bisection;
   std::vector<int> triangle_part;  // one per triangle
   // A split run with contact: how far [m] beyond a triangle's reference bounding box
-  // the triangles it may meet in contact lie (ghost_reach in engine/scale_out.cpp: the
+  // the triangles it may meet in contact lie (contact_ghost_reach in engine/scale_out.hpp: the
   // skin plus twice the travel a node may make from its start). Its rank holds all of
   // them (contact ghosts). 0: no contact ghosts.
   double contact_reach = 0;

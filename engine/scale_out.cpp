@@ -55,6 +55,7 @@ void SplitRun::attach(ClContext& cl, Solver& solver) {
   halo_ = std::make_unique<HaloExchange>(cl, solver.arrays(), halo_plan(global_, partition_, local_, transport_.rank()),
                                          transport_, contact);
   solver.set_scope(&scope_);
+  solver.set_strain_round_off(Solver::strain_round_off(global_));  // the account's floor: one rank's
   if (!contact) return;
   // Contact: each couple is listed by the owner of its lower triangle (the detection's
   // owned mask, Model::triangle_owned); its forces on nodes owned elsewhere travel to them

@@ -26,9 +26,7 @@ struct PreparedCase;
 class SplitRun {
  public:
   // Partitions `global` (the whole model, the same on every rank) and builds this rank's
-  // share. InputError when the model cannot be split (contact).
-  // InputError when the model cannot be split (contact with CE4s). With contact, every
-  // rank holds the triangles within contact_ghost_reach(global, travel) of its own, and
+  // share. With contact, every rank holds the triangles within contact_ghost_reach(global, travel) of its own, and
   // the run stops (InputError, on every rank at once) at a detection where some node has
   // moved more than `travel` [m] from its start (0: default_contact_travel).
   SplitRun(const Model& global, Transport& transport, PartitionMethod method, double travel = 0);
@@ -106,10 +104,9 @@ class SplitRun {
 
 // Contact in a split run: how far a node may travel from its start before the contact
 // ghosts no longer cover every couple (default: two mean edges of the mesh, or ten contact
-// skins if that is more), and the reach of
-// the ghosts around a rank's triangles' reference boxes that this allows: the skin (two
-// boxes grown by skin/2 each) plus twice the travel (both triangles may move), with a
-// little room for rounding.
+// skins if that is more), and the reach of the ghosts around a rank's triangles'
+// reference boxes that this allows: the skin (two boxes grown by skin/2 each) plus twice
+// the travel (both triangles may move), with a little room for rounding.
 double default_contact_travel(const Model& model);
 double contact_ghost_reach(const Model& model, double travel);
 

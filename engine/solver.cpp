@@ -190,11 +190,21 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
     contact_round_off_ = model.contact.max_normal_penalty * model.thickness * std::numeric_limits<real>::epsilon() * reach *
                          3 * longest;
   }
-  // The strain energy is computed from current positions, each known to ε |x|: a body at
-  // rest holds ½ C (ε |x| / h)² A t of round-off strain energy per triangle, which must not
-  // count as an unbalanced account when every energy is that small (a block at rest with
-  // no load gave energy_error 0.23 and a stop). Bound: positions off by ε |x|max at each
-  // corner, a strain error of 4 ε |x|max / h (h: the triangle's shortest height).
+  strain_round_off_ = strain_round_off(model);
+  LumpedMass(cl, arrays_, model, dt).enqueue(gather_);
+  const MemoryPlan own = checkpoint_plan(arrays_.num_nodes);
+  saved_position_ = own.allocate(cl, "saved_position");
+  saved_velocity_ = own.allocate(cl, "saved_velocity");
+  cl.finish();
+}
+
+// The strain energy is computed from current positions, each known to ε |x|: a body at
+// rest holds ½ C (ε |x| / h)² A t of round-off strain energy per triangle, which must not
+// count as an unbalanced account when every energy is that small (a block at rest with
+// no load gave energy_error 0.23 and a stop). Bound: positions off by ε |x|max at each
+// corner, a strain error of 4 ε |x|max / h (h: the triangle's shortest height).
+double Solver::strain_round_off(const Model& model) {
+  double total = 0;
   {
     double reach = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
@@ -209,14 +219,10 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
         longest = std::max(longest, std::hypot(model.x[v[(k + 1) % 3]] - model.x[v[k]], model.y[v[(k + 1) % 3]] - model.y[v[k]]));
       if (area <= 0 || longest <= 0) continue;
       const double height = 2 * area / longest, strain = 4 * eps * reach / height;
-      strain_round_off_ += 0.5 * model.materials[model.triangle_material[t]].wave_modulus * strain * strain * area * model.thickness;
+      total += 0.5 * model.materials[model.triangle_material[t]].wave_modulus * strain * strain * area * model.thickness;
     }
   }
-  LumpedMass(cl, arrays_, model, dt).enqueue(gather_);
-  const MemoryPlan own = checkpoint_plan(arrays_.num_nodes);
-  saved_position_ = own.allocate(cl, "saved_position");
-  saved_velocity_ = own.allocate(cl, "saved_velocity");
-  cl.finish();
+  return total;
 }
 
 void Solver::step(bool energy_row) {

@@ -154,6 +154,10 @@ class Solver {
     contact_received_ = std::move(contact_received);
   }
   ContactSkin* skin() { return skin_.get(); }
+  // The round-off floor of the strain energy (EnergyTotals::resolution) of `model`; a
+  // split run sets the whole model's (its local model would give its own share).
+  static double strain_round_off(const Model& model);
+  void set_strain_round_off(double value) { strain_round_off_ = value; }
 
   ClContext& context() { return cl_; }
   DeviceArrays& arrays() { return arrays_; }
