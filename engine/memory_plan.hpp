@@ -26,6 +26,8 @@ class MemoryPlan {
     Scratch,   // allocated during a step by a library outside ClContext (Boost.Compute's sorts)
     Output,    // allocated through ClContext for an output step (frame, history row, probes),
                // between steps, and released before the next step (Solver::release_output)
+    Detection,  // allocated by each contact detection while it finds its couples (with the
+                // hashes' sort scratch), released before the couples' sort
   };
   struct Array {
     std::string name;
@@ -62,9 +64,10 @@ class MemoryPlan {
   std::size_t construction_peak() const { return resident() + sum(Lifetime::SetUp); }
   // The most the transient arrays hold at once: the largest set-up or scratch array (no
   // two of them exist at once: set-up arrays during the construction, scratch within a
-  // step), or all output arrays together (they exist together, between two steps).
+  // step), or all output arrays together (they exist together, between two steps), or
+  // all detection arrays together (within a detection, before its couples' sort).
   std::size_t largest_transient() const {
-    std::size_t most = sum(Lifetime::Output);
+    std::size_t most = std::max(sum(Lifetime::Output), sum(Lifetime::Detection));
     for (const auto& a : arrays_)
       if (a.lifetime == Lifetime::SetUp || a.lifetime == Lifetime::Scratch)
         most = std::max(most, ClContext::allocation_size(a.bytes));
