@@ -54,7 +54,14 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
 }
 
 compute::buffer& DeviceArrays::output_stress(ClContext& cl) {
-  if (stress.get() == nullptr) stress = cl.allocate(stress_bytes_, "stress");
+  if (stress.get() == nullptr) {
+    stress = cl.allocate(stress_bytes_, "stress");
+    // A triangle the stress pass finds inverted or not finite writes nothing: it reads 0,
+    // not what the new array happened to hold (a failed run's last frame; every rank of a
+    // split run the same). Before the array was transient it kept the last output's value.
+    const real zero = 0;
+    cl.queue().enqueue_fill_buffer(stress, &zero, sizeof(zero), 0, stress_bytes_);
+  }
   return stress;
 }
 
