@@ -36,7 +36,7 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("tri_material", t * u)
       .add("materials", model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real))
       .add("corner_force", 3 * t * sizeof(real2))
-      .add("stress", t * sizeof(real4))
+      .add("stress", t * sizeof(real4), MemoryPlan::Lifetime::Output)
       .add("corner_start", (n + 1) * u)
       .add("corner_slot", 3 * t * u)
       .add("edge_nodes", 2 * e * u)
@@ -51,6 +51,18 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("contact_acc", (model.contact.enabled ? n : 1) * 2 * sizeof(cl_long))
       .add("conditions", layout::CONDITION_WORDS * sizeof(int));
   return p;
+}
+
+compute::buffer& DeviceArrays::output_stress(ClContext& cl) {
+  if (stress.get() == nullptr) {
+    stress = cl.allocate(stress_bytes_, "stress");
+    // A triangle the stress pass finds inverted or not finite writes nothing: it reads 0,
+    // not what the new array happened to hold (a failed run's last frame; every rank of a
+    // split run the same). Before the array was transient it kept the last output's value.
+    const real zero = 0;
+    cl.queue().enqueue_fill_buffer(stress, &zero, sizeof(zero), 0, stress_bytes_);
+  }
+  return stress;
 }
 
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
@@ -71,7 +83,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   tri_material = plan.allocate(cl, "tri_material");
   materials = plan.allocate(cl, "materials");
   corner_force = plan.allocate(cl, "corner_force");
-  stress = plan.allocate(cl, "stress");
+  stress_bytes_ = plan.bytes("stress");  // allocated for output steps only (output_stress)
   corner_start = plan.allocate(cl, "corner_start");
   corner_slot = plan.allocate(cl, "corner_slot");
   edge_nodes = plan.allocate(cl, "edge_nodes");

@@ -30,7 +30,8 @@ struct DeviceArrays {
   compute::buffer tri_material;  // uint
   compute::buffer materials;     // real, MATERIAL_STRIDE per material
   compute::buffer corner_force;  // real2 ×3 per triangle [N] (also the corner masses at set-up)
-  compute::buffer stress;        // real4: σxx, σyy, σxy [Pa], J
+  compute::buffer stress;        // real4: σxx, σyy, σxy [Pa], J; output only: allocated by
+                                 // output_stress(), null between output steps
   compute::buffer corner_start;  // uint, num_nodes+1: node → corner-slot CSR offsets
   compute::buffer corner_slot;   // uint, 3 per triangle: slot 3t+k of each node's corners
 
@@ -57,6 +58,14 @@ struct DeviceArrays {
 
   // The arrays above for `model`, by name and size (Solver::plan adds the stages').
   static MemoryPlan plan(const Model& model);
+
+  // `stress`, allocated when it is not (the stress evaluation of an output step);
+  // release_output() gives it back once the step's output has read it.
+  compute::buffer& output_stress(ClContext& cl);
+  void release_output() { stress = compute::buffer(); }
+
+ private:
+  size_t stress_bytes_ = 0;
 };
 
 // Host ↔ device copies that wait (only for set-up, output, history and checks).

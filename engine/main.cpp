@@ -238,8 +238,10 @@ void print_memory_plan(const fdem::Model& m, size_t group_size) {
   for (const auto& x : arrays) {
     const size_t held = fdem::ClContext::allocation_size(x.bytes);
     const char* kind = x.lifetime == fdem::MemoryPlan::Lifetime::Resident ? ""
-                       : x.lifetime == fdem::MemoryPlan::Lifetime::SetUp ? "  (set-up)"
-                                                                         : "  (scratch)";
+                       : x.lifetime == fdem::MemoryPlan::Lifetime::SetUp  ? "  (set-up)"
+                       : x.lifetime == fdem::MemoryPlan::Lifetime::Output ? "  (output)"
+                       : x.lifetime == fdem::MemoryPlan::Lifetime::Detection ? "  (detection)"
+                                                                          : "  (scratch)";
     std::cout << "  " << std::left << std::setw(44) << x.name << std::right << std::setw(12) << mib(held)
               << std::setw(9) << std::fixed << std::setprecision(1) << held / tri3 << std::defaultfloat << kind << "\n";
   }

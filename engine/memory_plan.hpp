@@ -24,6 +24,10 @@ class MemoryPlan {
     Resident,  // allocated by the constructor and kept (a growable array: its first capacity)
     SetUp,     // allocated while the Solver is built, released before its constructor ends
     Scratch,   // allocated during a step by a library outside ClContext (Boost.Compute's sorts)
+    Output,    // allocated through ClContext for an output step (frame, history row, probes),
+               // between steps, and released before the next step (Solver::release_output)
+    Detection,  // allocated by each contact detection while it finds its couples (with the
+                // hashes' sort scratch), released before the couples' sort
   };
   struct Array {
     std::string name;
@@ -58,11 +62,15 @@ class MemoryPlan {
   // ClContext::device_bytes_peak rises by at most this much during the construction (by
   // less when set-up arrays are counted out before the last resident ones are made).
   std::size_t construction_peak() const { return resident() + sum(Lifetime::SetUp); }
-  // The largest transient array (set-up or scratch; no two of them exist at once).
+  // The most the transient arrays hold at once: the largest set-up or scratch array (no
+  // two of them exist at once: set-up arrays during the construction, scratch within a
+  // step), or all output arrays together (they exist together, between two steps), or
+  // all detection arrays together (within a detection, before its couples' sort).
   std::size_t largest_transient() const {
-    std::size_t most = 0;
+    std::size_t most = std::max(sum(Lifetime::Output), sum(Lifetime::Detection));
     for (const auto& a : arrays_)
-      if (a.lifetime != Lifetime::Resident) most = std::max(most, ClContext::allocation_size(a.bytes));
+      if (a.lifetime == Lifetime::SetUp || a.lifetime == Lifetime::Scratch)
+        most = std::max(most, ClContext::allocation_size(a.bytes));
     return most;
   }
   // The figure the too-little-memory check compares with the device's memory.

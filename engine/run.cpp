@@ -453,6 +453,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     next_frame = 1;
   }
   solver.save_checkpoint();
+  solver.release_output();
 
   const auto start = std::chrono::steady_clock::now();
   auto last_report = start;
@@ -551,6 +552,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
         ++next_frame;
       }
       solver.save_checkpoint();
+      solver.release_output();  // the output arrays of this step (stress) until the next output
       cl.collect_profile();
       if (checkpoint_due) {
         write_checkpoint();

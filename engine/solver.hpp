@@ -58,8 +58,8 @@ class Solver {
   static std::unique_ptr<ContactDetection> build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
                                                            const Model& model);
   // Every device array the Solver of `model` allocates: DeviceArrays' and each built
-  // stage's plan, the set-up LumpedMass's and the Solver's own checkpoint copies
-  // (`group_size`: ClContext::group_size() of the device it will run on).
+  // stage's plan and the set-up LumpedMass's (the Solver's checkpoint copies are on the
+  // host; `group_size`: ClContext::group_size() of the device it will run on).
   // ClContext::device_bytes_in_use() rises by plan(...).resident() when the Solver is built.
   static MemoryPlan plan(const Model& model, size_t group_size, bool account = true);
   // Device memory the run needs, in bytes: plan(...).total() (resident arrays, contact
@@ -87,8 +87,12 @@ class Solver {
   // Time of the last energy row [s] (one step before time() when the row was the last step).
   double energy_time() const { return energy_row_step_ * dt_; }
   EnergyBalance& balance() { return balance_; }
-  // Enqueues a stress evaluation of the current state (for output). Never waits.
+  // Enqueues a stress evaluation of the current state (for output), into a stress array
+  // allocated for it when there is none (DeviceArrays::output_stress). Never waits.
   void enqueue_stress();
+  // Gives back the output-only arrays (the stress) once a step's output has read them;
+  // the next enqueue_stress() allocates them again (MemoryPlan::Lifetime::Output).
+  void release_output() { arrays_.release_output(); }
 
   long steps_done() const { return steps_; }
   double time() const { return steps_ * dt_; }
@@ -99,11 +103,11 @@ class Solver {
   std::vector<real2> velocities();
   std::vector<real2> forces();   // out-of-balance force of the last step (incl. gravity)
   std::vector<real2> masses();   // (lumped mass, inertia)
-  std::vector<real4> stresses(); // as of the last enqueue_stress()
+  std::vector<real4> stresses(); // as of the last enqueue_stress() (none since release_output: DeviceError)
   Conditions conditions();
 
-  // A device-side copy of positions and velocities, taken at a check that passed, so a
-  // failed run can still write its last good frame.
+  // A host copy of positions and velocities (read back, waits), taken at a check that
+  // passed, so a failed run can still write its last good frame.
   void save_checkpoint();
   bool has_checkpoint() const { return checkpoint_step_ >= 0; }
   long checkpoint_step() const { return checkpoint_step_; }
@@ -198,7 +202,7 @@ class Solver {
   size_t split_touching_ = 0, split_candidates_ = 0;
   // A split run: the contact terms of energy() over every rank (collective).
   void add_split_contact_energy(EnergyTotals& e);
-  compute::buffer saved_position_, saved_velocity_;
+  std::vector<real2> saved_position_, saved_velocity_;  // the checkpoint, on the host
   long checkpoint_step_ = -1;
 };
 

@@ -104,6 +104,17 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
       for (int k = 0; k < 20; ++k) solver.step();
       cl.finish();
       CHECK(cl.device_bytes_in_use() - before <= needed);
+      // An output step's arrays (MemoryPlan::Lifetime::Output: the stress, the fragment
+      // labels) exist only until release_output, and fit in the plan's transient share.
+      const size_t running = settled_bytes(cl);
+      solver.enqueue_stress();
+      CHECK(solver.stresses().size() == p.model.num_triangles());
+      CHECK(cl.device_bytes_in_use() - running == ClContext::allocation_size(plan.bytes("stress")));
+      if (solver.fragments()) CHECK(solver.fragment_labels().size() == p.model.num_triangles());
+      CHECK(cl.device_bytes_in_use() - before <= needed);
+      solver.release_output();
+      CHECK(settled_bytes(cl, running) == running);
+      CHECK_THROWS_AS(solver.stresses(), DeviceError);
     }
     CHECK(settled_bytes(cl, before) == before);
   }

@@ -42,23 +42,26 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
   const size_t n = std::max<size_t>(triangles, 1), groups = std::max<size_t>(groups_for(triangles, group_size), 1);
   const size_t capacity = first_capacity(triangles, initial_capacity);
   MemoryPlan p;
-  p.add("contact boxes", n * sizeof(real4))
+  using L = MemoryPlan::Lifetime;
+  // Boxes, cells, hashes and sorted triangles: used only while a detection finds its
+  // couples, allocated by run() for that and released before the couples' sort.
+  p.add("contact boxes", n * sizeof(real4), L::Detection)
       .add("contact partial bounds", groups * sizeof(real4))
       .add("contact partial sides", groups * sizeof(real))
       .add("contact grid", sizeof(real4))
       .add("contact grid size", 4 * sizeof(cl_uint))
-      .add("contact cell first", cell_limit(triangles) * sizeof(cl_uint))
-      .add("contact cell last", cell_limit(triangles) * sizeof(cl_uint))
-      .add("contact hashes", n * sizeof(cl_uint))
-      .add("contact sorted triangles", n * sizeof(cl_uint))
+      .add("contact cell first", cell_limit(triangles) * sizeof(cl_uint), L::Detection)
+      .add("contact cell last", cell_limit(triangles) * sizeof(cl_uint), L::Detection)
+      .add("contact hashes", n * sizeof(cl_uint), L::Detection)
+      .add("contact sorted triangles", n * sizeof(cl_uint), L::Detection)
       .add("contact active mask", n * sizeof(cl_uint))
       .add("contact couple counter", sizeof(cl_uint))
       .add(couple_list(capacity));
   if (bonds) p.add("contact bond partners", 3 * n * sizeof(cl_uint));
   if (owned_first) p.add("contact owned triangles", n * sizeof(cl_uchar));
-  // The two sorts of a run, one after the other; the couples' at the first capacity.
-  using L = MemoryPlan::Lifetime;
-  p.add("sort scratch: cell hashes", sort_scratch(triangles, sizeof(cl_uint), sizeof(cl_uint)), L::Scratch)
+  // The two sorts of a run, one after the other; the couples' at the first capacity. The
+  // hashes' sort runs while the detection arrays above exist (counted with them).
+  p.add("sort scratch: cell hashes", sort_scratch(triangles, sizeof(cl_uint), sizeof(cl_uint)), L::Detection)
       .add("sort scratch: couples", sort_scratch(capacity, sizeof(cl_ulong), 0), L::Scratch);
   return p;
 }
@@ -76,16 +79,12 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
 
   const size_t n = std::max<size_t>(count_, 1);
   const MemoryPlan arrays = plan(count_, group, initial_capacity, !bonds.empty(), !owned_first.empty());
-  boxes_ = arrays.allocate(cl, "contact boxes");
+  detection_arrays_ = arrays;
   partial_bounds_ = arrays.allocate(cl, "contact partial bounds");
   partial_side_ = arrays.allocate(cl, "contact partial sides");
   grid_ = arrays.allocate(cl, "contact grid");
   dims_ = arrays.allocate(cl, "contact grid size");
-  cell_first_ = arrays.allocate(cl, "contact cell first");
-  cell_last_ = arrays.allocate(cl, "contact cell last");
-  hash_ = arrays.allocate(cl, "contact hashes");
-  tri_ = arrays.allocate(cl, "contact sorted triangles");
-  active_ = arrays.allocate(cl, "contact active mask");
+    active_ = arrays.allocate(cl, "contact active mask");
   counter_ = arrays.allocate(cl, "contact couple counter");
   keys_ = arrays.allocate(cl, "contact couples");
   upload(cl, active_, std::vector<cl_uint>(count_, 1u));
@@ -122,10 +121,12 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   const cl_uint nt = static_cast<cl_uint>(count_);
 
   boxes_kernel_ = compute::kernel(program, "triangle_boxes");
-  bind_args(boxes_kernel_)("n_triangles", nt)("tri_nodes", a.tri_nodes)("position", a.position)(
-      "half_skin", static_cast<real>(0.5 * skin))("boxes", boxes_)("partial_bounds", partial_bounds_)(
-      "partial_side", partial_side_)
-      .done();
+  {
+    KernelArgs k(boxes_kernel_);
+    k("n_triangles", nt)("tri_nodes", a.tri_nodes)("position", a.position)("half_skin", static_cast<real>(0.5 * skin));
+    bind_later(k, "boxes", kBoxes);
+    k("partial_bounds", partial_bounds_)("partial_side", partial_side_).done();
+  }
 
   grid_kernel_ = compute::kernel(program, "grid_setup");
   bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("partial_bounds", partial_bounds_)(
@@ -133,22 +134,43 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
       .done();
 
   clear_kernel_ = compute::kernel(program, "clear_cells");
-  bind_args(clear_kernel_)("max_cells", static_cast<cl_uint>(max_cells_))("cell_first", cell_first_)(
-      "cell_last", cell_last_)
-      .done();
+  {
+    KernelArgs k(clear_kernel_);
+    k("max_cells", static_cast<cl_uint>(max_cells_));
+    bind_later(k, "cell_first", kCellFirst);
+    bind_later(k, "cell_last", kCellLast);
+    k.done();
+  }
 
   hash_kernel_ = compute::kernel(program, "cell_hash");
-  bind_args(hash_kernel_)("n_triangles", nt)("boxes", boxes_)("grid", grid_)("dims", dims_)("hash", hash_)(
-      "tri", tri_)
-      .done();
+  {
+    KernelArgs k(hash_kernel_);
+    k("n_triangles", nt);
+    bind_later(k, "boxes", kBoxes);
+    k("grid", grid_)("dims", dims_);
+    bind_later(k, "hash", kHash);
+    bind_later(k, "tri", kTri);
+    k.done();
+  }
 
   range_kernel_ = compute::kernel(program, "cell_range");
-  bind_args(range_kernel_)("n_triangles", nt)("sorted_hash", hash_)("cell_first", cell_first_)(
-      "cell_last", cell_last_)
-      .done();
+  {
+    KernelArgs k(range_kernel_);
+    k("n_triangles", nt);
+    bind_later(k, "sorted_hash", kHash);
+    bind_later(k, "cell_first", kCellFirst);
+    bind_later(k, "cell_last", kCellLast);
+    k.done();
+  }
 
   small_pairs_kernel_ = compute::kernel(program, "sort_small_pairs");
-  bind_args(small_pairs_kernel_)("n", nt)("hash", hash_)("tri", tri_).done();
+  {
+    KernelArgs k(small_pairs_kernel_);
+    k("n", nt);
+    bind_later(k, "hash", kHash);
+    bind_later(k, "tri", kTri);
+    k.done();
+  }
   small_keys_kernel_ = compute::kernel(program, "sort_small_keys");
   {
     KernelArgs k(small_keys_kernel_);
@@ -159,8 +181,12 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
 
   couples_kernel_ = compute::kernel(program, "find_couples");
   KernelArgs couples(couples_kernel_);
-  couples("n_triangles", nt)("tri_nodes", a.tri_nodes)("boxes", boxes_)("active", active_)("grid", grid_)(
-      "dims", dims_)("cell_first", cell_first_)("cell_last", cell_last_)("sorted_tri", tri_);
+  couples("n_triangles", nt)("tri_nodes", a.tri_nodes);
+  bind_later(couples, "boxes", kBoxes);
+  couples("active", active_)("grid", grid_)("dims", dims_);
+  bind_later(couples, "cell_first", kCellFirst);
+  bind_later(couples, "cell_last", kCellLast);
+  bind_later(couples, "sorted_tri", kTri);
   couples_capacity_ = couples.later("capacity", static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
   couples("count", counter_);
   couples_keys_ = couples.later("keys", keys_);
@@ -187,10 +213,35 @@ void ContactDetection::find_couples() {
   cl_.enqueue(couples_kernel_, count_);
 }
 
+void ContactDetection::bind_later(KernelArgs& args, const char* name, int array) {
+  detection_args_.push_back({array, args.later(name, counter_)});  // the counter until run() binds the array
+}
+
+void ContactDetection::hold_arrays(bool on) {
+  static const char* const names[kDetectionArrays] = {"contact boxes", "contact cell first", "contact cell last",
+                                                      "contact hashes", "contact sorted triangles"};
+  compute::buffer* held[kDetectionArrays] = {&boxes_, &cell_first_, &cell_last_, &hash_, &tri_};
+  for (int k = 0; k < kDetectionArrays; ++k)
+    *held[k] = on ? detection_arrays_.allocate(cl_, names[k]) : compute::buffer();
+  for (auto& [array, arg] : detection_args_) arg.set(on ? *held[array] : counter_);
+}
+
 size_t ContactDetection::run() {
   last_count_ = 0;
   if (count_ == 0) return 0;
   auto& queue = cl_.queue();
+  // Boxes, cells, hashes: for this detection only (released once the count is read; the
+  // count's read waits for every kernel that used them).
+  hold_arrays(true);
+  struct Release {
+    ContactDetection& d;
+    ~Release() {
+      try {
+        d.hold_arrays(false);
+      } catch (...) {  // unwinding from a failed detection: the arrays go with the stage
+      }
+    }
+  } release{*this};
 
   // 1. Boxes and the grid around them.
   cl_.enqueue(boxes_kernel_, count_);
@@ -220,6 +271,7 @@ size_t ContactDetection::run() {
     if (found > capacity_)  // the scan is deterministic in its count; this cannot happen
       throw DeviceError("contact detection: couple count changed between two scans");
   }
+  hold_arrays(false);  // before the couples' sort takes its scratch
 
   // 6. Canonical order.
   if (found > 1) {

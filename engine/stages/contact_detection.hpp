@@ -68,6 +68,12 @@ class ContactDetection {
  private:
   void grow(size_t needed);
   void find_couples();  // resets the counter and enqueues the scan
+  // The arrays of one detection (MemoryPlan::Lifetime::Detection), bound by name in the
+  // kernels that use them: allocated and bound (on), or released (off; the kernels then
+  // hold the counter, and no kernel of the detection runs until the next run()).
+  enum { kBoxes, kCellFirst, kCellLast, kHash, kTri, kDetectionArrays };
+  void bind_later(KernelArgs& args, const char* name, int array);
+  void hold_arrays(bool on);
 
   ClContext& cl_;
   size_t count_;        // triangles
@@ -80,6 +86,8 @@ class ContactDetection {
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
   compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_, owned_first_;
   compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
+  MemoryPlan detection_arrays_;    // the plan, for the sizes of boxes_ ... tri_ (null between runs)
+  std::vector<std::pair<int, KernelArg<compute::buffer>>> detection_args_;
   compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
   // Sorts of up to kSmallSort entries: one work-group in local memory (a small model's
   // detection would otherwise spend its time launching the library sort's passes).

@@ -9,7 +9,7 @@ namespace fdem {
 
 MemoryPlan FragmentLabels::plan(size_t triangles, size_t nodes, size_t ce4) {
   return MemoryPlan()
-      .add("fragment_label", (triangles + nodes) * sizeof(cl_int))
+      .add("fragment_label", (triangles + nodes) * sizeof(cl_int), MemoryPlan::Lifetime::Output)
       .add("fragment_ce4_triangles", 2 * ce4 * sizeof(cl_uint))
       .add("fragment_changed", sizeof(cl_int));
 }
@@ -19,7 +19,7 @@ FragmentLabels::FragmentLabels(ClContext& cl, size_t triangles, size_t nodes, co
     : cl_(cl), triangles_(triangles), vertices_(triangles + nodes), ce4_(ce4_triangles.size()) {
   if (ce4_ && !status) throw DeviceError("fragment labels: CE4s without their status array");
   const MemoryPlan arrays = plan(triangles, nodes, ce4_);
-  label_ = arrays.allocate(cl, "fragment_label");
+  label_bytes_ = arrays.bytes("fragment_label");  // allocated by labels() for the call only
   pairs_ = arrays.allocate(cl, "fragment_ce4_triangles");
   changed_ = arrays.allocate(cl, "fragment_changed");
   std::vector<cl_uint> pairs;
@@ -32,21 +32,41 @@ FragmentLabels::FragmentLabels(ClContext& cl, size_t triangles, size_t nodes, co
 
   const compute::program program = cl.build(kernel_source::fragments);
   init_ = compute::kernel(program, "fragment_init");
-  bind_args(init_)("n_vertices", cl_uint(vertices_))("label", label_).done();
+  {
+    KernelArgs args(init_);
+    args("n_vertices", cl_uint(vertices_));
+    label_args_.push_back(args.later("label", changed_));
+    args.done();
+  }
   hook_triangles_ = compute::kernel(program, "fragment_hook_triangles");
-  bind_args(hook_triangles_)("n_tri", cl_uint(triangles))("tri_nodes", tri_nodes)("label", label_)("changed", changed_)
-      .done();
+  {
+    KernelArgs args(hook_triangles_);
+    args("n_tri", cl_uint(triangles))("tri_nodes", tri_nodes);
+    label_args_.push_back(args.later("label", changed_));
+    args("changed", changed_).done();
+  }
   hook_ce4_ = compute::kernel(program, "fragment_hook_ce4");
-  bind_args(hook_ce4_)("n_ce4", cl_uint(ce4_))("status", status ? *status : pairs_)("ce4_triangles", pairs_)(
-      "label", label_)("changed", changed_)
-      .done();
+  {
+    KernelArgs args(hook_ce4_);
+    args("n_ce4", cl_uint(ce4_))("status", status ? *status : pairs_)("ce4_triangles", pairs_);
+    label_args_.push_back(args.later("label", changed_));
+    args("changed", changed_).done();
+  }
   shortcut_ = compute::kernel(program, "fragment_shortcut");
-  bind_args(shortcut_)("n_vertices", cl_uint(vertices_))("label", label_).done();
+  {
+    KernelArgs args(shortcut_);
+    args("n_vertices", cl_uint(vertices_));
+    label_args_.push_back(args.later("label", changed_));
+    args.done();
+  }
 }
 
 std::vector<int> FragmentLabels::labels() {
   rounds_ = 0;
   if (triangles_ == 0) return {};
+  // The labels live for this call only (an output array: 16 B/TRI3 of the bench model).
+  const compute::buffer label = cl_.allocate(label_bytes_, "fragment_label");
+  for (auto& arg : label_args_) arg.set(label);
   cl_.enqueue(init_, vertices_);
   const cl_int zero = 0;
   for (;;) {
@@ -57,7 +77,9 @@ std::vector<int> FragmentLabels::labels() {
     cl_.enqueue(shortcut_, vertices_);
     if (download<cl_int>(cl_, changed_, 1)[0] == 0) break;
   }
-  return download<cl_int>(cl_, label_, triangles_);
+  auto out = download<cl_int>(cl_, label, triangles_);
+  for (auto& arg : label_args_) arg.set(changed_);  // no kernel keeps the released array
+  return out;
 }
 
 }  // namespace fdem

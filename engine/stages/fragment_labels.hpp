@@ -18,8 +18,8 @@ class FragmentLabels {
   // null only when there are no CE4s.
   FragmentLabels(ClContext& cl, size_t triangles, size_t nodes, compute::buffer& tri_nodes,
                  const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer* status);
-  // The arrays the constructor allocates: one label per triangle and node, the CE4s'
-  // triangle pairs, the change flag.
+  // The arrays: the CE4s' triangle pairs and the change flag (the constructor's), and one
+  // label per triangle and node (an output array, allocated by each labels() call).
   static MemoryPlan plan(size_t triangles, size_t nodes, size_t ce4);
 
   // Labels the pieces now: per triangle, the smallest triangle index of its piece.
@@ -32,7 +32,9 @@ class FragmentLabels {
   size_t triangles_, vertices_, ce4_;
   int rounds_ = 0;
   compute::kernel init_, hook_triangles_, hook_ce4_, shortcut_;
-  compute::buffer label_, pairs_, changed_;
+  compute::buffer pairs_, changed_;
+  size_t label_bytes_ = 0;                            // the labels: allocated by labels() for the call
+  std::vector<KernelArg<compute::buffer>> label_args_;  // each kernel's `label` (the change flag between calls)
 };
 
 }  // namespace fdem

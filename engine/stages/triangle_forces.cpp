@@ -14,11 +14,14 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
   p.add("triangle viscous_stress", (viscous ? std::max<size_t>(1, triangles) : 1) * sizeof(real4));
   // (strain energy, viscous dissipation so far) per triangle at the last energy row.
   p.add("triangle energy", std::max<size_t>(1, triangles) * sizeof(real2));
+  // Bound as `stress` on the force steps, which write none (the output stress is
+  // allocated for output steps only: DeviceArrays::output_stress).
+  p.add("triangle stress placeholder", sizeof(real4));
   return p;
 }
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
-    : cl_(cl), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
+    : cl_(cl), arrays_(a), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
                             "triangle_forces");
   const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_);
@@ -30,19 +33,23 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   // Written on energy rows only: zero until the first, so a total read before it is 0
   // (uninitialised device memory gave a viscous total of -4e252 J in the energy suite).
   upload(cl, triangle_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
+  stress_placeholder_ = arrays.allocate(cl, "triangle stress placeholder");
   KernelArgs args(kernel_);
   args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
       "tri_material", a.tri_material)("materials", a.materials)("position", a.position)("velocity", a.velocity)(
       "thickness", static_cast<real>(thickness));
   write_stress_ = args.later("write_stress", cl_int(0));
   step_ = args.later("step", cl_int(0));
-  args("corner_force", a.corner_force)("stress", a.stress)("conditions", a.conditions);
+  args("corner_force", a.corner_force);
+  stress_ = args.later("stress", stress_placeholder_);
+  args("conditions", a.conditions);
   energy_mode_ = args.later("energy_mode", cl_int(0));
   args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_)("triangle_energy", triangle_energy_).done();
 }
 
 void TriangleForces::enqueue(int step, bool energy_row) {
   write_stress_.set(0);
+  stress_.set(stress_placeholder_);
   step_.set(step);
   energy_mode_.set((viscous_ ? 1 : 0) | (energy_row ? 2 : 0));
   cl_.enqueue(kernel_, count_);
@@ -50,6 +57,7 @@ void TriangleForces::enqueue(int step, bool energy_row) {
 
 void TriangleForces::enqueue_stress(int step) {
   write_stress_.set(1);
+  stress_.set(arrays_.output_stress(cl_));
   step_.set(step);
   energy_mode_.set(0);
   cl_.enqueue(kernel_, count_);

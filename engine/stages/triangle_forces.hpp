@@ -18,7 +18,8 @@ class TriangleForces {
   // One step's corner forces; with energy_row also the strain energy of the current shape
   // for energy(). Never waits.
   void enqueue(int step, bool energy_row = false);
-  // The stress of the current state into `stress` (for output; no energy accounted). Never waits.
+  // The stress of the current state into the arrays' `stress`, which it allocates when
+  // it is not (DeviceArrays::output_stress; for output, no energy accounted). Never waits.
   void enqueue_stress(int step);
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
   void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
@@ -36,10 +37,13 @@ class TriangleForces {
 
  private:
   ClContext& cl_;
+  DeviceArrays& arrays_;
   size_t count_, groups_;
   bool viscous_;
   compute::kernel kernel_;
   KernelArg<cl_int> write_stress_, step_, energy_mode_;
+  KernelArg<compute::buffer> stress_;  // the output stress, or the placeholder on force steps
+  compute::buffer stress_placeholder_;  // one real4: the force steps write no stress
   compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation) at the last row
   // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
   compute::buffer viscous_stress_;
