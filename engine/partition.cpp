@@ -181,6 +181,55 @@ std::vector<int> node_owners(const Model& model, const Partition& partition) {
   return owner;
 }
 
+namespace {
+// The reference (start-up) bounding boxes of a model's triangles, in a uniform grid of
+// cells as large as the largest box plus `reach`, so that the triangles whose boxes lie
+// within `reach` of a given one are found among its 3 x 3 cells. Used to choose contact
+// ghosts, which are fixed at start-up from the reference mesh.
+class NearBoxes {
+ public:
+  NearBoxes(const Model& model, double reach) : reach_(reach) {
+    const size_t n = model.num_triangles();
+    x0_.resize(n), y0_.resize(n), x1_.resize(n), y1_.resize(n);
+    double extent = 0;
+    for (size_t t = 0; t < n; ++t) {
+      const auto& v = model.triangles[t];
+      x0_[t] = std::min({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+      x1_[t] = std::max({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
+      y0_[t] = std::min({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+      y1_[t] = std::max({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
+      extent = std::max({extent, x1_[t] - x0_[t], y1_[t] - y0_[t]});
+      gx_ = std::min(gx_, x0_[t]), gy_ = std::min(gy_, y0_[t]);
+    }
+    cell_ = std::max(extent + reach, 1e-300);
+    for (size_t t = 0; t < n; ++t) grid_[cell_of(t)].push_back(static_cast<int>(t));
+  }
+
+  // Calls f(u) for every triangle u (t included) whose box lies within the reach of t's.
+  template <class F>
+  void for_each_near(size_t t, F&& f) const {
+    const auto [i, j] = cell_of(t);
+    for (int64_t di = -1; di <= 1; ++di)
+      for (int64_t dj = -1; dj <= 1; ++dj) {
+        const auto it = grid_.find({i + di, j + dj});
+        if (it == grid_.end()) continue;
+        for (int u : it->second)
+          if (x0_[u] <= x1_[t] + reach_ && x1_[u] >= x0_[t] - reach_ && y0_[u] <= y1_[t] + reach_ &&
+              y1_[u] >= y0_[t] - reach_)
+            f(u);
+      }
+  }
+
+ private:
+  std::pair<int64_t, int64_t> cell_of(size_t t) const {
+    return {static_cast<int64_t>((x0_[t] - gx_) / cell_), static_cast<int64_t>((y0_[t] - gy_) / cell_)};
+  }
+  double reach_, cell_ = 1, gx_ = 1e300, gy_ = 1e300;
+  std::vector<double> x0_, y0_, x1_, y1_;
+  std::map<std::pair<int64_t, int64_t>, std::vector<int>> grid_;  // cell of a box's lower corner -> triangles
+};
+}  // namespace
+
 std::vector<PartStats> partition_stats(const Model& model, const Partition& partition, double contact_reach) {
   const int parts = partition.parts;
   const auto& part = partition.triangle_part;
@@ -235,43 +284,13 @@ std::vector<PartStats> partition_stats(const Model& model, const Partition& part
   }
   if (!model.contact.enabled || parts == 1) return s;
 
-  // Contact ghosts: boxes of other parts' triangles within reach of one of p's boxes,
-  // found through a uniform grid of cells as large as the largest box plus the reach.
-  const size_t n = model.num_triangles();
-  std::vector<double> x0(n), y0(n), x1(n), y1(n);
-  double extent = 0, gx = 1e300, gy = 1e300;
-  for (size_t t = 0; t < n; ++t) {
-    const auto& v = model.triangles[t];
-    x0[t] = std::min({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
-    x1[t] = std::max({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
-    y0[t] = std::min({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
-    y1[t] = std::max({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
-    extent = std::max({extent, x1[t] - x0[t], y1[t] - y0[t]});
-    gx = std::min(gx, x0[t]), gy = std::min(gy, y0[t]);
-  }
-  const double cell = extent + contact_reach;
-  auto cell_of = [&](double x, double y) {
-    return std::pair<int64_t, int64_t>{static_cast<int64_t>((x - gx) / cell), static_cast<int64_t>((y - gy) / cell)};
-  };
-  std::unordered_map<int64_t, std::vector<int>> grid;  // cell of a box's lower corner → triangles
-  auto key = [](int64_t i, int64_t j) { return (i << 32) ^ j; };
-  for (size_t t = 0; t < n; ++t) {
-    const auto [i, j] = cell_of(x0[t], y0[t]);
-    grid[key(i, j)].push_back(static_cast<int>(t));
-  }
+  // Contact ghosts: other parts' triangles whose boxes lie within reach of one of p's.
+  const NearBoxes boxes(model, contact_reach);
   std::vector<uint64_t> ghost;  // (part << 32) | triangle
-  for (size_t t = 0; t < n; ++t) {
-    const auto [i, j] = cell_of(x0[t], y0[t]);
-    for (int64_t di = -1; di <= 1; ++di)
-      for (int64_t dj = -1; dj <= 1; ++dj) {
-        const auto it = grid.find(key(i + di, j + dj));
-        if (it == grid.end()) continue;
-        for (int u : it->second)
-          if (part[u] != part[t] && x0[u] <= x1[t] + contact_reach && x1[u] >= x0[t] - contact_reach &&
-              y0[u] <= y1[t] + contact_reach && y1[u] >= y0[t] - contact_reach)
-            ghost.push_back((static_cast<uint64_t>(part[t]) << 32) | static_cast<uint32_t>(u));
-      }
-  }
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    boxes.for_each_near(t, [&](int u) {
+      if (part[u] != part[t]) ghost.push_back((static_cast<uint64_t>(part[t]) << 32) | static_cast<uint32_t>(u));
+    });
   std::sort(ghost.begin(), ghost.end());
   ghost.erase(std::unique(ghost.begin(), ghost.end()), ghost.end());
   for (uint64_t g : ghost) ++s[g >> 32].contact_ghost_tri3;
@@ -286,41 +305,12 @@ double partition_imbalance(const std::vector<PartStats>& stats) {
 
 namespace {
 // The triangles whose reference bounding box lies within `reach` of the box of a
-// `selected` triangle (the selected ones included), through a uniform grid of cells as
-// large as the largest box plus the reach.
+// `selected` triangle (the selected ones included).
 std::vector<char> within_reach(const Model& model, double reach, const std::vector<char>& selected) {
-  const size_t n = model.num_triangles();
-  std::vector<double> x0(n), y0(n), x1(n), y1(n);
-  double extent = 0, gx = 1e300, gy = 1e300;
-  for (size_t t = 0; t < n; ++t) {
-    const auto& v = model.triangles[t];
-    x0[t] = std::min({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
-    x1[t] = std::max({model.x[v[0]], model.x[v[1]], model.x[v[2]]});
-    y0[t] = std::min({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
-    y1[t] = std::max({model.y[v[0]], model.y[v[1]], model.y[v[2]]});
-    extent = std::max({extent, x1[t] - x0[t], y1[t] - y0[t]});
-    gx = std::min(gx, x0[t]), gy = std::min(gy, y0[t]);
-  }
-  const double cell = std::max(extent + reach, 1e-300);
-  auto cell_of = [&](double x, double y) {
-    return std::pair<int64_t, int64_t>{static_cast<int64_t>((x - gx) / cell), static_cast<int64_t>((y - gy) / cell)};
-  };
-  std::map<std::pair<int64_t, int64_t>, std::vector<int>> grid;  // cell of a box's lower corner → triangles
-  for (size_t t = 0; t < n; ++t) grid[cell_of(x0[t], y0[t])].push_back(static_cast<int>(t));
+  const NearBoxes boxes(model, reach);
   std::vector<char> out(selected);
-  for (size_t t = 0; t < n; ++t) {
-    if (!selected[t]) continue;
-    const auto [i, j] = cell_of(x0[t], y0[t]);
-    for (int64_t di = -1; di <= 1; ++di)
-      for (int64_t dj = -1; dj <= 1; ++dj) {
-        const auto it = grid.find({i + di, j + dj});
-        if (it == grid.end()) continue;
-        for (int u : it->second)
-          if (!out[u] && x0[u] <= x1[t] + reach && x1[u] >= x0[t] - reach && y0[u] <= y1[t] + reach &&
-              y1[u] >= y0[t] - reach)
-            out[u] = 1;
-      }
-  }
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    if (selected[t]) boxes.for_each_near(t, [&](int u) { out[u] = 1; });
   return out;
 }
 
