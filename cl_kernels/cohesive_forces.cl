@@ -118,14 +118,53 @@ inline real coh_parabola_energy(real x, real xp, real peak) {
   return peak * xp * q * q * ((real)1 - q / (real)3);
 }
 
+// Whether a and b differ in any bit (a store of an unchanged value is skipped: the array
+// then holds the same bits as if it had been written; -0 and +0, or two NaNs, differ or
+// agree exactly as their bits do).
+#ifdef FDEM_DOUBLE
+inline bool coh_differ4(real4 a, real4 b) { return any(as_long4(a) != as_long4(b)); }
+#else
+inline bool coh_differ4(real4 a, real4 b) { return any(as_int4(a) != as_int4(b)); }
+#endif
+
+// The CE4's frame and its openings and slips at the three Gauss points from its end gaps
+// and chord (see the header), with their weighted means (the output's mean opening and
+// slip). One function for cohesive_forces and cohesive_output, so both compute the same
+// bits.
+inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 chord, real* o, real* s,
+                           real2* t_out, real2* n_out, real* chord_length_out, real* mean_o_out,
+                           real* mean_s_out) {
+  const real chord_length = length(chord);
+  const real2 t = chord / chord_length;
+  const real2 n = (real2)(t.y, -t.x);
+  const real r = (real)0.3872983346207417;  // √15 / 10
+  const real gauss_xi[3] = {(real)0.5 - r, (real)0.5, (real)0.5 + r};
+  const real gauss_w[3] = {(real)5 / (real)18, (real)8 / (real)18, (real)5 / (real)18};
+  real mean_o = 0, mean_s = 0;
+  for (int g = 0; g < 3; ++g) {
+    const real2 delta = ((real)1 - gauss_xi[g]) * gap_i + gauss_xi[g] * gap_j;
+    o[g] = dot(delta, n);
+    s[g] = dot(delta, t);
+    mean_o += gauss_w[g] * o[g];
+    mean_s += gauss_w[g] * s[g];
+  }
+  *t_out = t;
+  *n_out = n;
+  *chord_length_out = chord_length;
+  *mean_o_out = mean_o;
+  *mean_s_out = mean_s;
+}
+
 // One work-item per CE4: kinematics, law and nodal forces of CE4 `e`; updates its three
 // Gauss-point states, its status (broken, mode), its output row and its energy account.
 // gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], opening share χ of Eq. 9
 // at the step its D reached 1). gp_slip: real4 per CE4, the slip s_f [m] of the friction
-// element at each of the three points (w unused). status: int2 per CE4 (broken 0/1, mode
-// 0/1/2/3). output: real4 per CE4 (max D over the points, mean opening [m], mean slip [m],
-// time it broke [s]). last_gap: real4 per CE4, the end gaps (x_i' - x_i, x_j' - x_j) [m] at
-// the last step; last_chord: real2 per CE4, the chord c at the last step [m].
+// element at each of the three points, and in w the time the CE4 broke [s] (-1 while
+// intact). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). last_gap: real4 per CE4, the
+// end gaps (x_i' - x_i, x_j' - x_j) [m] at the last step; last_chord: real2 per CE4, the
+// chord c at the last step [m] (every CE4, released ones too: cohesive_output reads them
+// for the frames' mean opening and slip). Each array is stored only where a value
+// changed (the same bits as storing it every step, less traffic).
 // energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
 // energy it holds now, 0) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
@@ -148,7 +187,6 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict gp_state,
                               __global real4* restrict gp_slip,
                               __global int2* restrict status,
-                              __global real4* restrict output,
                               __global real2* restrict slots,
                               __global real4* restrict last_gap,
                               __global real2* restrict last_chord,
@@ -169,27 +207,16 @@ __kernel void cohesive_forces(const uint n_ce4,
   // relative precision however far the CE4 is from the origin.
   const real2 gap_i = xi2 - xi, gap_j = xj2 - xj;
   const real2 chord = (xj - xi) + (xj2 - xi2);
-  const real chord_length = length(chord);
-  const real2 t = chord / chord_length;
-  const real2 n = (real2)(t.y, -t.x);
+  real o[3], s[3];
+  real2 t, n;
+  real chord_length, mean_o, mean_s;  // the means are the output's (cohesive_output)
+  coh_kinematics(gap_i, gap_j, chord, o, s, &t, &n, &chord_length, &mean_o, &mean_s);
 
   const real r = (real)0.3872983346207417;  // √15 / 10
   const real gauss_xi[3] = {(real)0.5 - r, (real)0.5, (real)0.5 + r};
   const real gauss_w[3] = {(real)5 / (real)18, (real)8 / (real)18, (real)5 / (real)18};
 
-  real o[3], s[3];
-  real mean_o = 0, mean_s = 0;
-  for (int g = 0; g < 3; ++g) {
-    const real2 delta = ((real)1 - gauss_xi[g]) * gap_i + gauss_xi[g] * gap_j;
-    o[g] = dot(delta, n);
-    s[g] = dot(delta, t);
-    mean_o += gauss_w[g] * o[g];
-    mean_s += gauss_w[g] * s[g];
-  }
-
   int2 st = status[e];
-  real broken_time = output[e].w;
-  real damage = 0;
   real2 f_i = (real2)(0, 0), f_j = (real2)(0, 0), f_m = (real2)(0, 0);
 
   // Intact (0) or closed (1): the law below. Released (≥ 2): no force.
@@ -213,7 +240,8 @@ __kernel void cohesive_forces(const uint n_ce4,
     real sf[3] = {slip_f.x, slip_f.y, slip_f.z};
 
     for (int g = 0; g < 3; ++g) {
-      real4 gs = gp_state[3 * e + g];
+      const real4 gs_before = gp_state[3 * e + g];
+      real4 gs = gs_before;
       const real og = o[g], sa = fabs(s[g]);
       const real over_o = fmax(og - op, (real)0), over_s = fmax(sa - sp, (real)0);
       real D = 0, share = 0;
@@ -228,9 +256,8 @@ __kernel void cohesive_forces(const uint n_ce4,
         gs.x = fmax(gs.x, D);
         gs.y = fmax(gs.y, og);
         gs.z = fmax(gs.z, sa);
-        gp_state[3 * e + g] = gs;
+        if (coh_differ4(gs, gs_before)) gp_state[3 * e + g] = gs;
       }
-      damage = fmax(damage, gs.x);
       if (gs.x >= (real)1) {
         share_sum += gs.w;
         ++at_one;
@@ -288,7 +315,6 @@ __kernel void cohesive_forces(const uint n_ce4,
       f_i += ((real)1 - gauss_xi[g]) * pg;
       f_j += gauss_xi[g] * pg;
     }
-    gp_slip[e] = (real4)(sf[0], sf[1], sf[2], (real)0);
     // The frame's share of the potential's gradient: +m n at i and i', -m n at j and j'
     // (m = M / |c|), which cancels the moment of the traction pairs exactly.
     f_m = (moment * scale / chord_length) * n;
@@ -299,7 +325,6 @@ __kernel void cohesive_forces(const uint n_ce4,
       // third point still held is released, so W - stored only grows).
       const real share = share_sum / (real)at_one;
       st = (int2)(1, share >= (real)0.9 ? 1 : (share <= (real)0.1 ? 2 : 3));
-      broken_time = time;
       broke_now = true;
       f_i = f_j = (real2)(0, 0);
       held = 0;
@@ -318,9 +343,11 @@ __kernel void cohesive_forces(const uint n_ce4,
         f_i += ((real)1 - gauss_xi[g]) * pg;
         f_j += gauss_xi[g] * pg;
       }
-      gp_slip[e] = (real4)(sf[0], sf[1], sf[2], (real)0);
       f_m = (moment * scale / chord_length) * n;
     }
+    // The slips, and in w the time it broke (this step's when it broke now).
+    const real4 slip_now = (real4)(sf[0], sf[1], sf[2], broke_now ? time : slip_f.w);
+    if (coh_differ4(slip_now, slip_f)) gp_slip[e] = slip_now;
     // A closed CE4 (or one breaking now) lets go when all its points have opened (no force,
     // nothing held) or one has slid past half its length (what it holds is dissipated).
     if (st.x == 1 && (opened || slid > (real)0.5 * p[COH_H])) {
@@ -363,17 +390,40 @@ __kernel void cohesive_forces(const uint n_ce4,
         break_records[k] = (real4)(time, mid.x, mid.y, account.y);
       }
     }
-    last_gap[e] = (real4)(gap_i, gap_j);
-    last_chord[e] = chord;
-  } else {
-    for (int g = 0; g < 3; ++g) damage = fmax(damage, gp_state[3 * e + g].x);
   }
+  last_gap[e] = (real4)(gap_i, gap_j);
+  last_chord[e] = chord;
 
   slots[4 * e] = f_i + f_m;
   slots[4 * e + 1] = f_j - f_m;
   slots[4 * e + 2] = -f_j - f_m;
   slots[4 * e + 3] = -f_i + f_m;
-  output[e] = (real4)(damage, mean_o, mean_s, broken_time);
+}
+
+// One work-item per CE4, for output only (between steps): column 0 the largest D_max over
+// its Gauss points, 1 its mean opening [m], 2 its mean slip [m], as of the last step (from
+// the end gaps and chord cohesive_forces kept, by the same coh_kinematics), into `out`
+// (one real per CE4, an output array).
+__kernel void cohesive_output(const uint n_ce4,
+                              const int column,
+                              __global const real4* restrict gp_state,
+                              __global const real4* restrict last_gap,
+                              __global const real2* restrict last_chord,
+                              __global real* restrict out) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  if (column == 0) {
+    real damage = 0;
+    for (int g = 0; g < 3; ++g) damage = fmax(damage, gp_state[3 * e + g].x);
+    out[e] = damage;
+    return;
+  }
+  const real4 gap = last_gap[e];
+  real o[3], s[3];
+  real2 t, n;
+  real chord_length, mean_o, mean_s;
+  coh_kinematics(gap.xy, gap.zw, last_chord[e], o, s, &t, &n, &chord_length, &mean_o, &mean_s);
+  out[e] = column == 1 ? mean_o : mean_s;
 }
 
 // One work-item per partial sum k: the fracture dissipation (x) and the stored elastic

@@ -241,6 +241,7 @@ void print_memory_plan(const fdem::Model& m, size_t group_size) {
                        : x.lifetime == fdem::MemoryPlan::Lifetime::SetUp  ? "  (set-up)"
                        : x.lifetime == fdem::MemoryPlan::Lifetime::Output ? "  (output)"
                        : x.lifetime == fdem::MemoryPlan::Lifetime::Detection ? "  (detection)"
+                       : x.lifetime == fdem::MemoryPlan::Lifetime::EnergyRow ? "  (energy row)"
                                                                           : "  (scratch)";
     std::cout << "  " << std::left << std::setw(44) << x.name << std::right << std::setw(12) << mib(held)
               << std::setw(9) << std::fixed << std::setprecision(1) << held / tri3 << std::defaultfloat << kind << "\n";

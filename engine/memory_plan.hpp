@@ -28,6 +28,8 @@ class MemoryPlan {
                // between steps, and released before the next step (Solver::release_output)
     Detection,  // allocated by each contact detection while it finds its couples (with the
                 // hashes' sort scratch), released before the couples' sort
+    EnergyRow,  // allocated by an energy-row step for its per-item energies, summed into
+                // block partials and released within that step (after the detection)
   };
   struct Array {
     std::string name;
@@ -65,9 +67,10 @@ class MemoryPlan {
   // The most the transient arrays hold at once: the largest set-up or scratch array (no
   // two of them exist at once: set-up arrays during the construction, scratch within a
   // step), or all output arrays together (they exist together, between two steps), or
-  // all detection arrays together (within a detection, before its couples' sort).
+  // all detection arrays together (within a detection, before its couples' sort), or an
+  // energy-row step's per-item energies together (after the detection, within the step).
   std::size_t largest_transient() const {
-    std::size_t most = std::max(sum(Lifetime::Output), sum(Lifetime::Detection));
+    std::size_t most = std::max({sum(Lifetime::Output), sum(Lifetime::Detection), sum(Lifetime::EnergyRow)});
     for (const auto& a : arrays_)
       if (a.lifetime == Lifetime::SetUp || a.lifetime == Lifetime::Scratch)
         most = std::max(most, ClContext::allocation_size(a.bytes));

@@ -178,7 +178,6 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"triangle_viscous_stress", {ItemKind::Triangle, 1}},
       {"ce4_gauss_state", {ItemKind::Ce4, 3}},
       {"ce4_status", {ItemKind::Ce4, 1}},
-      {"ce4_output", {ItemKind::Ce4, 1}},
       {"ce4_force", {ItemKind::Ce4, 4}},
       {"ce4_last_gap", {ItemKind::Ce4, 1}},
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},

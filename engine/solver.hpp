@@ -143,7 +143,10 @@ class Solver {
   // A split run (engine/scale_out.*): which items this rank accounts for in energy(),
   // which is then collective (every rank calls it at the same step). Null: all items.
   // Set before the first step.
-  void set_scope(const ItemScope* scope) { scope_ = scope; }
+  void set_scope(const ItemScope* scope) {
+    scope_ = scope;
+    if (scope_) integrate_.keep_energy_rows();  // the gather of energy() reads the per-node values
+  }
   // A split run with contact (engine/scale_out.*): `before_detection` runs on the host
   // just before each contact detection (collective: the decision is the same on every
   // rank); the exchange of the fixed-point contact forces that one rank's couples put on

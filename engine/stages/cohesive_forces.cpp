@@ -50,7 +50,9 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
       .add("ce4_friction_slip", ce4 * sizeof(real4))
       .add("ce4_status", 2 * ce4 * sizeof(cl_int))
-      .add("ce4_output", ce4 * sizeof(real4))
+      // One column of the frames' CE4 values (damage, mean opening or slip), computed
+      // from the state by cohesive_output when one is read (output_column).
+      .add("ce4_output", std::max<size_t>(1, ce4) * sizeof(real), MemoryPlan::Lifetime::Output)
       .add("ce4_force", 4 * ce4 * sizeof(real2))
       .add("ce4_last_gap", ce4 * sizeof(real4))
       .add("ce4_last_chord", ce4 * sizeof(real2))
@@ -151,7 +153,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   gp_state_ = arrays.allocate(cl, "ce4_gauss_state");
   gp_slip_ = arrays.allocate(cl, "ce4_friction_slip");
   status_ = arrays.allocate(cl, "ce4_status");
-  output_ = arrays.allocate(cl, "ce4_output");
+  output_bytes_ = arrays.bytes("ce4_output");  // allocated by each output_column only
   slots_ = arrays.allocate(cl, "ce4_force");
   last_gap_ = arrays.allocate(cl, "ce4_last_gap");
   last_chord_ = arrays.allocate(cl, "ce4_last_chord");
@@ -166,9 +168,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, property_, property);
   upload(cl, property_rows_, property_rows);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
-  upload(cl, gp_slip_, std::vector<real4>(count_));
+  upload(cl, gp_slip_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));  // w: break time, -1 intact
   upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
-  upload(cl, output_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));
   upload(cl, slots_, std::vector<real2>(4 * count_));
   upload(cl, last_gap_, gaps);
   upload(cl, last_chord_, chords);
@@ -183,7 +184,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
       "thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
   step_ = args.later("step", cl_int(0));
-  args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("output", output_)("slots", slots_)(
+  args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("slots", slots_)(
       "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
       "break_ids", break_ids_)("break_records", break_records_);
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
@@ -192,6 +193,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
       "energy", energy_)("partial", partial_)
       .done();
+  program_ = program;
 }
 
 void CohesiveForces::enqueue(double time, long step) {
@@ -203,9 +205,21 @@ void CohesiveForces::enqueue(double time, long step) {
 }
 
 std::vector<real> CohesiveForces::output_column(int k) {
-  const auto rows = download<real4>(cl_, output_, count_);
   std::vector<real> column(count_);
-  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : k == 2 ? rows[e].z : rows[e].w;
+  if (count_ == 0) return column;
+  if (k == 3) {  // the break time: w of the friction slips (state)
+    const auto rows = download<real4>(cl_, gp_slip_, count_);
+    for (size_t e = 0; e < count_; ++e) column[e] = rows[e].w;
+    return column;
+  }
+  // An output array for this read only (MemoryPlan::Lifetime::Output).
+  compute::buffer out = cl_.allocate(output_bytes_, "ce4_output");
+  compute::kernel kernel(program_, "cohesive_output");
+  bind_args(kernel)("n_ce4", static_cast<cl_uint>(count_))("column", cl_int(k))("gp_state", gp_state_)(
+      "last_gap", last_gap_)("last_chord", last_chord_)("out", out)
+      .done();
+  cl_.enqueue(kernel, count_);
+  column = download<real>(cl_, out, count_);
   return column;
 }
 
@@ -251,7 +265,6 @@ std::vector<io::BreakRecord> CohesiveForces::drain_breaks() {
 void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
-  out.buffer<real>("ce4_output", output_, count_, 4);
   out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
@@ -277,7 +290,6 @@ void CohesiveForces::save_state(StateWriter& out) const {
 void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   in.buffer<cl_int>("ce4_status", status_, count_, 2);
-  in.buffer<real>("ce4_output", output_, count_, 4);
   in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);

@@ -41,7 +41,9 @@ class CohesiveForces {
   size_t size() const { return count_; }
   const std::vector<real>& parameters() const { return params_; }  // layout::COH_STRIDE per CE4 (COH_*)
 
-  // Host reads (wait; for output, history and tests).
+  // Host reads (wait; for output, history and tests). Damage, opening and slip are computed
+  // from the state of the last step by cohesive_output into an output array of one column
+  // made for the read; the break time is the w of the friction slips.
   std::vector<real> damage();       // max over the Gauss points of D_max
   std::vector<real> opening();      // mean opening o [m]
   std::vector<real> slip();         // mean slip s [m]
@@ -77,7 +79,8 @@ class CohesiveForces {
   // Every record drained so far (including those a checkpoint brought), in order.
   const std::vector<io::BreakRecord>& catalogue() const { return catalogue_; }
 
-  // Every CE4's state (Gauss points, status, outputs, last forces and gaps, energy), for checkpoints.
+  // Every CE4's state (Gauss points, status, friction slips and break times, last forces and
+  // gaps, energy), for checkpoints.
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
 
@@ -95,7 +98,9 @@ class CohesiveForces {
   size_t mesh_nodes_ = 0;
   compute::buffer mesh_pairs_, mesh_state_;
   KernelArg<cl_int> step_;
-  compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, output_, slots_;
+  compute::program program_;  // for cohesive_output, built per output_column read
+  size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
+  compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).

@@ -12,7 +12,11 @@ MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work) {
       .add("integrate group_work", groups * sizeof(real2))
       .add("integrate group_row", groups * sizeof(real4))
       .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2))
-      .add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4));
+      // Per node on an energy row only (summed into the partials in that step; a split
+      // run keeps it, keep_energy_rows, for the gather), and its placeholder between rows.
+      .add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4), MemoryPlan::Lifetime::EnergyRow)
+      .add("integrate node_energy placeholder", sizeof(real4))
+      .add("integrate energy partials", 4 * std::max<size_t>(1, groups_for(nodes, kOrderedBlock)) * sizeof(real));
 }
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
@@ -24,7 +28,10 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   // A split run: the skin test takes the nodes this rank owns only (ghosts are integrated
   // with a part of their forces before the exchange overwrites them).
   if (skin && skin->owned_mask()) defines["SKIN_OWNED"] = "1";
-  kernel_ = compute::kernel(cl.build(kernel_source::integrate, defines), "integrate");
+  defines["ORDERED_BLOCK"] = std::to_string(kOrderedBlock);
+  const auto program = cl.build(kernel_source::integrate, defines, {&kernel_source::ordered_sum});
+  kernel_ = compute::kernel(program, "integrate");
+  block_sums_ = compute::kernel(program, "ordered_block_sums");
   const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);
   group_work_ = arrays.allocate(cl, "integrate group_work");
   group_row_ = arrays.allocate(cl, "integrate group_row");
@@ -33,9 +40,12 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
   node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
-  node_energy_ = arrays.allocate(cl, "integrate node_energy");
+  node_energy_bytes_ = arrays.bytes("integrate node_energy");  // allocated by each energy row
+  placeholder_ = arrays.allocate(cl, "integrate node_energy placeholder");
+  upload(cl, placeholder_, std::vector<real4>(1));
+  partials_ = arrays.allocate(cl, "integrate energy partials");
   // Written on energy rows only: zero until the first, so a total read before it is 0.
-  upload(cl, node_energy_, std::vector<real4>(std::max<size_t>(1, count_)));
+  upload(cl, partials_, std::vector<real>(partials_.size() / sizeof(real)));
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
@@ -52,24 +62,62 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   }
   args("ref_position", a.ref_position)("account_work", cl_int(account_work_ ? 1 : 0));
   energy_row_ = args.later("energy_row", cl_int(0));
-  args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_)("node_energy", node_energy_).done();
+  args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_);
+  node_energy_arg_ = args.later("node_energy", placeholder_);
+  args.done();
+}
+
+void Integrate::keep_energy_rows() {
+  if (keep_rows_) return;
+  keep_rows_ = true;
+  node_energy_ = cl_.allocate(node_energy_bytes_, "integrate node_energy");
+  upload(cl_, node_energy_, std::vector<real4>(std::max<size_t>(1, count_)));  // zero until the first row
+  node_energy_arg_.set(node_energy_);
 }
 
 void Integrate::enqueue(double time_after, int step, bool energy_row) {
   time_after_.set(static_cast<real>(time_after));
   step_.set(step);
   energy_row_.set(energy_row ? 1 : 0);
+  // One rank: the row's per-node energies exist for this step only (the ordered block sums
+  // below take them in node order, the rule of engine/energy.hpp); a split run keeps them
+  // for the gather of energy().
+  const bool transient = energy_row && !keep_rows_;
+  if (transient) {
+    node_energy_ = cl_.allocate(node_energy_bytes_, "integrate node_energy");
+    node_energy_arg_.set(node_energy_);
+  }
   if (skin_test_) {
     slot_.set(MonitorRing::slot_of(step + 1));
     next_slot_.set(MonitorRing::slot_of(step + 2));
   }
   cl_.enqueue(kernel_, count_);
+  if (transient) {
+    if (count_ > 0) {
+      bind_args(block_sums_)("n", static_cast<cl_uint>(count_))("stride", cl_uint(4))("first", cl_uint(0))(
+          "width", cl_uint(4))("values", node_energy_)("partial", partials_)
+          .done();
+      cl_.enqueue(block_sums_, groups_for(count_, kOrderedBlock));
+      block_sums_.set_arg(4, placeholder_);  // the kernels keep no reference to the row's array
+    }
+    node_energy_arg_.set(placeholder_);
+    node_energy_ = compute::buffer();
+  }
 }
 
 void Integrate::add_energy(EnergyTotals& e, const ItemSums& sums) {
   // Per node, in node order by the fixed rule (rank-independent): the kernel wrote
   // (kinetic, gravity potential, damping work and reaction work up to t) on the energy row.
-  const auto sum = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
+  std::vector<double> sum(4, 0.0);
+  if (keep_rows_) {
+    sum = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
+  } else {
+    // The blocks' sums of the last energy row, added in block order (as OrderedSums does).
+    const size_t blocks = groups_for(count_, kOrderedBlock);
+    const auto partial = download<real>(cl_, partials_, 4 * std::max<size_t>(1, blocks));
+    for (size_t b = 0; b < blocks; ++b)
+      for (int c = 0; c < 4; ++c) sum[c] += static_cast<double>(partial[4 * b + c]);
+  }
   e.kinetic += sum[0];
   e.gravity_potential += sum[1];
   if (!account_work_) return;

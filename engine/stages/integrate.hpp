@@ -34,7 +34,12 @@ class Integrate {
 
   // Kinetic energy and gravity potential at the last energy row, and the local damping
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
+  // One rank: from the block sums the energy-row step took on the device (`sums` unused);
+  // after keep_energy_rows() `sums` of the per-node energies.
   void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
+  // A split run (Solver::set_scope): the per-node energies of the rows stay on the device
+  // (resident from now on) for energy()'s gather of the owned nodes' values.
+  void keep_energy_rows();
 
   // The cumulative energy sums, for checkpoints.
   void save_state(StateWriter& out) const {
@@ -56,7 +61,14 @@ class Integrate {
   KernelArg<cl_uint> slot_, next_slot_;
   compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
   compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
-  compute::buffer node_energy_;  // real4 per node, written on energy rows: (kinetic, gravity, damping, reaction work)
+  // real4 per node, written on energy rows: (kinetic, gravity, damping, reaction work);
+  // one rank: allocated by an energy-row step and released in it, once block_sums_ has
+  // summed it into partials_ (4 reals per kOrderedBlock nodes); null between rows.
+  compute::buffer node_energy_, placeholder_, partials_;
+  compute::kernel block_sums_;
+  KernelArg<compute::buffer> node_energy_arg_;
+  size_t node_energy_bytes_ = 0;
+  bool keep_rows_ = false;
 };
 
 }  // namespace fdem
