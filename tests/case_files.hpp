@@ -34,6 +34,55 @@ struct TempDir {
   std::string str() const { return path.string(); }
 };
 
+// OCL_ICD_FILENAMES as the test binary found it at start-up ("" when unset). On the GPU
+// machine (Ubuntu 24.04) the NVIDIA driver is listed only there, as
+// "libpocl.so.2:libnvidia-opencl.so.1", and the fdem processes these tests start saw it cut
+// to its first entry (2026-12-02: `fdem run` children of fdem_tests found PoCL alone, and so
+// did the ranks of an mpirun there), which points at the loader rewriting the variable once
+// it has read it. Read during static initialisation, before any OpenCL call, and given back
+// to every child (child_environment, restore_child_environment).
+inline const std::string& startup_icd_filenames() {
+  static const std::string value = [] {
+    const char* v = std::getenv("OCL_ICD_FILENAMES");
+    return std::string(v ? v : "");
+  }();
+  return value;
+}
+namespace detail {
+inline const bool icd_filenames_read = (startup_icd_filenames(), true);
+}
+
+// Assignments to put before a shell command that starts a child fdem.
+inline std::string child_environment() {
+  const std::string& icd = startup_icd_filenames();
+  return icd.empty() ? "" : "OCL_ICD_FILENAMES='" + icd + "' ";
+}
+// In a forked child before exec: the same, for children started without a shell.
+inline void restore_child_environment() {
+  const std::string& icd = startup_icd_filenames();
+  if (!icd.empty()) ::setenv("OCL_ICD_FILENAMES", icd.c_str(), 1);
+}
+
+// True when an executable `gmsh` is on PATH. The GPU machine has none; the tests of
+// gmsh's own meshing and error messages are skipped there (`make test` installs gmsh, so
+// they run on CI and on every Debian machine the Makefile set up).
+inline bool gmsh_on_path() {
+  const char* path = std::getenv("PATH");
+  std::string rest = path ? path : "";
+  while (!rest.empty()) {
+    const size_t colon = rest.find(':');
+    const std::string dir = rest.substr(0, colon);
+    std::error_code ec;
+    const auto status = std::filesystem::status(std::filesystem::path(dir.empty() ? "." : dir) / "gmsh", ec);
+    if (!ec && std::filesystem::is_regular_file(status) &&
+        (status.permissions() & std::filesystem::perms::owner_exec) != std::filesystem::perms::none)
+      return true;
+    if (colon == std::string::npos) break;
+    rest = rest.substr(colon + 1);
+  }
+  return false;
+}
+
 // A file of the source tree; FDEM_SOURCE_DIR in the environment overrides the build's
 // (for running the test binary on another machine).
 inline std::string source_path(const std::string& relative) {

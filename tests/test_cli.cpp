@@ -19,7 +19,7 @@ struct Result {
 Result run_fdem(const std::string& args, const std::string& environment = "") {
   Result r;
   const char* env = std::getenv("FDEM_BINARY");  // overrides the build's, on another machine
-  FILE* pipe = popen((environment + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((fdem::test::child_environment() + environment + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
   REQUIRE(pipe != nullptr);
   std::array<char, 4096> buffer{};
   size_t n = 0;

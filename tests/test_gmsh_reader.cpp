@@ -15,6 +15,7 @@
 
 #include "base/errors.hpp"
 #include "io/gmsh_reader.hpp"
+#include "case_files.hpp"
 
 namespace fs = std::filesystem;
 using fdem::InputError;
@@ -292,7 +293,7 @@ TEST_CASE("orient_triangles leaves the fixture mesh counter-clockwise") {
   }
 }
 
-TEST_CASE("mesh_geo meshes a .geo once and reuses the cached mesh") {
+TEST_CASE("mesh_geo meshes a .geo once and reuses the cached mesh" * doctest::skip(!fdem::test::gmsh_on_path())) {
   TempDir dir("geo");
   const fs::path cache = dir.path / "cache" / "meshes";
   const std::string first = fdem::io::mesh_geo(fixture("sq.geo"), 0.25, cache.string());
@@ -316,7 +317,7 @@ TEST_CASE("mesh_geo meshes a .geo once and reuses the cached mesh") {
   CHECK(fdem::io::read_gmsh(default_size).triangles.size() == 28);
 }
 
-TEST_CASE("mesh_geo reports gmsh errors, a missing .geo and a missing gmsh") {
+TEST_CASE("mesh_geo reports gmsh errors, a missing .geo and a missing gmsh" * doctest::skip(!fdem::test::gmsh_on_path())) {
   using doctest::Contains;
   TempDir dir("geo_errors");
   const std::string cache = (dir.path / "cache").string();

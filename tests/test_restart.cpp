@@ -63,6 +63,7 @@ pid_t start_fdem(const std::vector<std::string>& args, const std::string& log) {
     FILE* f = freopen(log.c_str(), "w", stdout);
     (void)f;
     dup2(fileno(stdout), fileno(stderr));
+    test::restore_child_environment();
     std::vector<char*> argv;
     std::string bin = fdem_binary();
     argv.push_back(bin.data());
