@@ -215,13 +215,14 @@ void print_partition(const Arguments& a, const fdem::Model& m) {
   std::cout << "partition " << a.ranks << " ranks by " << fdem::partition_method_name(method)
             << " (work weights: TRI3 4, CE4 5 a side, contact candidate 100)\n"
             << "  rank       TRI3        CE4      nodes  ghost TRI3  ghost CE4 ghost nodes"
-            << (m.contact.enabled ? " contact ghosts" : "") << "        work\n";
+            << (m.contact.enabled ? " contact ghosts" : "") << "        work   held: TRI3        CE4      nodes\n";
   for (size_t r = 0; r < stats.size(); ++r) {
     const auto& s = stats[r];
     std::cout << std::setw(6) << r << std::setw(11) << s.tri3 << std::setw(11) << s.ce4 << std::setw(11) << s.nodes
               << std::setw(12) << s.ghost_tri3 << std::setw(11) << s.ghost_ce4 << std::setw(12) << s.ghost_nodes;
     if (m.contact.enabled) std::cout << std::setw(15) << s.contact_ghost_tri3;
-    std::cout << std::setw(12) << s.work << "\n";
+    std::cout << std::setw(12) << s.work << std::setw(13) << s.held_tri3 << std::setw(11) << s.held_ce4 << std::setw(11)
+              << s.held_nodes << "\n";
   }
   std::cout << "  imbalance " << std::fixed << std::setprecision(3) << fdem::partition_imbalance(stats)
             << " (largest part's work over the mean)" << std::defaultfloat << "\n";

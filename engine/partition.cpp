@@ -230,6 +230,10 @@ class NearBoxes {
 };
 }  // namespace
 
+namespace {
+void count_held(const Model& model, const Partition& partition, double contact_reach, std::vector<PartStats>& stats);
+}  // namespace
+
 std::vector<PartStats> partition_stats(const Model& model, const Partition& partition, double contact_reach) {
   const int parts = partition.parts;
   const auto& part = partition.triangle_part;
@@ -282,6 +286,7 @@ std::vector<PartStats> partition_stats(const Model& model, const Partition& part
     for (int c : ce4s[p])
       for (int v : model.ce4[c]) visit(v);
   }
+  count_held(model, partition, contact_reach, s);
   if (!model.contact.enabled || parts == 1) return s;
 
   // Contact ghosts: other parts' triangles whose boxes lie within reach of one of p's.
@@ -365,6 +370,22 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
     if (h.ce4[c])
       for (int v : g.ce4[c]) h.node[v] = 1;
   return h;
+}
+}  // namespace
+
+namespace {
+// What each part's split run holds (held(), the rule local_model follows), counted.
+void count_held(const Model& model, const Partition& partition, double contact_reach, std::vector<PartStats>& stats) {
+  Partition with_reach = partition;
+  with_reach.contact_reach = model.contact.enabled ? contact_reach : 0.0;
+  const auto owner = node_owners(model, partition);
+  auto count = [](const std::vector<char>& flags) { return static_cast<size_t>(std::count(flags.begin(), flags.end(), 1)); };
+  for (int p = 0; p < partition.parts; ++p) {
+    const Held h = held(model, with_reach, owner, p);
+    stats[p].held_tri3 = count(h.tri);
+    stats[p].held_ce4 = count(h.ce4);
+    stats[p].held_nodes = count(h.node);
+  }
 }
 }  // namespace
 

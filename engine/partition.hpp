@@ -57,6 +57,10 @@ const char* partition_method_name(PartitionMethod method);
 struct PartStats {
   size_t tri3 = 0, ce4 = 0, nodes = 0;
   size_t ghost_tri3 = 0, ghost_ce4 = 0, ghost_nodes = 0, contact_ghost_tri3 = 0;
+  // All the part's split run holds, owned and ghost of every kind (local_model's counts,
+  // from the same rule): with contact and CE4s this includes the CE4s around the contact
+  // ghosts and their triangles and nodes, which the ghost columns above leave out.
+  size_t held_tri3 = 0, held_ce4 = 0, held_nodes = 0;
   int64_t work = 0;
 };
 

@@ -407,6 +407,55 @@ TEST_SUITE("partition") {
                                          reference_stats(shared, partition_model(shared, parts, PartitionMethod::Bisection), 0));
   }
 
+  TEST_CASE("fdem check's held counts are what each rank's local model holds") {
+    // Each part's held triangles, CE4s and nodes against the local model built for it.
+    auto check_held = [](const Model& m, Partition p, double reach) {
+      p.contact_reach = m.contact.enabled ? reach : 0.0;
+      const auto stats = partition_stats(m, p, reach);
+      size_t ce4_beyond = 0, tri3_beyond = 0;  // held elements the ghost columns leave out
+      for (int r = 0; r < p.parts; ++r) {
+        CAPTURE(r);
+        const LocalModel l = local_model(m, p, r);
+        CHECK(stats[r].held_tri3 == l.model.num_triangles());
+        CHECK(stats[r].held_ce4 == l.model.ce4.size());
+        CHECK(stats[r].held_nodes == l.model.num_nodes());
+        REQUIRE(stats[r].held_tri3 >= stats[r].tri3 + stats[r].ghost_tri3);
+        REQUIRE(stats[r].held_ce4 >= stats[r].ce4 + stats[r].ghost_ce4);
+        tri3_beyond += stats[r].held_tri3 - (stats[r].tri3 + stats[r].ghost_tri3);
+        ce4_beyond += stats[r].held_ce4 - (stats[r].ce4 + stats[r].ghost_ce4);
+      }
+      return std::array<size_t, 2>{tri3_beyond, ce4_beyond};
+    };
+    Model m = grid(10, 6, 0.01, true);
+    m.ce4_properties.assign(m.ce4.size(), 0);
+    for (bool contact : {false, true}) {
+      m.contact.enabled = contact;
+      for (auto method : methods())
+        for (int parts : {2, 3, 5}) {
+          CAPTURE(contact);
+          CAPTURE(partition_method_name(method));
+          CAPTURE(parts);
+          const auto beyond = check_held(m, partition_model(m, parts, method), 0.004);
+          // Without contact a rank holds its own CE4s and their ghosts only (but also the
+          // triangles of those CE4s, which need not use an owned node).
+          if (!contact) CHECK(beyond[1] == 0);
+          else CHECK(beyond[0] > 0);  // the contact ghosts' triangles
+        }
+    }
+    // A meshed case with CE4s and contact: the CE4s around the contact ghosts (whose
+    // states contact reads) are held too, which the ghost columns do not count.
+    const PreparedCase c = prepare_case(test::source_path("tests/data/cases/blast_small.toml"), {});
+    REQUIRE(c.model.contact.enabled);
+    REQUIRE(!c.model.ce4.empty());
+    const double reach = contact_ghost_reach(c.model, default_contact_travel(c.model));
+    for (int parts : {2, 3}) {
+      CAPTURE(parts);
+      const auto beyond = check_held(c.model, partition_model(c.model, parts, PartitionMethod::Bisection), reach);
+      CHECK(beyond[0] > 0);
+      CHECK(beyond[1] > 0);
+    }
+  }
+
   TEST_CASE("the work weights: a contact candidate outweighs a CE4, a CE4 a bare triangle") {
     Model m = grid(3, 3, 0.01, true);
     auto w = triangle_work(m);
