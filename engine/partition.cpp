@@ -1,6 +1,7 @@
 #include "engine/partition.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -231,7 +232,8 @@ class NearBoxes {
 }  // namespace
 
 namespace {
-void count_held(const Model& model, const Partition& partition, double contact_reach, std::vector<PartStats>& stats);
+void count_held(const Model& model, const Partition& partition, const std::vector<int>& owner, double contact_reach,
+                const NearBoxes* boxes, std::vector<PartStats>& stats);
 }  // namespace
 
 std::vector<PartStats> partition_stats(const Model& model, const Partition& partition, double contact_reach) {
@@ -286,14 +288,16 @@ std::vector<PartStats> partition_stats(const Model& model, const Partition& part
     for (int c : ce4s[p])
       for (int v : model.ce4[c]) visit(v);
   }
-  count_held(model, partition, contact_reach, s);
+  // The reference boxes within the contact reach: for the held counts and the contact ghosts.
+  std::optional<NearBoxes> boxes;
+  if (model.contact.enabled) boxes.emplace(model, contact_reach);
+  count_held(model, partition, owner, contact_reach, boxes ? &*boxes : nullptr, s);
   if (!model.contact.enabled || parts == 1) return s;
 
   // Contact ghosts: other parts' triangles whose boxes lie within reach of one of p's.
-  const NearBoxes boxes(model, contact_reach);
   std::vector<uint64_t> ghost;  // (part << 32) | triangle
   for (size_t t = 0; t < model.num_triangles(); ++t)
-    boxes.for_each_near(t, [&](int u) {
+    boxes->for_each_near(t, [&](int u) {
       if (part[u] != part[t]) ghost.push_back((static_cast<uint64_t>(part[t]) << 32) | static_cast<uint32_t>(u));
     });
   std::sort(ghost.begin(), ghost.end());
@@ -309,10 +313,9 @@ double partition_imbalance(const std::vector<PartStats>& stats) {
 }
 
 namespace {
-// The triangles whose reference bounding box lies within `reach` of the box of a
+// The triangles whose reference bounding box lies within the boxes' reach of the box of a
 // `selected` triangle (the selected ones included).
-std::vector<char> within_reach(const Model& model, double reach, const std::vector<char>& selected) {
-  const NearBoxes boxes(model, reach);
+std::vector<char> within_reach(const Model& model, const NearBoxes& boxes, const std::vector<char>& selected) {
   std::vector<char> out(selected);
   for (size_t t = 0; t < model.num_triangles(); ++t)
     if (selected[t]) boxes.for_each_near(t, [&](int u) { out[u] = 1; });
@@ -323,7 +326,10 @@ std::vector<char> within_reach(const Model& model, double reach, const std::vect
 struct Held {
   std::vector<char> tri, ce4, node;
 };
-Held held(const Model& g, const Partition& partition, const std::vector<int>& owner, int rank) {
+// `boxes`: the reference boxes at partition.contact_reach when the caller has them (several
+// ranks' counts share one set), else built here.
+Held held(const Model& g, const Partition& partition, const std::vector<int>& owner, int rank,
+          const NearBoxes* boxes = nullptr) {
   const auto& part = partition.triangle_part;
   auto touches_owned = [&](const auto& nodes) {
     for (int v : nodes)
@@ -345,7 +351,9 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
     // couple is computed by its owner, which must hold the other).
     std::vector<char> owned(g.num_triangles(), 0);
     for (size_t t = 0; t < g.num_triangles(); ++t) owned[t] = part[t] == rank;
-    const auto near = within_reach(g, partition.contact_reach, owned);
+    std::optional<NearBoxes> own_boxes;
+    if (!boxes) boxes = &own_boxes.emplace(g, partition.contact_reach);
+    const auto near = within_reach(g, *boxes, owned);
     for (size_t t = 0; t < g.num_triangles(); ++t) h.tri[t] = h.tri[t] || near[t];
     // With CE4s, contact reads the states of the CE4s on a couple's triangles' edges (its
     // own CE4, the candidate mask's joins) and of every CE4 at their mesh nodes (the
@@ -375,13 +383,13 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
 
 namespace {
 // What each part's split run holds (held(), the rule local_model follows), counted.
-void count_held(const Model& model, const Partition& partition, double contact_reach, std::vector<PartStats>& stats) {
+void count_held(const Model& model, const Partition& partition, const std::vector<int>& owner, double contact_reach,
+                const NearBoxes* boxes, std::vector<PartStats>& stats) {
   Partition with_reach = partition;
   with_reach.contact_reach = model.contact.enabled ? contact_reach : 0.0;
-  const auto owner = node_owners(model, partition);
   auto count = [](const std::vector<char>& flags) { return static_cast<size_t>(std::count(flags.begin(), flags.end(), 1)); };
   for (int p = 0; p < partition.parts; ++p) {
-    const Held h = held(model, with_reach, owner, p);
+    const Held h = held(model, with_reach, owner, p, boxes);
     stats[p].held_tri3 = count(h.tri);
     stats[p].held_ce4 = count(h.ce4);
     stats[p].held_nodes = count(h.node);

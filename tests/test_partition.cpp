@@ -387,8 +387,10 @@ TEST_SUITE("partition") {
     CHECK(left_max == doctest::Approx(0.2).epsilon(0.05));
   }
 
-  TEST_CASE("owners and ghosts against the brute-force rules, with CE4s and contact") {
-    Model m = grid(10, 6, 0.01, true);
+  // Runs `check(contact, partition)` on `m` without and with contact, split by each method
+  // into 2, 3 and 5 parts (the failure names the combination).
+  template <class Check>
+  void for_each_grid_split(Model& m, Check check) {
     for (bool contact : {false, true}) {
       m.contact.enabled = contact;
       for (auto method : methods())
@@ -396,11 +398,17 @@ TEST_SUITE("partition") {
           CAPTURE(contact);
           CAPTURE(partition_method_name(method));
           CAPTURE(parts);
-          const auto p = partition_model(m, parts, method);
-          const double reach = 0.004;
-          check_equal(partition_stats(m, p, reach), reference_stats(m, p, reach));
+          check(contact, partition_model(m, parts, method));
         }
     }
+  }
+
+  TEST_CASE("owners and ghosts against the brute-force rules, with CE4s and contact") {
+    Model m = grid(10, 6, 0.01, true);
+    for_each_grid_split(m, [&](bool, const Partition& p) {
+      const double reach = 0.004;
+      check_equal(partition_stats(m, p, reach), reference_stats(m, p, reach));
+    });
     // A model whose triangles share nodes (no CE4s).
     const Model shared = grid(9, 7, 0.02, false);
     for (int parts : {2, 4}) check_equal(partition_stats(shared, partition_model(shared, parts, PartitionMethod::Bisection), 0),
@@ -428,20 +436,13 @@ TEST_SUITE("partition") {
     };
     Model m = grid(10, 6, 0.01, true);
     m.ce4_properties.assign(m.ce4.size(), 0);
-    for (bool contact : {false, true}) {
-      m.contact.enabled = contact;
-      for (auto method : methods())
-        for (int parts : {2, 3, 5}) {
-          CAPTURE(contact);
-          CAPTURE(partition_method_name(method));
-          CAPTURE(parts);
-          const auto beyond = check_held(m, partition_model(m, parts, method), 0.004);
-          // Without contact a rank holds its own CE4s and their ghosts only (but also the
-          // triangles of those CE4s, which need not use an owned node).
-          if (!contact) CHECK(beyond[1] == 0);
-          else CHECK(beyond[0] > 0);  // the contact ghosts' triangles
-        }
-    }
+    for_each_grid_split(m, [&](bool contact, const Partition& p) {
+      const auto beyond = check_held(m, p, 0.004);
+      // Without contact a rank holds its own CE4s and their ghosts only (but also the
+      // triangles of those CE4s, which need not use an owned node).
+      if (!contact) CHECK(beyond[1] == 0);
+      else CHECK(beyond[0] > 0);  // the contact ghosts' triangles
+    });
     // A meshed case with CE4s and contact: the CE4s around the contact ghosts (whose
     // states contact reads) are held too, which the ghost columns do not count.
     const PreparedCase c = prepare_case(test::source_path("tests/data/cases/blast_small.toml"), {});
