@@ -16,11 +16,9 @@
 #include "io/gmsh_buffer.hpp"
 
 namespace fdem::io {
-namespace {
-
-namespace fs = std::filesystem;
 
 std::string find_on_path(const std::string& program) {
+  namespace fs = std::filesystem;
   const char* path = std::getenv("PATH");
   std::stringstream dirs(path ? path : "");
   std::string dir;
@@ -31,6 +29,10 @@ std::string find_on_path(const std::string& program) {
   }
   return {};
 }
+
+namespace {
+
+namespace fs = std::filesystem;
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";

@@ -23,4 +23,8 @@ Mesh read_gmsh(const std::string& path, std::vector<std::string>* notes = nullpt
 // missing (naming the apt package), fails (with its output), or writes no triangles.
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir);
 
+// The path of an executable `program` in a directory of $PATH (an empty entry is "."), or
+// "" when there is none: how mesh_geo finds gmsh.
+std::string find_on_path(const std::string& program);
+
 }  // namespace fdem::io

@@ -63,26 +63,6 @@ inline void restore_child_environment() {
   if (!icd.empty()) ::setenv("OCL_ICD_FILENAMES", icd.c_str(), 1);
 }
 
-// True when an executable `gmsh` is on PATH. The GPU machine has none; the tests of
-// gmsh's own meshing and error messages are skipped there (`make test` installs gmsh, so
-// they run on CI and on every Debian machine the Makefile set up).
-inline bool gmsh_on_path() {
-  const char* path = std::getenv("PATH");
-  std::string rest = path ? path : "";
-  while (!rest.empty()) {
-    const size_t colon = rest.find(':');
-    const std::string dir = rest.substr(0, colon);
-    std::error_code ec;
-    const auto status = std::filesystem::status(std::filesystem::path(dir.empty() ? "." : dir) / "gmsh", ec);
-    if (!ec && std::filesystem::is_regular_file(status) &&
-        (status.permissions() & std::filesystem::perms::owner_exec) != std::filesystem::perms::none)
-      return true;
-    if (colon == std::string::npos) break;
-    rest = rest.substr(colon + 1);
-  }
-  return false;
-}
-
 // A file of the source tree; FDEM_SOURCE_DIR in the environment overrides the build's
 // (for running the test binary on another machine).
 inline std::string source_path(const std::string& relative) {
