@@ -164,12 +164,25 @@ void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
   if (n == 0) return;
   const std::size_t global = (n + group_size_ - 1) / group_size_ * group_size_;
   try {
-    compute::event done = queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
-    if (profiling_) pending_.emplace_back(kernel.name(), done);
+    if (profiling_) {
+      compute::event done = queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
+      pending_.emplace_back(kernel.name(), done);
+      return;
+    }
+    // Without profiling no event is asked for: the driver then creates and releases none,
+    // which a small model, bound by launches (a few µs each), notices.
+    const std::size_t local = group_size_;
+    const cl_int status = clEnqueueNDRangeKernel(queue_.get(), kernel.get(), 1, nullptr, &global, &local, 0, nullptr, nullptr);
+    if (status != CL_SUCCESS) throw compute::opencl_error(status);
   } catch (const compute::opencl_error& e) {
     throw DeviceError("enqueue of kernel '" + kernel.name() + "' over " + std::to_string(n) +
                       " items failed: " + e.what());
   }
+}
+
+void ClContext::flush() {
+  const cl_int status = clFlush(queue_.get());
+  if (status != CL_SUCCESS) throw DeviceError(std::string("device queue flush failed: ") + compute::opencl_error::to_string(status));
 }
 
 std::size_t ClContext::allocation_size(std::size_t bytes) { return bytes == 0 ? sizeof(real) : bytes; }

@@ -1,9 +1,12 @@
 #include "engine/solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <climits>
+#include <cstdlib>
+#include <string>
 #include <limits>
 
 #include "base/errors.hpp"
@@ -253,6 +256,8 @@ void Solver::step(bool energy_row) {
   gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);
+  static const bool flush_each_step = [] { const char* v = std::getenv("FDEM_STEP_FLUSH"); return !v || std::string(v) != "0"; }();  // EXPERIMENT
+  if (flush_each_step) cl_.flush();
   ++steps_;
   if (!balance_.started()) balance_.start(energy());
 }
@@ -444,8 +449,12 @@ std::vector<real4> Solver::stresses() {
 }
 
 Conditions Solver::conditions() {
-  if (contact_) contact_->check_pool();
+  // The pool's state is read without waiting; the conditions' read waits, and the queue
+  // is in order, so both have landed after it: one wait for the device instead of two.
+  std::array<cl_uint, 2> pool{};
+  if (contact_) contact_->read_pool_state(pool.data());
   const auto words = download<int>(cl_, arrays_.conditions, layout::CONDITION_WORDS);
+  if (contact_) contact_->check_pool(pool.data());
   auto value = [](int w) { return w == INT_MAX ? -1 : w; };
   return {value(words[layout::COND_BAD_NODE]), value(words[layout::COND_BAD_NODE_STEP]),
           value(words[layout::COND_INVERTED_TRI]), value(words[layout::COND_INVERTED_STEP])};
@@ -458,7 +467,8 @@ void Solver::save_checkpoint() {
   const size_t n = arrays_.num_nodes, bytes = n * sizeof(real2);
   saved_position_.resize(n);
   saved_velocity_.resize(n);
-  cl_.queue().enqueue_read_buffer(arrays_.position, 0, bytes, saved_position_.data());
+  // One wait: the first read is asynchronous, the in-order queue lands it before the second.
+  cl_.queue().enqueue_read_buffer_async(arrays_.position, 0, bytes, saved_position_.data());
   cl_.queue().enqueue_read_buffer(arrays_.velocity, 0, bytes, saved_velocity_.data());
   checkpoint_step_ = steps_;
 }

@@ -231,6 +231,7 @@ void ContactForces::ListArgs::bind_list(KernelArgs& args, const compute::buffer&
 }
 
 void ContactForces::enqueue_clear(long step) {
+  ++epoch_;
   if (monitored_) clear_monitor_slot_.set(MonitorRing::slot_of(step));
   cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1));
 }
@@ -263,6 +264,14 @@ void ContactForces::check_pool() {
   if (overflow >= 0) throw NumericalError(pool_overflow_message(overflow));
 }
 
+void ContactForces::read_pool_state(cl_uint* state) {
+  cl_.queue().enqueue_read_buffer_async(pool_state_, 0, 2 * sizeof(cl_uint), state);
+}
+
+void ContactForces::check_pool(const cl_uint* state) {
+  if (state[1] != 0xffffffffu) throw NumericalError(pool_overflow_message(static_cast<long>(state[1])));
+}
+
 long ContactForces::pool_overflow_step() {
   const auto state = download<cl_uint>(cl_, pool_state_, 2);
   return state[1] == 0xffffffffu ? -1 : static_cast<long>(state[1]);
@@ -270,6 +279,7 @@ long ContactForces::pool_overflow_step() {
 
 void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row,
                             long step) {
+  ++epoch_;
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
   const cl_uint joined_since = joined_since_last_list();
@@ -354,6 +364,7 @@ cl_uint ContactForces::joined_since_last_list() const {
 }
 
 size_t ContactForces::carry_old_list() {
+  ++epoch_;
   const size_t carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since_last_list());
   // The carry waited for the device: a full pool in the steps since the last check stops here.
   check_pool();
@@ -367,11 +378,20 @@ void ContactForces::carry_before_detection() {
 
 size_t ContactForces::touching() {
   if (count_ == 0) return 0;
+  if (touching_epoch_ == epoch_) return touching_seen_;
   const auto live = download<cl_uchar>(cl_, live_, count_);
-  return static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
+  touching_seen_ = static_cast<size_t>(std::count(live.begin(), live.end(), cl_uchar{1}));
+  touching_epoch_ = epoch_;
+  return touching_seen_;
 }
 
-std::vector<cl_long> ContactForces::energy_account() { return download<cl_long>(cl_, energy_, layout::CONTACT_ENERGY_WORDS); }
+std::vector<cl_long> ContactForces::energy_account() {
+  if (energy_epoch_ != epoch_) {
+    energy_seen_ = download<cl_long>(cl_, energy_, layout::CONTACT_ENERGY_WORDS);
+    energy_epoch_ = epoch_;
+  }
+  return energy_seen_;
+}
 
 std::vector<cl_ulong> ContactForces::list_keys() {
   if (count_ == 0) return {};
@@ -442,6 +462,7 @@ void ContactForces::save_state(StateWriter& out) const {
 }
 
 void ContactForces::load_state(StateReader& in) {
+  ++epoch_;
   count_ = static_cast<size_t>(in.integer("contact_couples"));
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
   if (shared_keys_ || count_ > capacity_) {

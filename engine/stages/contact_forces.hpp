@@ -90,6 +90,11 @@ class ContactForces {
   // Waits. Solver::conditions() stops the run on it.
   long pool_overflow_step();
   void check_pool();  // NumericalError naming the step when a couple found the pool full (waits)
+  // The same in two halves, for a caller that waits once for several reads: enqueues the
+  // read of the pool's two state words into `state` (no wait), and, once the queue has
+  // passed it, the check of what was read.
+  void read_pool_state(cl_uint* state);
+  void check_pool(const cl_uint* state);
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
   double force_scale() const { return force_scale_; }
@@ -146,6 +151,13 @@ class ContactForces {
   ClContext& cl_;
   DeviceArrays& arrays_;
   double force_scale_ = 1, energy_scale_ = 1;
+  // A history row asks for the touching count and the energy words several times (the
+  // account, its resolution, the row's columns); each read waits for the device, about
+  // 10 µs on a GPU. They are read once per state: epoch_ counts every change this stage
+  // enqueues (or loads), and a read remembers the epoch it saw.
+  std::uint64_t epoch_ = 1, touching_epoch_ = 0, energy_epoch_ = 0;
+  size_t touching_seen_ = 0;
+  std::vector<cl_long> energy_seen_;
   compute::kernel classify_, forces_, clear_, release_;
   compute::buffer keys_, history_, energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   compute::buffer slot_;        // per couple: its pool row (ContactCarry::kNoSlot: none)
