@@ -31,8 +31,17 @@
 // (kinetic, inertia masses), Σ -m g·(x - X) (gravity potential, true masses, relative to
 // the reference positions X), and the forward halves F·v⁺/2 Δt of this step's damping and
 // reaction work, which the host subtracts so that the row's works run to t exactly.
-// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST.
+// With GATHER_IN_STEP 1 the step first sums the node's force itself (gathered_sum of
+// cl_kernels/node_gather.cl, with its GATHER_* defines) instead of reading what
+// gather_node_sums wrote: one launch less a step, and no round trip of node_force through
+// memory between the two. The sum and everything after it are the same expressions, so
+// the result is the same bits.
+// Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST,
+// GATHER_IN_STEP.
 __kernel void integrate(const uint n_nodes,
+#if GATHER_IN_STEP
+                        GATHER_ARGS,
+#endif
                         __global real2* restrict position,
                         __global real2* restrict velocity,
                         __global real2* restrict node_force,
@@ -75,7 +84,12 @@ __kernel void integrate(const uint n_nodes,
     const real2 mass = node_mass[i];  // (true mass, inertia)
     const real2 v_before = velocity[i];
     real2 v = v_before;
-    const real2 f = node_force[i] + mass.x * (real2)(gx, gy);
+#if GATHER_IN_STEP
+    const real2 gathered = gathered_sum(i, GATHER_PASS);
+#else
+    const real2 gathered = node_force[i];
+#endif
+    const real2 f = gathered + mass.x * (real2)(gx, gy);
     node_force[i] = f;
 
     real2 fd = f;

@@ -1,9 +1,12 @@
 // Named device arrays (SoA: one real2 array per nodal quantity). Allocated and filled
 // once from the Model; data stays on the device between steps.
 #pragma once
+#include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "base/errors.hpp"
 #include "engine/cl_context.hpp"
 #include "engine/memory_plan.hpp"
 #include "engine/model.hpp"
@@ -66,6 +69,42 @@ struct DeviceArrays {
 
  private:
   size_t stress_bytes_ = 0;
+};
+
+// Page-locked host memory for reads that must not wait: a buffer allocated with
+// CL_MEM_ALLOC_HOST_PTR and kept mapped for its lifetime. NVIDIA's driver carries out a
+// "non-blocking" read into ordinary (pageable) memory before returning, which drains the
+// queue; into this memory the read is a real asynchronous copy. The monitor ring's reads
+// (ContactSkin) land here. Zero-filled at construction.
+template <typename T>
+class PinnedHost {
+ public:
+  PinnedHost(ClContext& cl, size_t count) : queue_(cl.queue()), count_(count) {
+    const size_t bytes = std::max<size_t>(1, count) * sizeof(T);
+    try {
+      buffer_ = compute::buffer(cl.context(), bytes, CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR);
+      data_ = static_cast<T*>(queue_.enqueue_map_buffer(buffer_, CL_MAP_READ | CL_MAP_WRITE, 0, bytes));
+    } catch (const compute::opencl_error& e) {
+      throw DeviceError("cannot allocate " + std::to_string(bytes) + " bytes of page-locked host memory: " + e.what());
+    }
+    std::fill(data_, data_ + count_, T{});
+  }
+  ~PinnedHost() {
+    if (data_) clEnqueueUnmapMemObject(queue_.get(), buffer_.get(), data_, 0, nullptr, nullptr);
+  }
+  PinnedHost(const PinnedHost&) = delete;
+  PinnedHost& operator=(const PinnedHost&) = delete;
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  size_t size() const { return count_; }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+
+ private:
+  compute::command_queue queue_;
+  compute::buffer buffer_;
+  size_t count_;
+  T* data_ = nullptr;
 };
 
 // Host ↔ device copies that wait (only for set-up, output, history and checks).

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <string>
 #include <limits>
+#include <optional>
 
 #include "base/errors.hpp"
 #include "engine/transport.hpp"
@@ -44,6 +45,20 @@ CohesiveModel cohesive_model(const Model& model) {
     m.vertex_bonded = model.vertex_bonded;
   }
   return m;
+}
+
+// Whether the step's integration gathers the nodes' forces itself (Integrate::Gather),
+// and from what (the sources of NodeGather::enqueue_forces). Measured on the H200
+// (docs/performance-notes.md): the fused kernel saves a launch, which models up to a few
+// hundred thousand nodes notice, but at 3.2M nodes it took 0.29 ms where the gather and
+// the integration took 0.26 together (the integration's local-memory sums limit how many
+// work-items hide the gather's scattered reads). CPU devices always take the fused
+// kernel: one pass over the nodes instead of two, and no launch to wait for.
+constexpr size_t kFusedGatherNodes = 262144;
+std::optional<Integrate::Gather> step_gather(const ClContext& cl, size_t nodes, CohesiveForces* cohesive,
+                                             ContactForces* contact) {
+  if (cl.info().is_gpu && nodes > kFusedGatherNodes) return std::nullopt;
+  return Integrate::Gather{cohesive ? &cohesive->slots() : nullptr, contact ? contact->force_scale() : 0.0};
 }
 
 }  // namespace
@@ -174,7 +189,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt),
-      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get()),
+      integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
+                 step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get())),
       ordered_(cl, ordered_items(model)),
       ce4_count_(model.ce4.size()) {
   if (contact_) {
@@ -253,7 +269,8 @@ void Solver::step(bool energy_row) {
   triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
   if (contact_received_) contact_received_();
-  gather_.enqueue_forces();
+  // Small models: the integration gathers the nodes' forces itself (step_gather).
+  if (!integrate_.gathers()) gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);
   static const bool flush_each_step = [] { const char* v = std::getenv("FDEM_STEP_FLUSH"); return !v || std::string(v) != "0"; }();  // EXPERIMENT

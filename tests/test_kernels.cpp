@@ -203,6 +203,62 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
     CHECK((Vector2d(first[i].x, first[i].y) - expected[i]).norm() <= (kDoublePrecision ? 1e-12 : 1e-5) * 1e6 * spokes);
 }
 
+TEST_CASE("the integration that gathers the forces itself gives the bits of the gather and the integration") {
+  // The Solver's step fuses the gather into the integration on small models and CPU
+  // devices (step_gather) and launches both on large GPU models: both paths must agree
+  // to the bit. A fan with loaded edges and fixed-point contact forces, gravity, local
+  // damping, random velocities and slot values.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int spokes = 24;
+  std::vector<double> x{0.0}, y{0.0};
+  for (int k = 0; k < spokes; ++k) x.push_back(std::cos(2 * M_PI * k / spokes)), y.push_back(std::sin(2 * M_PI * k / spokes));
+  std::vector<std::array<int, 3>> tris;
+  for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
+  Model m = test::make_model(x, y, tris, test::all_material_variants());
+  m.contact.enabled = true;
+  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1e3, 0, 0, 0));
+  for (int k = 0; k < spokes; k += 2) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % spokes, 0});
+  auto& cl = test::context();
+  DeviceArrays arrays(cl, m);
+  const double dt = 1e-6, force_scale = std::ldexp(1.0, 40);
+  NodeGather gather(cl, arrays, nullptr, force_scale);
+  LumpedMass(cl, arrays, m, dt).enqueue(gather);
+  std::vector<real2> corner(3 * m.num_triangles()), edge(2 * m.loaded_edges.size()), pos(m.num_nodes()), vel(m.num_nodes());
+  std::vector<cl_long> acc(2 * m.num_nodes());
+  for (auto& c : corner) c = {real(1e6 * u(rng)), real(1e6 * u(rng))};
+  for (auto& e : edge) e = {real(1e3 * u(rng)), real(1e3 * u(rng))};
+  for (auto& a : acc) a = static_cast<cl_long>(1e5 * u(rng) * force_scale);
+  for (size_t i = 0; i < m.num_nodes(); ++i) pos[i] = {real(m.x[i]), real(m.y[i])}, vel[i] = {real(u(rng)), real(u(rng))};
+  auto state = [&] {
+    upload(cl, arrays.corner_force, corner);
+    upload(cl, arrays.edge_force, edge);
+    upload(cl, arrays.contact_acc, acc);
+    upload(cl, arrays.position, pos);
+    upload(cl, arrays.velocity, vel);
+  };
+  const std::array<double, 2> g{0.0, -9.81};
+  state();
+  gather.enqueue_forces();
+  Integrate(cl, arrays, g, 0.8, dt, false).enqueue(dt, 3);
+  const auto x_two = download<real2>(cl, arrays.position, m.num_nodes());
+  const auto v_two = download<real2>(cl, arrays.velocity, m.num_nodes());
+  const auto f_two = download<real2>(cl, arrays.node_force, m.num_nodes());
+  state();
+  upload(cl, arrays.node_force, std::vector<real2>(m.num_nodes()));  // nothing left from the gather
+  Integrate fused(cl, arrays, g, 0.8, dt, false, true, nullptr, Integrate::Gather{nullptr, force_scale});
+  CHECK(fused.gathers());
+  fused.enqueue(dt, 3);
+  const auto x_one = download<real2>(cl, arrays.position, m.num_nodes());
+  const auto v_one = download<real2>(cl, arrays.velocity, m.num_nodes());
+  const auto f_one = download<real2>(cl, arrays.node_force, m.num_nodes());
+  CHECK(std::memcmp(x_one.data(), x_two.data(), x_one.size() * sizeof(real2)) == 0);
+  CHECK(std::memcmp(v_one.data(), v_two.data(), v_one.size() * sizeof(real2)) == 0);
+  CHECK(std::memcmp(f_one.data(), f_two.data(), f_one.size() * sizeof(real2)) == 0);
+  // And the forces moved the nodes (the comparison is not of two untouched arrays).
+  CHECK(std::memcmp(x_one.data(), pos.data(), pos.size() * sizeof(real2)) != 0);
+}
+
 TEST_CASE("lumped mass: ρA₀t/3 per corner, and mass scaling gives 0.3 Δt²Σk") {
   std::mt19937 rng(5);
   Model m = test::triangle_soup(300, test::all_material_variants(), rng);

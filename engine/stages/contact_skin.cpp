@@ -20,7 +20,7 @@ double as_value(cl_uint bits) {
 
 ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, double skin, double dt,
                          const std::vector<char>& node_owned)
-    : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), ring_(ring), host_(layout::RING_WORDS * kSlots, 0) {
+    : cl_(cl), arrays_(a), half_skin_(0.5 * skin), dt_(dt), ring_(ring), host_(cl, layout::RING_WORDS * kSlots) {
   owned_ = !node_owned.empty();
   const MemoryPlan arrays = plan(a.num_nodes, owned_);
   at_build_ = arrays.allocate(cl, "position_at_build");

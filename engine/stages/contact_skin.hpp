@@ -77,7 +77,7 @@ class ContactSkin {
   compute::buffer at_build_, node_owned_;
   bool owned_ = false;
   std::function<void(cl_uint*, unsigned)> reduce_;
-  std::vector<cl_uint> host_;                  // kSlots × RING_WORDS words, filled by async reads
+  PinnedHost<cl_uint> host_;                   // kSlots × RING_WORDS words, filled by async reads
   compute::event batch_read_;                  // the last batch read (slots batch_first_ …)
   unsigned batch_first_ = 0;
   bool batch_pending_ = false, speed_known_ = false;

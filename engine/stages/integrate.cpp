@@ -1,5 +1,7 @@
 #include "engine/stages/integrate.hpp"
 
+#include "engine/stages/node_gather.hpp"
+
 #include <map>
 #include <string>
 #include <vector>
@@ -20,7 +22,7 @@ MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work) {
 }
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
-                     bool prescribed, bool account, ContactSkin* skin)
+                     bool prescribed, bool account, ContactSkin* skin, std::optional<Gather> gather)
     : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
       account_work_(accounts_work(prescribed, local_damping, account)), skin_test_(skin != nullptr) {
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())},
@@ -29,7 +31,14 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   // with a part of their forces before the exchange overwrites them).
   if (skin && skin->owned_mask()) defines["SKIN_OWNED"] = "1";
   defines["ORDERED_BLOCK"] = std::to_string(kOrderedBlock);
-  const auto program = cl.build(kernel_source::integrate, defines, {&kernel_source::ordered_sum});
+  gathers_ = gather.has_value();
+  defines["GATHER_IN_STEP"] = gather ? "1" : "0";
+  std::vector<const KernelSource*> libraries{&kernel_source::ordered_sum};
+  if (gather) {
+    for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale)) defines.insert(d);
+    libraries.push_back(&kernel_source::node_gather);
+  }
+  const auto program = cl.build(kernel_source::integrate, defines, libraries);
   kernel_ = compute::kernel(program, "integrate");
   block_sums_ = compute::kernel(program, "ordered_block_sums");
   const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);
@@ -47,7 +56,9 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   // Written on energy rows only: zero until the first, so a total read before it is 0.
   upload(cl, partials_, std::vector<real>(partials_.size() / sizeof(real)));
   KernelArgs args(kernel_);
-  args("n_nodes", static_cast<cl_uint>(count_))("position", a.position)("velocity", a.velocity)(
+  args("n_nodes", static_cast<cl_uint>(count_));
+  if (gather) NodeGather::bind_force_sources(args, a, gather->ce4_slots, gather->contact_force_scale);
+  args("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
       "gx", static_cast<real>(gravity[0]))("gy", static_cast<real>(gravity[1]))(
       "local_damping", static_cast<real>(local_damping))("dt", static_cast<real>(dt));

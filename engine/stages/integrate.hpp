@@ -2,6 +2,7 @@
 // velocities (cl_kernels/integrate.cl), and the nodal part of the energy account.
 #pragma once
 #include <array>
+#include <optional>
 
 #include "engine/device_arrays.hpp"
 #include "engine/checkpoint.hpp"
@@ -18,8 +19,16 @@ class Integrate {
   // `account` false leaves both out (Solver's switch for measuring the account's cost).
   // With a `skin`, each step also writes the contact skin test of the next step into its
   // ring (MonitorRing slot slot_of(step + 1)), against the skin's position_at_build.
+  //
+  // With a `gather` the step sums each node's force itself, as NodeGather::enqueue_forces
+  // would (the same sum, the same bits; the Solver's step), and writes node_force as
+  // before; without one it reads node_force as a gather left it (the stage used alone).
+  struct Gather {
+    const compute::buffer* ce4_slots = nullptr;  // NodeGather's arguments
+    double contact_force_scale = 0;
+  };
   Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity, double local_damping, double dt,
-            bool prescribed, bool account = true, ContactSkin* skin = nullptr);
+            bool prescribed, bool account = true, ContactSkin* skin = nullptr, std::optional<Gather> gather = std::nullopt);
   // Whether the stage accounts the reactions' and local damping's work every step.
   static bool accounts_work(bool prescribed, double local_damping, bool account) {
     return account && (prescribed || local_damping != 0);
@@ -31,6 +40,8 @@ class Integrate {
   // evaluates the kinetic energy and gravity potential at t (positions before the
   // update) for energy(). Never waits.
   void enqueue(double time_after, int step, bool energy_row = false);
+  // Whether the step sums the nodes' forces itself (built with a Gather).
+  bool gathers() const { return gathers_; }
 
   // Kinetic energy and gravity potential at the last energy row, and the local damping
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
@@ -54,7 +65,7 @@ class Integrate {
  private:
   ClContext& cl_;
   size_t count_, groups_;
-  bool account_work_, skin_test_;
+  bool account_work_, skin_test_, gathers_ = false;
   compute::kernel kernel_;
   KernelArg<real> time_after_;
   KernelArg<cl_int> step_, energy_row_;

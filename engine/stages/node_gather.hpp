@@ -2,7 +2,11 @@
 // contributions per node in a fixed order, the deterministic replacement for
 // floating-point atomics.
 #pragma once
+#include <map>
+#include <string>
+
 #include "engine/device_arrays.hpp"
+#include "engine/kernel_args.hpp"
 
 namespace fdem {
 
@@ -15,7 +19,15 @@ class NodeGather {
   // values only.
   NodeGather(ClContext& cl, DeviceArrays& arrays, const compute::buffer* ce4_slots, double contact_force_scale);
   // node_force = Σ corner_force + Σ edge_force + Σ CE4 slots + contact. Never waits.
+  // (The Solver's step leaves this to Integrate, which gathers the same sum itself.)
   void enqueue_forces();
+  // The force gather's defines (GATHER_EDGES, GATHER_CE4, GATHER_CONTACT) and its
+  // arguments, for a kernel that sums a node's force with gathered_sum
+  // (cl_kernels/node_gather.cl): Integrate with a Gather, and this stage itself.
+  static std::map<std::string, std::string> force_defines(const DeviceArrays& arrays, const compute::buffer* ce4_slots,
+                                                          double contact_force_scale);
+  static void bind_force_sources(KernelArgs& args, const DeviceArrays& arrays, const compute::buffer* ce4_slots,
+                                 double contact_force_scale);
   // node_mass = Σ corner values (the corner masses written by LumpedMass). Never waits.
   void enqueue_corner_sums_into_mass();
 
