@@ -180,11 +180,6 @@ void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
   }
 }
 
-void ClContext::flush() {
-  const cl_int status = clFlush(queue_.get());
-  if (status != CL_SUCCESS) throw DeviceError(std::string("device queue flush failed: ") + compute::opencl_error::to_string(status));
-}
-
 std::size_t ClContext::allocation_size(std::size_t bytes) { return bytes == 0 ? sizeof(real) : bytes; }
 
 compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) const {

@@ -76,10 +76,6 @@ class ClContext {
   void restart_device_bytes_peak() { live_->peak.store(live_->bytes.load()); }
 
   void finish();  // waits for the queue; DeviceError on failure
-  // Submits what is queued without waiting. Some drivers (NVIDIA's) hold enqueued
-  // commands on the host until a flush or a wait; the solver flushes once a step so that
-  // the device runs the step while the host queues the next one.
-  void flush();
 
   // Kernel profiling (only with `profiling` at construction): every enqueue() keeps its
   // event; collect_profile() adds the finished ones' device times per kernel name.

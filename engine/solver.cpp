@@ -5,8 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <climits>
-#include <cstdlib>
-#include <string>
 #include <limits>
 #include <optional>
 
@@ -273,8 +271,6 @@ void Solver::step(bool energy_row) {
   if (!integrate_.gathers()) gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
   if (skin_) skin_->measured(steps_ + 1);
-  static const bool flush_each_step = [] { const char* v = std::getenv("FDEM_STEP_FLUSH"); return !v || std::string(v) != "0"; }();  // EXPERIMENT
-  if (flush_each_step) cl_.flush();
   ++steps_;
   if (!balance_.started()) balance_.start(energy());
 }
