@@ -263,18 +263,14 @@ EnergyTotals Solver::energy() {
   EnergyTotals e;
   // Each step's forces carry that round-off too, and their work adds up step after step.
   e.resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
-  // Every term is a sum of per-item values in global item order (ordered_sums), so a
-  // split run gives the bits of one rank.
-  const ItemScope* scope = scope_;
+  // Every term is a sum of per-item values in global item order by one rule (OrderedSums
+  // on one rank, SplitSums over the ranks), so a split run gives the bits of one rank.
+  SplitSums* split = split_sums_.get();
   OrderedSums& device = ordered_;
-  const ItemSums sums = [scope, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
+  const ItemSums sums = [split, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
                                          int width, ItemKind kind) {
-    if (!scope) return device.sums(values, count, stride, first, width);
-    const auto rows = download<real>(cl, values, count * stride);
-    std::vector<real> columns(count * width);
-    for (size_t i = 0; i < count; ++i)
-      for (int c = 0; c < width; ++c) columns[i * width + c] = rows[i * stride + first + c];
-    return ordered_sums(columns, width, kind, *scope);
+    if (!split) return device.sums(values, count, stride, first, width);
+    return split->sums(cl, values, count, stride, first, width, kind);
   };
   integrate_.add_energy(e, sums);
   triangle_forces_.add_energy(e, sums);
@@ -299,6 +295,12 @@ EnergyTotals Solver::energy() {
     cl_.add_host_time("energy account (host wall: per-item reads and ordered sums, at history rows)",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return e;
+}
+
+void Solver::set_scope(const ItemScope* scope) {
+  scope_ = scope;
+  split_sums_ = scope ? std::make_unique<SplitSums>(*scope) : nullptr;
+  if (scope_) integrate_.keep_energy_rows();  // the split sums read the per-node values
 }
 
 void Solver::add_split_contact_energy(EnergyTotals& e) {
