@@ -268,6 +268,46 @@ std::vector<double> SplitSums::sums(ClContext& cl, const compute::buffer& values
   return from_bytes<double>(transport_.broadcast(to_bytes(sum)));
 }
 
+std::vector<uint64_t> count_below(const std::vector<cl_ulong>& sorted_keys, const std::vector<cl_ulong>& queries) {
+  // Consecutive queries of a run are close in the list (a few dozen couples apart), so
+  // each search gallops forward from the last answer instead of halving the whole list.
+  std::vector<uint64_t> out(queries.size());
+  const std::size_t n = sorted_keys.size();
+  std::size_t at = 0;
+  for (std::size_t q = 0; q < queries.size(); ++q) {
+    const cl_ulong key = queries[q];
+    if (q > 0 && key < queries[q - 1]) at = 0;  // a new run
+    // Every key before `lo` is below `key`; widen until keys[lo + step − 1] is not.
+    std::size_t lo = at, step = 1;
+    while (lo + step <= n && sorted_keys[lo + step - 1] < key) lo += step, step *= 2;
+    const auto end = sorted_keys.begin() + static_cast<std::ptrdiff_t>(std::min(n, lo + step));
+    at = static_cast<std::size_t>(std::lower_bound(sorted_keys.begin() + static_cast<std::ptrdiff_t>(lo), end, key) -
+                                  sorted_keys.begin());
+    out[q] = at;
+  }
+  return out;
+}
+
+double tree_group_sums(const std::vector<std::pair<uint64_t, real>>& nonzero, std::size_t group) {
+  // Only the groups that hold a nonzero value are summed, by group_sum4's tree
+  // (scratch[l] += scratch[l + s], s = group/2 … 1); the others sum to a zero, and a zero
+  // leaves the double total (+0 at the start, never −0 after) as it is. The entries not
+  // given are +0 here where the device may have had a −0 (a touching couple that stores
+  // nothing): x + ±0 = x for x ≠ 0 and a sum of zeros is a zero, so every node of the
+  // tree holds the same value in both or a zero in both, and a zero adds nothing.
+  std::vector<real> scratch(group);
+  double total = 0;
+  for (std::size_t k = 0; k < nonzero.size();) {
+    const uint64_t g = nonzero[k].first / group;
+    std::fill(scratch.begin(), scratch.end(), real(0));
+    for (; k < nonzero.size() && nonzero[k].first / group == g; ++k) scratch[nonzero[k].first % group] = nonzero[k].second;
+    for (std::size_t s = group / 2; s > 0; s >>= 1)
+      for (std::size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
+    total += static_cast<double>(scratch[0]);
+  }
+  return total;
+}
+
 MemoryPlan OrderedSums::plan(std::size_t max_items) {
   const std::size_t blocks = std::max<std::size_t>(1, (max_items + kOrderedBlock - 1) / kOrderedBlock);
   return MemoryPlan().add("ordered_sums partial", 4 * blocks * sizeof(real));

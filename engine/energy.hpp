@@ -9,6 +9,7 @@
 #include <string>
 
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "engine/cl_context.hpp"
@@ -167,6 +168,21 @@ class SplitSums {
   std::array<Bytes, 4> message_;
   std::array<std::vector<Bytes>, 4> received_;
 };
+
+// A split run's contact stored energy (Solver::add_split_contact_energy). One rank sums
+// its list's per-couple values per work-group by a tree (contact_stored_partials,
+// group_sum4) and the groups in order in double. Only touching couples hold a value
+// other than 0, and x + 0 = x, so the sum depends only on where the nonzero values sit
+// in the whole sorted list: their global positions.
+
+// For each of `queries` (ascending runs: a run restarts where a query is below the last
+// one), how many of `sorted_keys` are smaller.
+std::vector<uint64_t> count_below(const std::vector<cl_ulong>& sorted_keys, const std::vector<cl_ulong>& queries);
+
+// The sum that contact_stored_partials and the host's addition of its slots give for a
+// list that holds `nonzero` (global position in the list, value; ascending positions,
+// values ≠ 0) and +0 elsewhere, in work-groups of `group` (a power of two).
+double tree_group_sums(const std::vector<std::pair<uint64_t, real>>& nonzero, std::size_t group);
 
 // The device side of the rule for one rank (Solver): the kernel of
 // cl_kernels/ordered_sum.cl and its array of block sums.

@@ -199,6 +199,10 @@ class Solver {
   EnergyBalance balance_;
   const ItemScope* scope_ = nullptr;
   std::unique_ptr<SplitSums> split_sums_;  // with scope_
+  // With scope_ and contact: the list's keys in global triangles (sorted), read once per
+  // list (ContactForces::list_generation), for the couples' global positions.
+  std::vector<cl_ulong> split_keys_;
+  size_t split_keys_generation_ = ~size_t(0);  // none read yet
   std::function<void()> before_detection_, contact_sent_, contact_received_;
   size_t split_touching_ = 0, split_candidates_ = 0;
   // A split run: the contact terms of energy() over every rank (collective).

@@ -357,6 +357,57 @@ TEST_SUITE("partition") {
     CHECK_THROWS_AS(BlockMerge(count, whole, missing), std::logic_error);
   }
 
+  TEST_CASE("split contact stored energy: the group tree from the nonzero values and their places alone") {
+    // A list of which a few couples hold a value, some −0 (a touching couple storing
+    // nothing); the dense tree of contact_stored_partials over the whole list, zeros and
+    // all, against tree_group_sums over the nonzero values and their places.
+    const size_t group = 64, n = 40 * group + 17;
+    uint64_t state = 99;
+    auto next = [&] { return state = state * 6364136223846793005ULL + 1442695040888963407ULL; };
+    std::vector<real> list(n, real(0));
+    std::vector<std::pair<uint64_t, real>> nonzero;
+    for (size_t c = 0; c < n; ++c) {
+      const auto pick = next() % 16;
+      if (pick == 0) list[c] = real(-0.0);
+      if (pick == 1 || pick == 2)  // mixed signs and sizes: any other grouping loses other bits
+        list[c] = real((double(next() >> 11) / double(1ULL << 53) - 0.5) * std::pow(10.0, double(next() % 17)));
+      if (pick == 3) list[c] = real(1e-300);  // lost beside larger values, kept alone
+      if (list[c] != real(0)) nonzero.emplace_back(c, list[c]);
+    }
+    double dense = 0;
+    std::vector<real> scratch(group);
+    for (size_t begin = 0; begin < n; begin += group) {
+      for (size_t l = 0; l < group; ++l) scratch[l] = begin + l < n ? list[begin + l] : real(0);
+      for (size_t s = group / 2; s > 0; s >>= 1)
+        for (size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
+      dense += static_cast<double>(scratch[0]);
+    }
+    const double sparse = tree_group_sums(nonzero, group);
+    // The places matter: the same values packed at the list's front sum otherwise.
+    auto packed = nonzero;
+    for (size_t k = 0; k < packed.size(); ++k) packed[k].first = k;
+    CHECK(tree_group_sums(packed, group) != dense);
+    CHECK(std::memcmp(&dense, &sparse, sizeof(double)) == 0);
+    CHECK(tree_group_sums({}, group) == 0.0);
+    // The places: keys below each query, over ascending runs of queries.
+    std::vector<cl_ulong> keys;
+    for (size_t k = 0; k < 5000; ++k) keys.push_back(next() % 100000);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::vector<cl_ulong> queries;
+    for (int run = 0; run < 3; ++run) {
+      std::vector<cl_ulong> q;
+      for (size_t k = 0; k < 300; ++k) q.push_back(next() % 2 ? keys[next() % keys.size()] : next() % 110000);
+      std::sort(q.begin(), q.end());
+      q.erase(std::unique(q.begin(), q.end()), q.end());
+      queries.insert(queries.end(), q.begin(), q.end());
+    }
+    const auto below = count_below(keys, queries);
+    REQUIRE(below.size() == queries.size());
+    for (size_t k = 0; k < queries.size(); ++k)
+      CHECK(below[k] == static_cast<uint64_t>(std::lower_bound(keys.begin(), keys.end(), queries[k]) - keys.begin()));
+  }
+
   TEST_CASE("contact ghosts: every triangle within the reach of an owned one, and the owned masks") {
     for (bool cohesive : {false, true}) {
       CAPTURE(cohesive);
