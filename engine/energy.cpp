@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -83,37 +86,226 @@ std::vector<double> all_items(ClContext& cl, const compute::buffer& values, std:
   return blocked_sums(download<real>(cl, values, count * stride), count, stride, first, width);
 }
 
-std::vector<double> ordered_sums(const std::vector<real>& values, int width, ItemKind kind, const ItemScope& scope) {
-  const std::size_t count = values.size() / static_cast<std::size_t>(width);
-  const int k = static_cast<int>(kind);
-  const auto& global = scope.global[k];
-  const auto& owned = scope.owned[k];
-  // (global index, row) of the owned items.
-  std::vector<int64_t> ids;
-  std::vector<real> rows;
-  for (std::size_t i = 0; i < count; ++i)
-    if (owned[i]) {
-      ids.push_back(global[i]);
-      rows.insert(rows.end(), values.begin() + i * width, values.begin() + (i + 1) * width);
+namespace {
+// The rule's blocks of `count` items: how many, and the length of block b (the last may be short).
+std::size_t block_count(std::size_t count) { return (count + kOrderedBlock - 1) / kOrderedBlock; }
+std::size_t block_length(std::size_t count, std::size_t b) { return std::min(kOrderedBlock, count - b * kOrderedBlock); }
+}  // namespace
+
+BlockShare BlockShare::of(const std::vector<int>& global, const std::vector<char>& owned, std::size_t global_count) {
+  // The owned items in global order (a local model keeps it, but the rule must not rely on it).
+  std::vector<std::pair<int64_t, int>> mine;
+  for (std::size_t i = 0; i < global.size(); ++i)
+    if (owned[i]) mine.emplace_back(global[i], static_cast<int>(i));
+  std::sort(mine.begin(), mine.end());
+  std::vector<std::size_t> per_block(block_count(global_count), 0);
+  for (const auto& m : mine) ++per_block.at(static_cast<std::size_t>(m.first) / kOrderedBlock);
+  BlockShare share;
+  share.global_count = global_count;
+  for (const auto& m : mine) {
+    const std::size_t b = static_cast<std::size_t>(m.first) / kOrderedBlock;
+    if (per_block[b] == block_length(global_count, b)) {
+      if (share.whole.empty() || share.whole.back() != static_cast<int64_t>(b)) share.whole.push_back(static_cast<int64_t>(b));
+      share.whole_items.push_back(m.second);
+    } else {
+      share.shared.push_back(m.first);
+      share.shared_items.push_back(m.second);
     }
-  Transport& t = *scope.transport;
-  const auto all_ids = t.gather(to_bytes(ids));
-  const auto all_rows = t.gather(to_bytes(rows));
-  std::vector<double> sum(static_cast<std::size_t>(width), 0.0);
-  if (t.rank() == 0) {
-    const std::size_t n = scope.global_count[k];
-    std::vector<real> ordered(n * width, real(0));
-    std::size_t seen = 0;
-    for (std::size_t r = 0; r < all_ids.size(); ++r) {
-      const auto g = from_bytes<int64_t>(all_ids[r]);
-      const auto v = from_bytes<real>(all_rows[r]);
-      for (std::size_t i = 0; i < g.size(); ++i) std::copy(v.begin() + i * width, v.begin() + (i + 1) * width, ordered.begin() + g[i] * width);
-      seen += g.size();
-    }
-    if (seen != n) throw std::logic_error("ordered_sums: the ranks own " + std::to_string(seen) + " of " + std::to_string(n) + " items");
-    sum = blocked_sums(ordered, n, width, 0, width);
   }
-  return from_bytes<double>(t.broadcast(to_bytes(sum)));
+  return share;
+}
+
+namespace {
+// BlockShare::message for a width known to the compiler (the copies of an item unroll).
+template <int W>
+void write_message(const BlockShare& share, const real* rows, int stride, int first, char* at) {
+  constexpr std::size_t row = W * sizeof(real);
+  std::size_t item = 0;
+  for (const int64_t b : share.whole) {
+    // As blocked_sums: from 0, left to right in `real`, each column on its own.
+    real s[W] = {};
+    for (std::size_t k = block_length(share.global_count, static_cast<std::size_t>(b)); k > 0; --k, ++item) {
+      const real* v = rows + static_cast<std::size_t>(share.whole_items[item]) * stride + first;
+      for (int c = 0; c < W; ++c) s[c] += v[c];
+    }
+    std::memcpy(at, s, row);
+    at += row;
+  }
+  for (const int i : share.shared_items) {
+    std::memcpy(at, rows + static_cast<std::size_t>(i) * stride + first, row);
+    at += row;
+  }
+}
+}  // namespace
+
+void BlockShare::message(const real* rows, int stride, int first, int width, Bytes& out) const {
+  out.resize((whole.size() + shared_items.size()) * width * sizeof(real));
+  switch (width) {
+    case 1: write_message<1>(*this, rows, stride, first, out.data()); break;
+    case 2: write_message<2>(*this, rows, stride, first, out.data()); break;
+    case 3: write_message<3>(*this, rows, stride, first, out.data()); break;
+    case 4: write_message<4>(*this, rows, stride, first, out.data()); break;
+    default: throw std::logic_error("split energy sums: 1 to 4 columns");
+  }
+}
+
+BlockMerge::BlockMerge(std::size_t global_count, const std::vector<std::vector<int64_t>>& whole,
+                       const std::vector<std::vector<int64_t>>& shared)
+    : global_count_(global_count) {
+  auto fail = [](const std::string& why) { throw std::logic_error("split energy sums: " + why); };
+  if (whole.size() != shared.size()) fail("as many lists of whole blocks as of shared items expected");
+  const std::size_t blocks = block_count(global_count);
+  blocks_.assign(blocks, Source{-1, 0});
+  for (std::size_t r = 0; r < whole.size(); ++r) {
+    whole_count_.push_back(whole[r].size());
+    shared_count_.push_back(shared[r].size());
+    for (std::size_t k = 0; k < whole[r].size(); ++k) {
+      const auto b = static_cast<std::size_t>(whole[r][k]);
+      if (b >= blocks || blocks_[b].rank >= 0) fail("block " + std::to_string(b) + " is not one rank's");
+      blocks_[b] = Source{static_cast<int>(r), k};
+    }
+  }
+  // The shared blocks' items, block after block in global order.
+  std::vector<std::size_t> filled(blocks, 0);
+  for (const auto& list : shared)
+    for (const int64_t g : list) {
+      const auto b = static_cast<std::size_t>(g) / kOrderedBlock;
+      if (g < 0 || b >= blocks || blocks_[b].rank >= 0) fail("item " + std::to_string(g) + " is in no shared block");
+      ++filled[b];
+    }
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    if (blocks_[b].rank >= 0) continue;
+    if (filled[b] != block_length(global_count, b))
+      fail("the ranks own " + std::to_string(filled[b]) + " of the " + std::to_string(block_length(global_count, b)) +
+           " items of block " + std::to_string(b));
+    blocks_[b].index = total;
+    total += filled[b];
+  }
+  shared_rank_.assign(total, -1);
+  for (std::size_t r = 0; r < shared.size(); ++r)
+    for (std::size_t k = 0; k < shared[r].size(); ++k) {
+      const auto g = static_cast<std::size_t>(shared[r][k]);
+      if (k > 0 && shared[r][k] <= shared[r][k - 1]) fail("rank " + std::to_string(r) + "'s shared items are not ascending");
+      int& owner = shared_rank_[blocks_[g / kOrderedBlock].index + g % kOrderedBlock];
+      if (owner >= 0) fail("item " + std::to_string(g) + " has two owners");
+      owner = static_cast<int>(r);
+    }
+}
+
+// For a width known to the compiler, as write_message.
+template <int W>
+void BlockMerge::add_blocks(const std::vector<const Bytes*>& messages, std::vector<const char*>& next, double* total) const {
+  constexpr std::size_t row = W * sizeof(real);
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Source& src = blocks_[b];
+    real s[W];
+    if (src.rank >= 0) {
+      std::memcpy(s, messages[src.rank]->data() + src.index * row, row);
+    } else {
+      // As blocked_sums: from 0, left to right in `real`, each column on its own.
+      for (int c = 0; c < W; ++c) s[c] = 0;
+      for (std::size_t i = src.index, end = i + block_length(global_count_, b); i < end; ++i) {
+        real v[W];
+        const char*& at = next[shared_rank_[i]];
+        std::memcpy(v, at, row);
+        at += row;
+        for (int c = 0; c < W; ++c) s[c] += v[c];
+      }
+    }
+    for (int c = 0; c < W; ++c) total[c] += static_cast<double>(s[c]);
+  }
+}
+
+std::vector<double> BlockMerge::sums(const std::vector<const Bytes*>& messages, int width) const {
+  const std::size_t row = width * sizeof(real);
+  if (messages.size() != whole_count_.size()) throw std::logic_error("split energy sums: a message per rank expected");
+  // Each rank's next shared item (its values follow its whole blocks' sums).
+  std::vector<const char*> next(messages.size());
+  for (std::size_t r = 0; r < messages.size(); ++r) {
+    if (messages[r]->size() != (whole_count_[r] + shared_count_[r]) * row)
+      throw std::logic_error("split energy sums: rank " + std::to_string(r) + "'s message does not fit its blocks");
+    next[r] = messages[r]->data() + whole_count_[r] * row;
+  }
+  std::vector<double> total(static_cast<std::size_t>(width), 0.0);
+  switch (width) {
+    case 1: add_blocks<1>(messages, next, total.data()); break;
+    case 2: add_blocks<2>(messages, next, total.data()); break;
+    case 3: add_blocks<3>(messages, next, total.data()); break;
+    case 4: add_blocks<4>(messages, next, total.data()); break;
+    default: throw std::logic_error("split energy sums: 1 to 4 columns");
+  }
+  return total;
+}
+
+SplitSums::SplitSums(const ItemScope& scope) : transport_(*scope.transport) {
+  for (int k = 0; k < 4; ++k) {
+    share_[k] = BlockShare::of(scope.global[k], scope.owned[k], scope.global_count[k]);
+    const auto whole = transport_.gather(to_bytes(share_[k].whole));
+    const auto shared = transport_.gather(to_bytes(share_[k].shared));
+    if (transport_.rank() != 0) continue;
+    std::vector<std::vector<int64_t>> w, s;
+    for (const auto& b : whole) w.push_back(from_bytes<int64_t>(b));
+    for (const auto& b : shared) s.push_back(from_bytes<int64_t>(b));
+    merge_[k] = BlockMerge(scope.global_count[k], w, s);
+  }
+}
+
+std::vector<double> SplitSums::sums(ClContext& cl, const compute::buffer& values, std::size_t count, int stride,
+                                    int first, int width, ItemKind kind) {
+  const int k = static_cast<int>(kind);
+  const std::size_t n = count * stride;
+  if (rows_.size() < n) rows_.resize(n);
+  if (n > 0) cl.queue().enqueue_read_buffer(values, 0, n * sizeof(real), rows_.data());
+  share_[k].message(rows_.data(), stride, first, width, message_[k]);
+  transport_.gather_into(message_[k], received_[k]);
+  std::vector<double> sum;
+  if (transport_.rank() == 0) {
+    std::vector<const Bytes*> all{&message_[k]};
+    for (std::size_t r = 1; r < received_[k].size(); ++r) all.push_back(&received_[k][r]);
+    sum = merge_[k].sums(all, width);
+  }
+  return from_bytes<double>(transport_.broadcast(to_bytes(sum)));
+}
+
+std::vector<uint64_t> count_below(const std::vector<cl_ulong>& sorted_keys, const std::vector<cl_ulong>& queries) {
+  // Consecutive queries of a run are close in the list (a few dozen couples apart), so
+  // each search gallops forward from the last answer instead of halving the whole list.
+  std::vector<uint64_t> out(queries.size());
+  const std::size_t n = sorted_keys.size();
+  std::size_t at = 0;
+  for (std::size_t q = 0; q < queries.size(); ++q) {
+    const cl_ulong key = queries[q];
+    if (q > 0 && key < queries[q - 1]) at = 0;  // a new run
+    // Every key before `lo` is below `key`; widen until keys[lo + step − 1] is not.
+    std::size_t lo = at, step = 1;
+    while (lo + step <= n && sorted_keys[lo + step - 1] < key) lo += step, step *= 2;
+    const auto end = sorted_keys.begin() + static_cast<std::ptrdiff_t>(std::min(n, lo + step));
+    at = static_cast<std::size_t>(std::lower_bound(sorted_keys.begin() + static_cast<std::ptrdiff_t>(lo), end, key) -
+                                  sorted_keys.begin());
+    out[q] = at;
+  }
+  return out;
+}
+
+double tree_group_sums(const std::vector<std::pair<uint64_t, real>>& nonzero, std::size_t group) {
+  // Only the groups that hold a nonzero value are summed, by group_sum4's tree
+  // (scratch[l] += scratch[l + s], s = group/2 … 1); the others sum to a zero, and a zero
+  // leaves the double total (+0 at the start, never −0 after) as it is. The entries not
+  // given are +0 here where the device may have had a −0 (a touching couple that stores
+  // nothing): x + ±0 = x for x ≠ 0 and a sum of zeros is a zero, so every node of the
+  // tree holds the same value in both or a zero in both, and a zero adds nothing.
+  std::vector<real> scratch(group);
+  double total = 0;
+  for (std::size_t k = 0; k < nonzero.size();) {
+    const uint64_t g = nonzero[k].first / group;
+    std::fill(scratch.begin(), scratch.end(), real(0));
+    for (; k < nonzero.size() && nonzero[k].first / group == g; ++k) scratch[nonzero[k].first % group] = nonzero[k].second;
+    for (std::size_t s = group / 2; s > 0; s >>= 1)
+      for (std::size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
+    total += static_cast<double>(scratch[0]);
+  }
+  return total;
 }
 
 MemoryPlan OrderedSums::plan(std::size_t max_items) {

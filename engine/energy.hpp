@@ -5,14 +5,17 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "engine/cl_context.hpp"
 #include "engine/memory_plan.hpp"
 #include "engine/real.hpp"
+#include "engine/transport.hpp"
 
 namespace fdem {
 
@@ -67,9 +70,10 @@ class EnergyBalance {
 // item's own value, added in the global item order by a fixed rule (blocked_sums: blocks
 // of kOrderedBlock consecutive items, each summed left to right in `real`, the blocks'
 // sums added in block order in double). One rank sums on the device (OrderedSums, one
-// launch and a read of the blocks' sums); a split run's rank 0 applies the same rule to
-// the values gathered in global order (ordered_sums); so one rank and any number of ranks
-// give the same bits (ARCHITECTURE.md, "Scale-out").
+// launch and a read of the blocks' sums); a split run applies the same rule on the hosts
+// (SplitSums: each rank sums the blocks it owns entirely, rank 0 the blocks shared by
+// several ranks, and adds all of them in block order); so one rank and any number of
+// ranks give the same bits (ARCHITECTURE.md, "Scale-out").
 enum class ItemKind { Node = 0, Triangle = 1, LoadedEdge = 2, Ce4 = 3 };
 constexpr std::size_t kOrderedBlock = 256;
 
@@ -84,7 +88,6 @@ using ItemSums = std::function<std::vector<double>(ClContext& cl, const compute:
 std::vector<double> all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
                               int width, ItemKind kind);
 
-class Transport;
 // One rank's items in the whole model, per kind: local → global index, whether this rank
 // accounts for the item (owns it), and the global count.
 struct ItemScope {
@@ -93,9 +96,93 @@ struct ItemScope {
   std::array<std::vector<char>, 4> owned;
   std::array<size_t, 4> global_count{};
 };
-// The sums of `values` (count × width reals, this rank's items) over every rank's owned
-// items in global order, by the rule, on every rank (collective).
-std::vector<double> ordered_sums(const std::vector<real>& values, int width, ItemKind kind, const ItemScope& scope);
+
+// One rank's owned items of one kind, cut by the rule's blocks: the blocks of which it
+// owns every item (it sums them itself: a left-to-right sum in `real` gives the same bits
+// on any host) and its items in the blocks that it shares with other ranks (their values
+// go to rank 0, which sums those blocks). Every item has exactly one owner, so a rank
+// finds its whole blocks alone, by counting its owned items per block.
+struct BlockShare {
+  std::vector<int64_t> whole;      // global block indices, ascending
+  std::vector<int> whole_items;    // the local indices of the whole blocks' items, block after block, in global order
+  std::vector<int64_t> shared;     // global indices of the owned items in the other blocks, ascending
+  std::vector<int> shared_items;   // their local indices
+  std::size_t global_count = 0;
+
+  // From a rank's items (local → global index) and their owned flags.
+  static BlockShare of(const std::vector<int>& global, const std::vector<char>& owned, std::size_t global_count);
+  // What the rank sends of one row, into `out` (as `real`s): each whole block's sums of
+  // columns [first, first + width) of `rows` (`stride` reals per local item), then each
+  // shared item's values. Width 1 to 4.
+  void message(const real* rows, int stride, int first, int width, Bytes& out) const;
+};
+
+// Rank 0's side: where every rank's message goes among the blocks (built once from every
+// rank's BlockShare lists, in rank order; std::logic_error unless they cover every item
+// exactly once).
+class BlockMerge {
+ public:
+  BlockMerge() = default;
+  BlockMerge(std::size_t global_count, const std::vector<std::vector<int64_t>>& whole,
+             const std::vector<std::vector<int64_t>>& shared);
+  // The rule's sums from every rank's message (BlockShare::message, in rank order).
+  std::vector<double> sums(const std::vector<const Bytes*>& messages, int width) const;
+
+ private:
+  std::size_t global_count_ = 0;
+  // Per block: the rank whose message holds its sums and their place among that rank's
+  // whole blocks, or rank −1 (shared) and the place of its first item among the shared ones.
+  struct Source {
+    int rank;
+    std::size_t index;
+  };
+  std::vector<Source> blocks_;
+  // The shared items in global order, each by its owner: each rank's values come in
+  // that order in its message, so a row reads every message once, front to back.
+  std::vector<int> shared_rank_;
+  std::vector<std::size_t> whole_count_, shared_count_;  // per rank
+  // sums' loop over the blocks for W columns (`next`: each rank's next shared item).
+  template <int W>
+  void add_blocks(const std::vector<const Bytes*>& messages, std::vector<const char*>& next, double* total) const;
+};
+
+// A split run's ItemSums (Solver::energy) on one rank: BlockShare for each kind, and on
+// rank 0 the BlockMerge of every rank's. The index sets are built once (ownership never
+// changes), so a row is one read of the array, one pass over the owned items and one
+// message per rank.
+class SplitSums {
+ public:
+  // Collective: every rank's block lists travel to rank 0 once.
+  explicit SplitSums(const ItemScope& scope);
+  // ItemSums over every rank's owned items (`count` this rank's items), on every rank. Collective.
+  std::vector<double> sums(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
+                           int width, ItemKind kind);
+
+ private:
+  Transport& transport_;
+  std::array<BlockShare, 4> share_;
+  std::array<BlockMerge, 4> merge_;  // rank 0
+  // The buffers of a row, kept for the next (Transport::gather_into says why): the array
+  // read (grown only), this rank's message per kind and, on rank 0, the others' messages.
+  std::vector<real> rows_;
+  std::array<Bytes, 4> message_;
+  std::array<std::vector<Bytes>, 4> received_;
+};
+
+// A split run's contact stored energy (Solver::add_split_contact_energy). One rank sums
+// its list's per-couple values per work-group by a tree (contact_stored_partials,
+// group_sum4) and the groups in order in double. Only touching couples hold a value
+// other than 0, and x + 0 = x, so the sum depends only on where the nonzero values sit
+// in the whole sorted list: their global positions.
+
+// For each of `queries` (ascending runs: a run restarts where a query is below the last
+// one), how many of `sorted_keys` are smaller.
+std::vector<uint64_t> count_below(const std::vector<cl_ulong>& sorted_keys, const std::vector<cl_ulong>& queries);
+
+// The sum that contact_stored_partials and the host's addition of its slots give for a
+// list that holds `nonzero` (global position in the list, value; ascending positions,
+// values ≠ 0) and +0 elsewhere, in work-groups of `group` (a power of two).
+double tree_group_sums(const std::vector<std::pair<uint64_t, real>>& nonzero, std::size_t group);
 
 // The device side of the rule for one rank (Solver): the kernel of
 // cl_kernels/ordered_sum.cl and its array of block sums.

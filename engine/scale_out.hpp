@@ -3,7 +3,7 @@
 // (engine/partition.*), builds its local model (own elements and nodes plus ghosts) and a
 // Solver on its own device, and exchanges its ghost nodes' positions and velocities
 // after every step (engine/halo.*). Sums of the energy account are taken per item in
-// global order on rank 0 (ordered_sums), output is gathered to rank 0 in global order,
+// global order by one rule (SplitSums), output is gathered to rank 0 in global order,
 // and rank 0 writes the one set of files, byte for byte as one rank writes them.
 #pragma once
 #include <exception>

@@ -7,6 +7,7 @@
 #include <climits>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "base/errors.hpp"
 #include "engine/transport.hpp"
@@ -281,18 +282,14 @@ EnergyTotals Solver::energy() {
   EnergyTotals e;
   // Each step's forces carry that round-off too, and their work adds up step after step.
   e.resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
-  // Every term is a sum of per-item values in global item order (ordered_sums), so a
-  // split run gives the bits of one rank.
-  const ItemScope* scope = scope_;
+  // Every term is a sum of per-item values in global item order by one rule (OrderedSums
+  // on one rank, SplitSums over the ranks), so a split run gives the bits of one rank.
+  SplitSums* split = split_sums_.get();
   OrderedSums& device = ordered_;
-  const ItemSums sums = [scope, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
+  const ItemSums sums = [split, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
                                          int width, ItemKind kind) {
-    if (!scope) return device.sums(values, count, stride, first, width);
-    const auto rows = download<real>(cl, values, count * stride);
-    std::vector<real> columns(count * width);
-    for (size_t i = 0; i < count; ++i)
-      for (int c = 0; c < width; ++c) columns[i * width + c] = rows[i * stride + first + c];
-    return ordered_sums(columns, width, kind, *scope);
+    if (!split) return device.sums(values, count, stride, first, width);
+    return split->sums(cl, values, count, stride, first, width, kind);
   };
   integrate_.add_energy(e, sums);
   triangle_forces_.add_energy(e, sums);
@@ -319,27 +316,48 @@ EnergyTotals Solver::energy() {
   return e;
 }
 
+void Solver::set_scope(const ItemScope* scope) {
+  scope_ = scope;
+  split_sums_ = scope ? std::make_unique<SplitSums>(*scope) : nullptr;
+  if (scope_) integrate_.keep_energy_rows();  // the split sums read the per-node values
+}
+
 void Solver::add_split_contact_energy(EnergyTotals& e) {
   // Every rank lists the couples whose lower triangle it owns, each couple of the whole
-  // model exactly once. The fixed-point words and the counts are integers: their sums over
-  // the ranks are one rank's. The stored energy one rank sums per work-group of its list
-  // (contact_stored_partials, the tree of group_sum4) and then the groups in order in
-  // double: rank 0 merges every rank's (key, value) into the whole list's order and does
-  // the same on the host.
+  // model exactly once, and local order is global order, so the whole list sorted by
+  // global key is one rank's. The fixed-point words and the counts are integers: their
+  // sums over the ranks are one rank's. The stored energy one rank sums per work-group of
+  // its list (tree_group_sums): only the nonzero values and their places in the whole
+  // list matter. A value's place is the number of keys below its key over all ranks'
+  // lists: rank 0 gathers the nonzero (key, value) pairs (a few percent of the list),
+  // every rank counts its keys below each key, rank 0 adds the counts.
   Transport& transport = *scope_->transport;
-  const auto& tri_global = scope_->global[static_cast<int>(ItemKind::Triangle)];
-  const auto keys = contact_->list_keys();
-  const auto values = contact_->stored_per_couple();
-  std::vector<cl_ulong> global_keys(keys.size());
-  for (size_t c = 0; c < keys.size(); ++c)
-    global_keys[c] = (cl_ulong(tri_global[keys[c] >> 32]) << 32) | cl_ulong(tri_global[keys[c] & 0xffffffffu]);
+  if (split_keys_generation_ != contact_->list_generation()) {
+    const auto& tri_global = scope_->global[static_cast<int>(ItemKind::Triangle)];
+    split_keys_ = contact_->list_keys();
+    for (auto& k : split_keys_) k = (cl_ulong(tri_global[k >> 32]) << 32) | cl_ulong(tri_global[k & 0xffffffffu]);
+    if (!std::is_sorted(split_keys_.begin(), split_keys_.end()))
+      throw std::logic_error("split contact energy: the list is not in global order");
+    split_keys_generation_ = contact_->list_generation();
+  }
+  const auto stored = contact_->stored_couples();
+  std::vector<cl_ulong> keys(stored.index.size());
+  for (size_t n = 0; n < keys.size(); ++n) keys[n] = split_keys_[stored.index[n]];
   const auto words = contact_->energy_account();
   std::vector<cl_long> mine(words.begin(), words.end());
-  mine.push_back(static_cast<cl_long>(contact_->touching()));
+  mine.push_back(static_cast<cl_long>(stored.touching));
   mine.push_back(static_cast<cl_long>(contact_->couples()));
   const auto all_words = transport.gather(to_bytes(mine));
-  const auto all_keys = transport.gather(to_bytes(global_keys));
-  const auto all_values = transport.gather(to_bytes(values));
+  const auto all_keys = transport.gather(to_bytes(keys));
+  const auto all_values = transport.gather(to_bytes(stored.value));
+  // Every rank's nonzero keys, in rank order: sorted within each rank's run.
+  std::vector<cl_ulong> queries;
+  for (const auto& b : all_keys) {
+    const auto k = from_bytes<cl_ulong>(b);
+    queries.insert(queries.end(), k.begin(), k.end());
+  }
+  queries = from_bytes<cl_ulong>(transport.broadcast(to_bytes(queries)));
+  const auto all_below = transport.gather(to_bytes(count_below(split_keys_, queries)));
   std::vector<double> totals;  // friction, damping, touching, candidates, stored (rank 0)
   if (transport.rank() == 0) {
     std::vector<cl_long> sum(mine.size(), 0);
@@ -347,25 +365,29 @@ void Solver::add_split_contact_energy(EnergyTotals& e) {
       const auto w = from_bytes<cl_long>(b);
       for (size_t k = 0; k < sum.size(); ++k) sum[k] += w[k];
     }
-    std::vector<std::pair<cl_ulong, real>> list;
-    for (size_t r = 0; r < all_keys.size(); ++r) {
-      const auto k = from_bytes<cl_ulong>(all_keys[r]);
-      const auto v = from_bytes<real>(all_values[r]);
-      for (size_t c = 0; c < k.size(); ++c) list.emplace_back(k[c], v[c]);
+    std::vector<uint64_t> place(queries.size(), 0);
+    for (const auto& b : all_below) {
+      const auto below = from_bytes<uint64_t>(b);
+      for (size_t q = 0; q < place.size(); ++q) place[q] += below[q];
     }
-    std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    const size_t group = cl_.group_size();
-    std::vector<real> scratch(group);
-    double stored = 0;
-    for (size_t begin = 0; begin < list.size(); begin += group) {
-      for (size_t l = 0; l < group; ++l) scratch[l] = begin + l < list.size() ? list[begin + l].second : real(0);
-      for (size_t s = group / 2; s > 0; s >>= 1)
-        for (size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
-      stored += static_cast<double>(scratch[0]);
+    // (place, value), each rank's run ascending: merged run by run into one ascending list.
+    std::vector<std::pair<uint64_t, real>> nonzero;
+    nonzero.reserve(queries.size());
+    for (const auto& b : all_values) {
+      const auto v = from_bytes<real>(b);
+      const auto middle = static_cast<std::ptrdiff_t>(nonzero.size());
+      for (const real x : v) nonzero.emplace_back(place[nonzero.size()], x);
+      std::inplace_merge(nonzero.begin(), nonzero.begin() + middle, nonzero.end(),
+                         [](const auto& a, const auto& b) { return a.first < b.first; });
     }
+    const auto candidates = static_cast<uint64_t>(sum[words.size() + 1]);
+    for (size_t n = 0; n < nonzero.size(); ++n)
+      if (nonzero[n].first >= candidates || (n > 0 && nonzero[n].first == nonzero[n - 1].first))
+        throw std::logic_error("split contact energy: a couple on two ranks, or off the list");
     const double scale = contact_->energy_scale();
     totals = {static_cast<double>(sum[layout::ENERGY_FRICTION]) / scale, static_cast<double>(sum[layout::ENERGY_DAMPING]) / scale,
-              static_cast<double>(sum[words.size()]), static_cast<double>(sum[words.size() + 1]), stored};
+              static_cast<double>(sum[words.size()]), static_cast<double>(sum[words.size() + 1]),
+              tree_group_sums(nonzero, cl_.group_size())};
   }
   totals = from_bytes<double>(transport.broadcast(to_bytes(totals)));
   split_touching_ = static_cast<size_t>(totals[2]);

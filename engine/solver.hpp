@@ -142,11 +142,8 @@ class Solver {
 
   // A split run (engine/scale_out.*): which items this rank accounts for in energy(),
   // which is then collective (every rank calls it at the same step). Null: all items.
-  // Set before the first step.
-  void set_scope(const ItemScope* scope) {
-    scope_ = scope;
-    if (scope_) integrate_.keep_energy_rows();  // the gather of energy() reads the per-node values
-  }
+  // Set before the first step; collective when not null (the block lists of SplitSums).
+  void set_scope(const ItemScope* scope);
   // A split run with contact (engine/scale_out.*): `before_detection` runs on the host
   // just before each contact detection (collective: the decision is the same on every
   // rank); the exchange of the fixed-point contact forces that one rank's couples put on
@@ -201,6 +198,11 @@ class Solver {
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)
   EnergyBalance balance_;
   const ItemScope* scope_ = nullptr;
+  std::unique_ptr<SplitSums> split_sums_;  // with scope_
+  // With scope_ and contact: the list's keys in global triangles (sorted), read once per
+  // list (ContactForces::list_generation), for the couples' global positions.
+  std::vector<cl_ulong> split_keys_;
+  size_t split_keys_generation_ = ~size_t(0);  // none read yet
   std::function<void()> before_detection_, contact_sent_, contact_received_;
   size_t split_touching_ = 0, split_candidates_ = 0;
   // A split run: the contact terms of energy() over every rank (collective).

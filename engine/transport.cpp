@@ -24,6 +24,16 @@ std::vector<Bytes> Transport::gather(Bytes data) {
   return all;
 }
 
+void Transport::gather_into(const Bytes& data, std::vector<Bytes>& others) {
+  if (rank() != 0) {
+    post_from(0, data);
+    complete();
+    return;
+  }
+  others.resize(size());
+  for (int r = 1; r < size(); ++r) receive_into(r, others[r]);
+}
+
 Bytes Transport::broadcast(Bytes data) {
   if (rank() != 0) return receive(0);
   for (int r = 1; r < size(); ++r) post(r, data);
@@ -114,6 +124,21 @@ Bytes MpiTransport::receive(int from) {
   Bytes b(static_cast<size_t>(count));
   MPI_Recv(b.data(), count, MPI_BYTE, from, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   return b;
+}
+
+void MpiTransport::post_from(int to, const Bytes& data) {
+  auto p = std::make_unique<Pending>();  // no data of its own: the caller keeps it
+  MPI_Isend(data.data(), static_cast<int>(data.size()), MPI_BYTE, to, kTag, MPI_COMM_WORLD, &p->request);
+  pending_.push_back(std::move(p));
+}
+
+void MpiTransport::receive_into(int from, Bytes& out) {
+  MPI_Status status;
+  MPI_Probe(from, kTag, MPI_COMM_WORLD, &status);
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  out.resize(static_cast<size_t>(count));
+  MPI_Recv(out.data(), count, MPI_BYTE, from, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
 }
 
 void MpiTransport::complete() {

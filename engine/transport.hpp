@@ -42,6 +42,11 @@ class Transport {
   virtual void post(int to, Bytes data) = 0;
   // The next message from rank `from` (≠ rank()), in posting order.
   virtual Bytes receive(int from) = 0;
+  // As post, from where `data` lies: the caller keeps it unchanged until complete()
+  // (MPI: no copy). By default a copy through post().
+  virtual void post_from(int to, const Bytes& data) { post(to, data); }
+  // As receive, into `out`, whose buffer is reused when large enough.
+  virtual void receive_into(int from, Bytes& out) { out = receive(from); }
   // Waits until the messages this rank posted may be reused (MPI: their requests done).
   virtual void complete() {}
   // Ends every rank at once with `code` (MPI_Abort): the last resort when ranks disagree
@@ -51,6 +56,11 @@ class Transport {
   // Collectives (every rank calls them, in the same order). Rank 0 gets every rank's
   // `data` in rank order; the others get an empty list.
   std::vector<Bytes> gather(Bytes data);
+  // gather for large messages repeated at every history row: `data` is sent from where it
+  // lies and rank 0 receives rank r's into others[r] (r ≥ 1; its own stays in `data`),
+  // into the buffers of the last call. A fresh buffer of tens of MB is a fresh mapping
+  // (malloc), whose page faults cost more than the copy (the split energy account).
+  void gather_into(const Bytes& data, std::vector<Bytes>& others);
   // Rank 0's `data` on every rank.
   Bytes broadcast(Bytes data);
   // The smallest and largest of one value per rank, on every rank.
@@ -82,6 +92,8 @@ class MpiTransport : public Transport {
   int size() const override { return size_; }
   void post(int to, Bytes data) override;
   Bytes receive(int from) override;
+  void post_from(int to, const Bytes& data) override;
+  void receive_into(int from, Bytes& out) override;
   void complete() override;
   [[noreturn]] void abort(int code, const std::string& message) override;
 

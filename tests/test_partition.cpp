@@ -297,6 +297,117 @@ TEST_SUITE("partition") {
     CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node) == on_host);
   }
 
+  TEST_CASE("split sums: each rank's whole blocks and rank 0's shared ones give the rule's bits") {
+    // 3 ranks over 7 blocks and a short one: runs of one owner (whole blocks, and blocks
+    // cut by a run's end) and single items scattered between them (shared blocks).
+    const size_t count = 7 * kOrderedBlock + 45;
+    const int ranks = 3, stride = 4;
+    uint64_t state = 777;
+    auto next = [&] { return state = state * 6364136223846793005ULL + 1442695040888963407ULL; };
+    std::vector<int> owner(count);
+    for (size_t g = 0; g < count;) {
+      const int r = static_cast<int>(next() % ranks);
+      const size_t run = next() % 3 == 0 ? 1 + next() % 700 : 1;
+      for (size_t k = 0; k < run && g < count; ++k) owner[g++] = r;
+    }
+    std::vector<real> rows(stride * count);
+    for (auto& v : rows) v = real((double(next() >> 11) / double(1ULL << 53) - 0.4) * std::pow(10.0, double(next() % 13)));
+    // Each rank holds its owned items and some ghosts, in global order (as local_model).
+    std::vector<BlockShare> shares;
+    std::vector<std::vector<real>> local(ranks);
+    std::vector<std::vector<int64_t>> whole, shared;
+    for (int r = 0; r < ranks; ++r) {
+      std::vector<int> global;
+      std::vector<char> owned;
+      for (size_t g = 0; g < count; ++g)
+        if (owner[g] == r || next() % 5 == 0) {
+          global.push_back(static_cast<int>(g));
+          owned.push_back(owner[g] == r ? 1 : 0);
+          local[r].insert(local[r].end(), rows.begin() + g * stride, rows.begin() + (g + 1) * stride);
+        }
+      shares.push_back(BlockShare::of(global, owned, count));
+      whole.push_back(shares.back().whole);
+      shared.push_back(shares.back().shared);
+    }
+    size_t whole_blocks = 0;
+    for (const auto& w : whole) whole_blocks += w.size();
+    CHECK(whole_blocks > 0);
+    CHECK(whole_blocks < 8);
+    const BlockMerge merge(count, whole, shared);
+    for (const auto& [first, width] : {std::pair<int, int>{0, 4}, {1, 2}, {3, 1}}) {
+      CAPTURE(first);
+      std::vector<Bytes> messages(ranks);
+      std::vector<const Bytes*> all;
+      for (int r = 0; r < ranks; ++r) {
+        shares[r].message(local[r].data(), stride, first, width, messages[r]);
+        all.push_back(&messages[r]);
+      }
+      const auto split = merge.sums(all, width);
+      const auto one = blocked_sums(rows, count, stride, first, width);
+      REQUIRE(split.size() == one.size());
+      CHECK(std::memcmp(split.data(), one.data(), one.size() * sizeof(double)) == 0);
+    }
+    // Items with two owners or none are refused.
+    auto twice = shared;
+    twice[1].push_back(twice[0].front());
+    std::sort(twice[1].begin(), twice[1].end());
+    CHECK_THROWS_AS(BlockMerge(count, whole, twice), std::logic_error);
+    auto missing = shared;
+    missing[2].pop_back();
+    CHECK_THROWS_AS(BlockMerge(count, whole, missing), std::logic_error);
+  }
+
+  TEST_CASE("split contact stored energy: the group tree from the nonzero values and their places alone") {
+    // A list of which a few couples hold a value, some −0 (a touching couple storing
+    // nothing); the dense tree of contact_stored_partials over the whole list, zeros and
+    // all, against tree_group_sums over the nonzero values and their places.
+    const size_t group = 64, n = 40 * group + 17;
+    uint64_t state = 99;
+    auto next = [&] { return state = state * 6364136223846793005ULL + 1442695040888963407ULL; };
+    std::vector<real> list(n, real(0));
+    std::vector<std::pair<uint64_t, real>> nonzero;
+    for (size_t c = 0; c < n; ++c) {
+      const auto pick = next() % 16;
+      if (pick == 0) list[c] = real(-0.0);
+      if (pick == 1 || pick == 2)  // mixed signs and sizes: any other grouping loses other bits
+        list[c] = real((double(next() >> 11) / double(1ULL << 53) - 0.5) * std::pow(10.0, double(next() % 17)));
+      if (pick == 3) list[c] = real(1e-300);  // lost beside larger values, kept alone
+      if (list[c] != real(0)) nonzero.emplace_back(c, list[c]);
+    }
+    double dense = 0;
+    std::vector<real> scratch(group);
+    for (size_t begin = 0; begin < n; begin += group) {
+      for (size_t l = 0; l < group; ++l) scratch[l] = begin + l < n ? list[begin + l] : real(0);
+      for (size_t s = group / 2; s > 0; s >>= 1)
+        for (size_t l = 0; l < s; ++l) scratch[l] += scratch[l + s];
+      dense += static_cast<double>(scratch[0]);
+    }
+    const double sparse = tree_group_sums(nonzero, group);
+    // The places matter: the same values packed at the list's front sum otherwise.
+    auto packed = nonzero;
+    for (size_t k = 0; k < packed.size(); ++k) packed[k].first = k;
+    CHECK(tree_group_sums(packed, group) != dense);
+    CHECK(std::memcmp(&dense, &sparse, sizeof(double)) == 0);
+    CHECK(tree_group_sums({}, group) == 0.0);
+    // The places: keys below each query, over ascending runs of queries.
+    std::vector<cl_ulong> keys;
+    for (size_t k = 0; k < 5000; ++k) keys.push_back(next() % 100000);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::vector<cl_ulong> queries;
+    for (int run = 0; run < 3; ++run) {
+      std::vector<cl_ulong> q;
+      for (size_t k = 0; k < 300; ++k) q.push_back(next() % 2 ? keys[next() % keys.size()] : next() % 110000);
+      std::sort(q.begin(), q.end());
+      q.erase(std::unique(q.begin(), q.end()), q.end());
+      queries.insert(queries.end(), q.begin(), q.end());
+    }
+    const auto below = count_below(keys, queries);
+    REQUIRE(below.size() == queries.size());
+    for (size_t k = 0; k < queries.size(); ++k)
+      CHECK(below[k] == static_cast<uint64_t>(std::lower_bound(keys.begin(), keys.end(), queries[k]) - keys.begin()));
+  }
+
   TEST_CASE("contact ghosts: every triangle within the reach of an owned one, and the owned masks") {
     for (bool cohesive : {false, true}) {
       CAPTURE(cohesive);

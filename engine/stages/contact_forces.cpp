@@ -354,6 +354,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     else if (count)
       cl_.queue().enqueue_copy_buffer(keys, keys_, 0, 0, count * sizeof(cl_ulong));
     count_ = count;
+    ++list_generation_;
   }
 }
 
@@ -398,15 +399,19 @@ std::vector<cl_ulong> ContactForces::list_keys() {
   return download<cl_ulong>(cl_, keys_, count_);
 }
 
-std::vector<real> ContactForces::stored_per_couple() {
-  std::vector<real> out(count_, real(0));
+ContactForces::StoredCouples ContactForces::stored_couples() {
+  StoredCouples out;
   if (count_ == 0) return out;
   const auto live = download<cl_uchar>(cl_, live_, count_);
   const auto slot = slots();
-  if (pool_rows_ == 0) return out;
   const auto rows = download<real>(cl_, couple_stored_, pool_rows_);
-  for (size_t c = 0; c < count_; ++c)
-    if (live[c] == 1 && slot[c] != ContactCarry::kNoSlot && slot[c] < pool_rows_) out[c] = rows[slot[c]];
+  for (size_t c = 0; c < count_; ++c) {
+    if (live[c] != 1) continue;
+    ++out.touching;
+    if (slot[c] == ContactCarry::kNoSlot || slot[c] >= pool_rows_ || rows[slot[c]] == real(0)) continue;
+    out.index.push_back(static_cast<cl_uint>(c));
+    out.value.push_back(rows[slot[c]]);
+  }
   return out;
 }
 
@@ -464,6 +469,7 @@ void ContactForces::save_state(StateWriter& out) const {
 void ContactForces::load_state(StateReader& in) {
   ++epoch_;
   count_ = static_cast<size_t>(in.integer("contact_couples"));
+  ++list_generation_;
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
   if (shared_keys_ || count_ > capacity_) {
     // Shared: the detection's list is not restored; the contact stage holds its own

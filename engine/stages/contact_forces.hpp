@@ -131,10 +131,19 @@ class ContactForces {
   double energy_scale() const { return energy_scale_; }
   std::vector<cl_long> energy_account();  // the CONTACT_ENERGY_WORDS fixed-point words (waits)
   // A split run's account (engine/solver.cpp): the keys of the list (i << 32 | j, local
-  // triangles) and each couple's stored energy of the last energy row (0 where its
-  // `live` flag is not 1), the values contact_stored_partials sums. Waits.
+  // triangles), which change only where list_generation() does (a new list, a load_state).
+  // Waits.
   std::vector<cl_ulong> list_keys();
-  std::vector<real> stored_per_couple();
+  size_t list_generation() const { return list_generation_; }
+  // The couples whose stored energy of the last energy row (the values that
+  // contact_stored_partials sums: 0 where the `live` flag is not 1) is not 0, by index in
+  // the list, and the touching count, from one read of the flags. Waits.
+  struct StoredCouples {
+    size_t touching = 0;
+    std::vector<cl_uint> index;  // ascending
+    std::vector<real> value;
+  };
+  StoredCouples stored_couples();
   double friction_dissipation();
   double damping_dissipation();
   // friction_dissipation() + damping_dissipation() (one read).
@@ -176,6 +185,7 @@ class ContactForces {
   compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
   compute::buffer node_origin_;  // cl_uint per node: the mesh node it copies (with bonded fans only)
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
+  size_t list_generation_ = 0;  // counts the lists (new ones and loaded ones)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
   // The arguments set at each enqueue, per kernel.
   // The arguments contact_classify and contact_forces both take that change with the
