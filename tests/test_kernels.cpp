@@ -21,6 +21,19 @@ namespace {
 // Tolerances: 1e-12 relative in double (the issue's contract); float builds get 1e-5.
 constexpr double kRel = kDoublePrecision ? 1e-12 : 1e-5;
 
+// A fan of `spokes` triangles around node 0 (a node shared by many triangles), with a
+// traction on every `edge_step`-th rim edge.
+Model loaded_fan(int spokes, int edge_step) {
+  std::vector<double> x{0.0}, y{0.0};
+  for (int k = 0; k < spokes; ++k) x.push_back(std::cos(2 * M_PI * k / spokes)), y.push_back(std::sin(2 * M_PI * k / spokes));
+  std::vector<std::array<int, 3>> tris;
+  for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
+  Model m = test::make_model(x, y, tris, test::all_material_variants());
+  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1e3, 0, 0, 0));
+  for (int k = 0; k < spokes; k += edge_step) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % spokes, 0});
+  return m;
+}
+
 // Deforms every soup triangle with its own random F (det > 0), translation and rotation,
 // and gives every node a random velocity.
 void deform(const Model& m, std::mt19937& rng, std::vector<real2>& pos, std::vector<real2>& vel,
@@ -171,13 +184,7 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   // A mesh where nodes are shared by many triangles (a fan) plus loaded edges.
   const int spokes = 40;
-  std::vector<double> x{0.0}, y{0.0};
-  for (int k = 0; k < spokes; ++k) x.push_back(std::cos(2 * M_PI * k / spokes)), y.push_back(std::sin(2 * M_PI * k / spokes));
-  std::vector<std::array<int, 3>> tris;
-  for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
-  Model m = test::make_model(x, y, tris, test::all_material_variants());
-  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1e3, 0, 0, 0));
-  for (int k = 0; k < spokes; ++k) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % spokes, 0});
+  const Model m = loaded_fan(spokes, 1);
   auto& cl = test::context();
   DeviceArrays arrays(cl, m);
   std::vector<real2> corner(3 * m.num_triangles()), edge(2 * m.loaded_edges.size());
@@ -210,15 +217,8 @@ TEST_CASE("the integration that gathers the forces itself gives the bits of the 
   // damping, random velocities and slot values.
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const int spokes = 24;
-  std::vector<double> x{0.0}, y{0.0};
-  for (int k = 0; k < spokes; ++k) x.push_back(std::cos(2 * M_PI * k / spokes)), y.push_back(std::sin(2 * M_PI * k / spokes));
-  std::vector<std::array<int, 3>> tris;
-  for (int k = 0; k < spokes; ++k) tris.push_back({0, 1 + k, 1 + (k + 1) % spokes});
-  Model m = test::make_model(x, y, tris, test::all_material_variants());
+  Model m = loaded_fan(24, 2);
   m.contact.enabled = true;
-  m.loads.push_back(EdgeLoad::make(LoadKind::Traction, 1e3, 0, 0, 0));
-  for (int k = 0; k < spokes; k += 2) m.loaded_edges.push_back({1 + k, 1 + (k + 1) % spokes, 0});
   auto& cl = test::context();
   DeviceArrays arrays(cl, m);
   const double dt = 1e-6, force_scale = std::ldexp(1.0, 40);
