@@ -259,10 +259,7 @@ void ContactForces::ensure_pool(size_t rows_seen, size_t rows_per_step) {
   allocate_pool(pool_grown(rows_seen, triangles_) + margin, true);
 }
 
-void ContactForces::check_pool() {
-  const long overflow = pool_overflow_step();
-  if (overflow >= 0) throw NumericalError(pool_overflow_message(overflow));
-}
+void ContactForces::check_pool() { check_pool(download<cl_uint>(cl_, pool_state_, 2).data()); }
 
 void ContactForces::read_pool_state(cl_uint* state) {
   cl_.queue().enqueue_read_buffer_async(pool_state_, 0, 2 * sizeof(cl_uint), state);
