@@ -175,9 +175,64 @@ inline int corner_state(const uint i, const uint j, __global const uint* tri_nod
 #define BOND_ARGS , __global const uint *restrict bond_ce4, __global const int2 *restrict ce4_status
 #define BOND_PASS , bond_ce4, ce4_status
 #endif
+
+// The top bit of a bond word marks a corner (ContactForces keeps CE4 and node indices below it).
+#define CORNER_BOND 0x80000000u
+
+// What would carry couple (i, j) instead of contact, from the mesh alone (the triangles'
+// CE4s and nodes never change, so contact_classify works it out once per couple of a list
+// and keeps it in bond_word): the index of the CE4 that joins them; with bonded fans,
+// CORNER_BOND | v when they meet at mesh node v only; NO_BOND otherwise. The same test
+// as bond_state, then corner_state where no CE4 joins them.
+inline uint couple_bond(const uint i, const uint j, __global const uint* bond_ce4, __global const uint* tri_nodes
+#ifdef CORNER_FANS
+                        , __global const uint* node_origin
+#endif
+                        ) {
+  for (int a = 0; a < 3; ++a) {
+    const uint e = bond_ce4[3 * i + a];
+    if (e == NO_BOND) continue;
+    if (e == bond_ce4[3 * j] || e == bond_ce4[3 * j + 1] || e == bond_ce4[3 * j + 2]) return e;
+  }
+#ifdef CORNER_FANS
+  const uint a0 = node_origin[tri_nodes[3 * i]], a1 = node_origin[tri_nodes[3 * i + 1]],
+             a2 = node_origin[tri_nodes[3 * i + 2]];
+  int shared = 0;
+  uint v = 0;
+  for (int k = 0; k < 3; ++k) {
+    const uint b = node_origin[tri_nodes[3 * j + k]];
+    if (b == a0 || b == a1 || b == a2) {
+      ++shared;
+      v = b;
+    }
+  }
+  if (shared == 1) return CORNER_BOND | v;
+#endif
+  return NO_BOND;
+}
+
+// The state of what bond_word `word` names, as bond_state and corner_state give it: the
+// CE4's state word, the corner's mesh-node state, or -1 for NO_BOND.
+inline int bond_word_state(const uint word, __global const int2* ce4_status
+#ifdef CORNER_FANS
+                           , __global const int* mesh_node_state
+#endif
+                           ) {
+  if (word == NO_BOND) return -1;
+#ifdef CORNER_FANS
+  if (word & CORNER_BOND) return mesh_node_state[word & ~CORNER_BOND];
+#endif
+  return ce4_status[word].x;
+}
+
+// contact_classify's own: the per-couple words and whether this list's are written yet.
+#define CLASSIFY_BOND_ARGS , __global uint *restrict bond_word, const uint bond_words_known
+#define CLASSIFY_BOND_PASS , bond_word, bond_words_known
 #else
 #define BOND_ARGS
 #define BOND_PASS
+#define CLASSIFY_BOND_ARGS
+#define CLASSIFY_BOND_PASS
 #endif
 
 // Couple c: true when it may overlap (for the list); otherwise it is done here. The two
@@ -190,29 +245,42 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
-                            __global uchar* live, __global uint* slot BOND_ARGS) {
-  const ulong key = keys[c];
+                            __global uchar* live, __global uint* slot BOND_ARGS CLASSIFY_BOND_ARGS) {
   if (!same_list) slot[c] = NO_SLOT;  // a new list: no couple holds a pool row yet
-  uint tri[2], nodes[2][3];
-  real2 x[2][3];
 #ifdef CE4_BONDS
-  const uint ti = (uint)(key >> 32), tj = (uint)(key & 0xffffffffUL);
-  const int bond = bond_state(ti, tj, bond_ce4, ce4_status);
+  // Most candidate couples of intact rock are carried by a CE4 or a bonded fan: with the
+  // list's bond words known, such a couple costs two words read, not the key and the
+  // gathers through bond_ce4, tri_nodes and node_origin that found its bond.
+  uint word;
+  if (bond_words_known) {
+    word = bond_word[c];
+  } else {
+    const ulong key = keys[c];
 #ifdef CORNER_FANS
-  const bool carried_by_ce4 =
-      bond == 0 || bond == 1 || (bond < 0 && corner_state(ti, tj, tri_nodes, node_origin, mesh_node_state) == 0);
+    word = couple_bond((uint)(key >> 32), (uint)(key & 0xffffffffUL), bond_ce4, tri_nodes, node_origin);
 #else
-  const bool carried_by_ce4 = bond == 0 || bond == 1;
+    word = couple_bond((uint)(key >> 32), (uint)(key & 0xffffffffUL), bond_ce4, tri_nodes);
 #endif
+    bond_word[c] = word;
+  }
+#ifdef CORNER_FANS
+  const int bond = bond_word_state(word, ce4_status, mesh_node_state);
+#else
+  const int bond = bond_word_state(word, ce4_status);
+#endif
+  // A CE4 intact (0) or closed (1), or a whole fan (0; a fan's state is never 1).
+  const bool carried_by_ce4 = bond == 0 || bond == 1;
 #else
   const bool carried_by_ce4 = false;
 #endif
   if (!carried_by_ce4) {
-    couple_nodes(key, tri_nodes, position, tri, nodes, x);
+    uint tri[2], nodes[2][3];
+    real2 x[2][3];
+    couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
     if (!separated(x)) return true;
   }
   if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
-    const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, key);
+    const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, keys[c]);
     forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
     live[c] = 0;
   }
@@ -225,6 +293,8 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
 // idling beside separated neighbours. The list's order depends on scheduling, but what
 // contact_forces does per couple does not, and its sums are integer: the result does not.
 // counters[1]: entries in overlap_list (cleared by clear_contact_forces).
+// bond_word[c] (with CE4s): couple c's couple_bond, written in the first step of a list
+// (bond_words_known = 0; also after a checkpoint is loaded) and read in the others.
 // live[c]: 1 when couple c touched in the last step, 2 when it overlaps but waits (see
 // contact_forces), 0 otherwise (written by both kernels; read in
 // place, to skip the history of couples that are apart and already forgotten; the host
@@ -246,11 +316,11 @@ __kernel void contact_classify(const uint n_couples,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live,
-                               __global uint* restrict slot BOND_ARGS) {
+                               __global uint* restrict slot BOND_ARGS CLASSIFY_BOND_ARGS) {
   const uint c = get_global_id(0);
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, live, slot BOND_PASS))
+                                       position, energy_scale, energy, same_list, live, slot BOND_PASS CLASSIFY_BOND_PASS))
     overlap_list[atomic_inc(&counters[1])] = c;
 #else
   __local uint group_count, group_base;
@@ -258,7 +328,7 @@ __kernel void contact_classify(const uint n_couples,
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       live, slot BOND_PASS);
+                                                       live, slot BOND_PASS CLASSIFY_BOND_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);

@@ -332,8 +332,8 @@ int check_command(const Arguments& a) {
       const size_t group = cl.group_size(), expected = fdem::Solver::expected_couples(m);
       const size_t planned = std::max(expected, fdem::ContactForces::first_capacity(m.num_triangles()));
       if (couples > planned) {
-        const size_t more = fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(couples), group).resident() -
-                            fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(planned), group).resident();
+        const size_t more = fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(couples), group, !m.ce4_triangles.empty()).resident() -
+                            fdem::ContactForces::couple_arrays(fdem::ContactForces::grown(planned), group, !m.ce4_triangles.empty()).resident();
         std::cout << "          more couples than the " << planned << " planned for: + " << mib(more)
                   << " once the run has started\n";
       }

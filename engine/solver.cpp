@@ -125,8 +125,8 @@ size_t Solver::bytes_needed(const Model& model, size_t group_size, bool account)
   size_t bytes = plan(model, group_size, account).total();
   const size_t couples = expected_couples(model), first = ContactForces::first_capacity(model.num_triangles());
   if (couples > first)
-    bytes += ContactForces::couple_arrays(ContactForces::grown(couples), group_size).resident() -
-             ContactForces::couple_arrays(first, group_size).resident();
+    bytes += ContactForces::couple_arrays(ContactForces::grown(couples), group_size, !model.ce4_triangles.empty()).resident() -
+             ContactForces::couple_arrays(first, group_size, !model.ce4_triangles.empty()).resident();
   // The history pool: with a skin it grows with the touching couples, else it has a row
   // per couple of the list.
   const size_t triangles = model.num_triangles();

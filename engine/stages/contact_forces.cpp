@@ -29,9 +29,10 @@ MemoryPlan ContactForces::key_list(size_t capacity) {
   return MemoryPlan().add("contact_keys", capacity * sizeof(cl_ulong));
 }
 
-MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size) {
+MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size, bool bonds) {
   return MemoryPlan()
       .add("contact history slots", capacity * sizeof(cl_uint))
+      .add(bonds ? MemoryPlan().add("contact bond words", capacity * sizeof(cl_uint)) : MemoryPlan())
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
       .add("contact stored slots", std::max<size_t>(1, groups_for(capacity, group_size)) * sizeof(real));
@@ -51,7 +52,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
       .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
       .add("contact pool state", 2 * sizeof(cl_uint))
-      .add(couple_arrays(first, group_size))
+      .add(couple_arrays(first, group_size, !model.ce4_triangles.empty()))
       .add(shared_keys ? MemoryPlan() : key_list(first))
       .add(pool_arrays(monitored ? pool_first(model.num_triangles()) : first))
       .add(ContactCarry::plan(model.num_triangles(), first_capacity(model.num_triangles()), group_size))
@@ -89,6 +90,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
       carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
   const bool fans = bonds && mesh_node_state != nullptr && model.node_origin.size() == model.num_nodes();
+  bonds_ = bonds;
+  // A bond word holds a CE4 index, or a mesh node's with the top bit set (contact_forces.cl).
+  if (bonds && (model.ce4_triangles.size() >= 0x80000000u || model.num_nodes() >= 0x80000000u))
+    throw InputError("the model has 2^31 CE4s or nodes or more; contact's bond words index them with 31 bits");
   // Fixed point: a node's contact force must fit in 62 bits whatever the couples add up
   // to. One edge pass gives at most P_n t L (the potential is ≤ 1); allow 300 of them per
   // node. The scale is a power of two so that the conversion is exact.
@@ -192,6 +197,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   classify_slot_ = c.later("slot", slot_);
   if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   if (fans) c("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
+  if (bonds) {
+    classify_bond_word_ = c.later("bond_word", bond_word_);
+    classify_bond_words_known_ = c.later("bond_words_known", none);
+  }
   c.done();
 
   KernelArgs k(clear_);
@@ -294,7 +303,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     }
     if (count > list_capacity_) {
       list_capacity_ = grown(count);
-      allocate_list(couple_arrays(list_capacity_, cl_.group_size()));  // a new list writes every slot and flag
+      allocate_list(couple_arrays(list_capacity_, cl_.group_size(), bonds_));  // a new list writes every slot and flag
     }
     // Room for the carried couples and the headroom (with a skin), or a row per couple.
     const size_t rows = monitored_ ? pool_grown(carried, triangles_) : list_capacity_;
@@ -314,6 +323,13 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   const compute::buffer& list_keys = new_list ? keys : keys_;
   classify_slot_.set(slot_);
   forces_slot_.set(slot_);
+  // A new list (or arrays just allocated or loaded) has its bond words written by this
+  // step's classification; the later steps of the list read them.
+  if (new_list) bond_words_known_ = false;
+  if (bonds_) {
+    classify_bond_word_.set(bond_word_);
+    classify_bond_words_known_.set(bond_words_known_ ? 1u : 0u);
+  }
   forces_pool_capacity_.set(static_cast<cl_uint>(pool_rows_));
   for (ListArgs* list : {&classify_list_, &forces_list_}) {
     list->count.set(static_cast<cl_uint>(count));
@@ -327,6 +343,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list->live.set(live_);
   }
   cl_.enqueue(classify_, count);
+  bond_words_known_ = true;
   forces_dt_.set(static_cast<real>(dt));
   forces_energy_row_.set(energy_row ? 1 : 0);
   forces_couple_stored_.set(couple_stored_);
@@ -419,6 +436,8 @@ void ContactForces::allocate_list(const MemoryPlan& arrays) {
   live_ = arrays.allocate(cl_, "contact live flags");
   slot_ = arrays.allocate(cl_, "contact history slots");
   stored_slots_ = arrays.allocate(cl_, "contact stored slots");
+  if (bonds_) bond_word_ = arrays.allocate(cl_, "contact bond words");
+  bond_words_known_ = false;
 }
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }
 double ContactForces::damping_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_DAMPING]) / energy_scale_; }
@@ -465,6 +484,7 @@ void ContactForces::save_state(StateWriter& out) const {
 
 void ContactForces::load_state(StateReader& in) {
   ++epoch_;
+  bond_words_known_ = false;  // the loaded list's are written by the next classification
   count_ = static_cast<size_t>(in.integer("contact_couples"));
   ++list_generation_;
   last_list_step_ = static_cast<long>(in.integer("contact_last_list_step"));
@@ -476,7 +496,7 @@ void ContactForces::load_state(StateReader& in) {
   }
   if (count_ > list_capacity_) {
     list_capacity_ = grown(count_);
-    allocate_list(couple_arrays(list_capacity_, cl_.group_size()));
+    allocate_list(couple_arrays(list_capacity_, cl_.group_size(), bonds_));
   }
   in.buffer<cl_ulong>("contact_keys", keys_, count_);
   // The file holds a history per couple: the couples with one that is not all zeros (or

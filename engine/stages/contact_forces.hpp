@@ -50,7 +50,9 @@ class ContactForces {
   static constexpr cl_uint kNoBond = 0xffffffffu;
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
   // grows allocates again): pool slots, overlap list, live flags, stored-energy sums.
-  static MemoryPlan couple_arrays(size_t capacity, size_t group_size);
+  // The per-couple arrays of a list of `capacity` couples (`bonds`: the model has CE4s,
+  // and the list keeps a bond word per couple).
+  static MemoryPlan couple_arrays(size_t capacity, size_t group_size, bool bonds);
   // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
   // couple takes a row at its first history write (a touching couple, or one that waits)
   // and keeps it until the next detection, which carries the histories over (ContactCarry)
@@ -184,6 +186,13 @@ class ContactForces {
   compute::buffer active_;  // the candidate mask (the detection's, or ones_)
   compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
   compute::buffer node_origin_;  // cl_uint per node: the mesh node it copies (with bonded fans only)
+  // cl_uint per couple of the list (with CE4s only): what carries it instead of contact,
+  // the CE4 or the corner's mesh node (contact_forces.cl, couple_bond); written by the
+  // classification of a list's first step (bond_words_known_ false until then).
+  compute::buffer bond_word_;
+  bool bonds_ = false, bond_words_known_ = false;
+  KernelArg<compute::buffer> classify_bond_word_;
+  KernelArg<cl_uint> classify_bond_words_known_;
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
   size_t list_generation_ = 0;  // counts the lists (new ones and loaded ones)
   compute::buffer ones_;      // the candidate mask when none is given: all ones
