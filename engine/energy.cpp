@@ -81,9 +81,9 @@ std::vector<double> blocked_sums(const std::vector<real>& values, std::size_t co
   return total;
 }
 
-std::vector<double> all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
-                              int width, ItemKind) {
-  return blocked_sums(download<real>(cl, values, count * stride), count, stride, first, width);
+PendingSums all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first, int width,
+                      ItemKind) {
+  return sums_now(blocked_sums(download<real>(cl, values, count * stride), count, stride, first, width));
 }
 
 namespace {
@@ -319,18 +319,38 @@ OrderedSums::OrderedSums(ClContext& cl, std::size_t max_items) : cl_(cl) {
   partial_ = plan(max_items).allocate(cl, "ordered_sums partial");
 }
 
-std::vector<double> OrderedSums::sums(const compute::buffer& values, std::size_t count, int stride, int first, int width) {
+namespace {
+// The blocks' sums added in block order, in double.
+std::vector<double> add_blocks(const std::vector<real>& partial, std::size_t blocks, int width) {
   std::vector<double> total(static_cast<std::size_t>(width), 0.0);
-  if (count == 0) return total;
+  for (std::size_t b = 0; b < blocks; ++b)
+    for (int c = 0; c < width; ++c) total[c] += static_cast<double>(partial[b * width + c]);
+  return total;
+}
+}  // namespace
+
+std::size_t OrderedSums::launch(const compute::buffer& values, std::size_t count, int stride, int first, int width) {
   const std::size_t blocks = (count + kOrderedBlock - 1) / kOrderedBlock;
   bind_args(kernel_)("n", static_cast<cl_uint>(count))("stride", static_cast<cl_uint>(stride))(
       "first", static_cast<cl_uint>(first))("width", static_cast<cl_uint>(width))("values", values)("partial", partial_)
       .done();
   cl_.enqueue(kernel_, blocks);
-  const auto partial = download<real>(cl_, partial_, blocks * width);
-  for (std::size_t b = 0; b < blocks; ++b)
-    for (int c = 0; c < width; ++c) total[c] += static_cast<double>(partial[b * width + c]);
-  return total;
+  return blocks;
+}
+
+std::vector<double> OrderedSums::sums(const compute::buffer& values, std::size_t count, int stride, int first, int width) {
+  if (count == 0) return std::vector<double>(static_cast<std::size_t>(width), 0.0);
+  const std::size_t blocks = launch(values, count, stride, first, width);
+  return add_blocks(download<real>(cl_, partial_, blocks * width), blocks, width);
+}
+
+PendingSums OrderedSums::queue(const compute::buffer& values, std::size_t count, int stride, int first, int width,
+                               RowReads& reads) {
+  if (count == 0) return sums_now(std::vector<double>(static_cast<std::size_t>(width), 0.0));
+  const std::size_t blocks = launch(values, count, stride, first, width);
+  // The next launch reuses partial_; the in-order queue copies it out before that runs.
+  auto partial = reads.read<real>(partial_, blocks * width);
+  return [partial, blocks, width] { return add_blocks(partial(), blocks, width); };
 }
 
 }  // namespace fdem

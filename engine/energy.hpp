@@ -15,6 +15,7 @@
 #include "engine/cl_context.hpp"
 #include "engine/memory_plan.hpp"
 #include "engine/real.hpp"
+#include "engine/row_reads.hpp"
 #include "engine/transport.hpp"
 
 namespace fdem {
@@ -80,13 +81,22 @@ constexpr std::size_t kOrderedBlock = 256;
 // Columns first … first + width − 1 of `count` rows of `stride` reals, summed by the rule.
 std::vector<double> blocked_sums(const std::vector<real>& values, std::size_t count, int stride, int first, int width);
 
+// Sums that may still be on their way from the device (a history row's reads, RowReads):
+// calling the function gives them, waiting for the device if they have not landed.
+using PendingSums = std::function<std::vector<double>()>;
+inline PendingSums sums_now(std::vector<double> values) {
+  return [values = std::move(values)] { return values; };
+}
+// A stage's share of the energy account, added to the totals once its reads have landed.
+using EnergyPart = std::function<void(EnergyTotals&)>;
+
 // The sums of columns [first, first + width) of a device array of `count` items of
 // `stride` reals (real4: 4) of kind `kind`.
-using ItemSums = std::function<std::vector<double>(ClContext& cl, const compute::buffer& values, std::size_t count,
-                                                   int stride, int first, int width, ItemKind kind)>;
+using ItemSums = std::function<PendingSums(ClContext& cl, const compute::buffer& values, std::size_t count,
+                                           int stride, int first, int width, ItemKind kind)>;
 // ItemSums over all of one rank's items, on the host (for stages used alone: tests).
-std::vector<double> all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
-                              int width, ItemKind kind);
+PendingSums all_items(ClContext& cl, const compute::buffer& values, std::size_t count, int stride, int first,
+                      int width, ItemKind kind);
 
 // One rank's items in the whole model, per kind: local → global index, whether this rank
 // accounts for the item (owns it), and the global count.
@@ -192,8 +202,13 @@ class OrderedSums {
   // The arrays it allocates for arrays of at most `max_items` items (4 columns at most).
   static MemoryPlan plan(std::size_t max_items);
   std::vector<double> sums(const compute::buffer& values, std::size_t count, int stride, int first, int width);
+  // The same sums, the blocks' sums read into `reads` without waiting.
+  PendingSums queue(const compute::buffer& values, std::size_t count, int stride, int first, int width,
+                    RowReads& reads);
 
  private:
+  // Launches the kernel; returns the number of blocks.
+  std::size_t launch(const compute::buffer& values, std::size_t count, int stride, int first, int width);
   ClContext& cl_;
   compute::kernel kernel_;
   compute::buffer partial_;

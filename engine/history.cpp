@@ -16,11 +16,11 @@ std::string netcdf_name(const std::string& region) {
 }
 
 const std::vector<real2>& HistoryRow::positions() {
-  if (!positions_) positions_ = solver_.positions();
+  if (!positions_) positions_ = pending_positions_ ? pending_positions_() : solver_.positions();
   return *positions_;
 }
 const std::vector<real2>& HistoryRow::forces() {
-  if (!forces_) forces_ = solver_.forces();
+  if (!forces_) forces_ = pending_forces_ ? pending_forces_() : solver_.forces();
   return *forces_;
 }
 const std::vector<int>& HistoryRow::broken() {

@@ -44,6 +44,11 @@ class HistoryRow {
     positions_ = std::move(positions), forces_ = std::move(forces), broken_ = std::move(broken), mode_ = std::move(mode);
     labels_ = std::move(labels);
   }
+  // One rank: the positions and forces as reads already queued (Solver::queue_positions,
+  // queue_forces), so that they land with the row's other reads.
+  void prefetch(std::function<std::vector<real2>()> positions, std::function<std::vector<real2>()> forces) {
+    pending_positions_ = std::move(positions), pending_forces_ = std::move(forces);
+  }
   // A split run: the probes' values gathered on rank 0 (SplitRun::probe_values), the
   // stress having been evaluated on every rank.
   void provide_probes(std::vector<double> values) { probe_values_ = std::move(values); }
@@ -56,6 +61,7 @@ class HistoryRow {
   Solver& solver_;
   const PointProbes& probes_;
   std::optional<std::vector<real2>> positions_, forces_;
+  std::function<std::vector<real2>()> pending_positions_, pending_forces_;
   std::optional<std::vector<int>> broken_, mode_;
   std::optional<std::vector<double>> probe_values_;
   std::optional<FragmentSummary> fragments_;

@@ -480,7 +480,22 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     const bool stop_signal = stop_number != 0;
     const bool stopping = (stop_signal || out_of_time) && s < p.steps;
     if (frame_due || history_due || checkpoint_due || stopping || s % check_stride == 0) {
-      const Conditions cond = split ? split->conditions(solver) : solver.conditions();
+      // One rank: the conditions, and at a history row the energy account and the
+      // positions and forces its columns read, are queued together and land with one wait
+      // for the device (RowReads), instead of a wait per read.
+      std::function<EnergyTotals()> energy_later;
+      std::function<std::vector<real2>()> positions_later, forces_later;
+      std::function<Conditions()> conditions_later;
+      if (!split) {
+        solver.row_reads().begin();
+        conditions_later = solver.queue_conditions();
+        if (history_due) {
+          energy_later = solver.queue_energy();
+          positions_later = solver.queue_positions();
+          forces_later = solver.queue_forces();
+        }
+      }
+      const Conditions cond = split ? split->conditions(solver) : conditions_later();
       if (!cond.ok()) {
         failure_agreed() = true;  // every rank of a split run found the same
         const std::string what = describe_failure(model, cond);
@@ -501,9 +516,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       bool stress_current = false;
       if (history_due || checkpoint_due || stopping) record_breaks();
       if (history_due) {
-        const EnergyTotals energy = solver.energy();
+        const EnergyTotals energy = energy_later ? energy_later() : solver.energy();
         const double error = solver.balance().error(energy);
         HistoryRow row(solver, points, energy, error, solver.balance().ratio(energy));
+        if (positions_later) row.prefetch(positions_later, forces_later);
         if (split) {
           // The whole model's values on rank 0, in global order (what the columns read).
           auto x = split->gather(ItemKind::Node, solver.positions());

@@ -191,6 +191,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
                  step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get())),
       ordered_(cl, ordered_items(model)),
+      row_reads_(cl),
       ce4_count_(model.ce4.size()) {
   if (contact_) {
     double reach = 0, longest = 0;
@@ -279,41 +280,68 @@ void Solver::step(bool energy_row) {
 EnergyTotals Solver::energy() {
   if (cl_.profiling()) cl_.finish();  // time the account alone, not the steps queued before it
   const auto start = std::chrono::steady_clock::now();
-  EnergyTotals e;
-  // Each step's forces carry that round-off too, and their work adds up step after step.
-  e.resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
-  // Every term is a sum of per-item values in global item order by one rule (OrderedSums
-  // on one rank, SplitSums over the ranks), so a split run gives the bits of one rank.
-  SplitSums* split = split_sums_.get();
-  OrderedSums& device = ordered_;
-  const ItemSums sums = [split, &device](ClContext& cl, const compute::buffer& values, size_t count, int stride, int first,
-                                         int width, ItemKind kind) {
-    if (!split) return device.sums(values, count, stride, first, width);
-    return split->sums(cl, values, count, stride, first, width, kind);
-  };
-  integrate_.add_energy(e, sums);
-  triangle_forces_.add_energy(e, sums);
-  boundary_loads_.add_energy(e, sums);
-  if (cohesive_) {
-    // (fracture dissipation, stored energy): columns 1 and 2 of each CE4's energy row.
-    const auto sum = sums(cl_, cohesive_->energy_rows(), ce4_count_, 4, 1, 2, ItemKind::Ce4);
-    e.fracture += sum[0];
-    e.cohesive_stored += sum[1];
-  }
-  if (contact_ && scope_) {
-    add_split_contact_energy(e);
-  } else if (contact_) {
-    // Each touching couple's potential is P_n t times areas whose vertices are known to
-    // ε |x|: an error of about P_n t ε |x| (perimeter); independent errors add like √N.
-    e.resolution += std::sqrt(double(contact_->touching())) * contact_round_off_;
-    e.contact_stored += contact_->stored_energy();
-    e.friction += contact_->friction_dissipation();
-    e.contact_damping += contact_->damping_dissipation();
-  }
+  row_reads_.begin();
+  const EnergyTotals e = queue_energy()();
   if (cl_.profiling())
     cl_.add_host_time("energy account (host wall: per-item reads and ordered sums, at history rows)",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return e;
+}
+
+std::function<EnergyTotals()> Solver::queue_energy() {
+  // Every term is a sum of per-item values in global item order by one rule (OrderedSums
+  // on one rank, SplitSums over the ranks), so a split run gives the bits of one rank.
+  SplitSums* split = split_sums_.get();
+  OrderedSums& device = ordered_;
+  RowReads& reads = row_reads_;
+  const ItemSums sums = [split, &device, &reads](ClContext& cl, const compute::buffer& values, size_t count, int stride,
+                                                 int first, int width, ItemKind kind) {
+    if (!split) return device.queue(values, count, stride, first, width, reads);
+    return sums_now(split->sums(cl, values, count, stride, first, width, kind));
+  };
+  std::vector<EnergyPart> parts;
+  parts.push_back(integrate_.queue_energy(sums, split ? nullptr : &reads));
+  parts.push_back(triangle_forces_.queue_energy(sums));
+  parts.push_back(boundary_loads_.queue_energy(sums));
+  if (cohesive_) {
+    // (fracture dissipation, stored energy): columns 1 and 2 of each CE4's energy row.
+    PendingSums pending = sums(cl_, cohesive_->energy_rows(), ce4_count_, 4, 1, 2, ItemKind::Ce4);
+    parts.push_back([pending](EnergyTotals& e) {
+      const auto sum = pending();
+      e.fracture += sum[0];
+      e.cohesive_stored += sum[1];
+    });
+  }
+  if (contact_ && scope_) {
+    EnergyTotals contact;
+    add_split_contact_energy(contact);  // collective: every rank now
+    parts.push_back([contact](EnergyTotals& e) {
+      e.resolution += contact.resolution;
+      e.contact_stored += contact.contact_stored;
+      e.friction += contact.friction;
+      e.contact_damping += contact.contact_damping;
+    });
+  } else if (contact_) {
+    auto terms = contact_->queue_row(reads);
+    const double round_off = contact_round_off_;
+    parts.push_back([terms, round_off](EnergyTotals& e) {
+      const ContactForces::RowTerms t = terms();
+      // Each touching couple's potential is P_n t times areas whose vertices are known to
+      // ε |x|: an error of about P_n t ε |x| (perimeter); independent errors add like √N.
+      e.resolution += std::sqrt(double(t.touching)) * round_off;
+      e.contact_stored += t.stored;
+      e.friction += t.friction;
+      e.contact_damping += t.damping;
+    });
+  }
+  // Each step's forces carry that round-off too, and their work adds up step after step.
+  const double resolution = strain_round_off_ * static_cast<double>(std::max(1L, steps_));
+  return [parts, resolution] {
+    EnergyTotals e;
+    e.resolution = resolution;
+    for (const auto& part : parts) part(e);
+    return e;
+  };
 }
 
 void Solver::set_scope(const ItemScope* scope) {
@@ -481,6 +509,26 @@ std::vector<real2> Solver::masses() { return download<real2>(cl_, arrays_.node_m
 std::vector<real4> Solver::stresses() {
   if (arrays_.stress.get() == nullptr) throw DeviceError("Solver::stresses: no stress evaluated since the last output");
   return download<real4>(cl_, arrays_.stress, arrays_.num_triangles);
+}
+
+std::function<Conditions()> Solver::queue_conditions() {
+  auto pool = contact_ ? contact_->queue_pool_state(row_reads_) : std::function<std::vector<cl_uint>()>();
+  auto words = row_reads_.read<int>(arrays_.conditions, layout::CONDITION_WORDS);
+  ContactForces* contact = contact_.get();
+  return [pool, words, contact] {
+    const auto w = words();
+    if (contact) contact->check_pool(pool().data());
+    auto value = [](int v) { return v == INT_MAX ? -1 : v; };
+    return Conditions{value(w[layout::COND_BAD_NODE]), value(w[layout::COND_BAD_NODE_STEP]),
+                      value(w[layout::COND_INVERTED_TRI]), value(w[layout::COND_INVERTED_STEP])};
+  };
+}
+
+std::function<std::vector<real2>()> Solver::queue_positions() {
+  return row_reads_.read<real2>(arrays_.position, arrays_.num_nodes);
+}
+std::function<std::vector<real2>()> Solver::queue_forces() {
+  return row_reads_.read<real2>(arrays_.node_force, arrays_.num_nodes);
 }
 
 Conditions Solver::conditions() {

@@ -84,6 +84,13 @@ class Solver {
   // The energy account at the time of the last energy row (waits): stored terms at that
   // time, dissipated and supplied terms from t = 0 up to it.
   EnergyTotals energy();
+  // The same with its reads queued into row_reads() (one rank; a split run reads at once,
+  // its sums being collective): the function gives the account, waiting once for every
+  // read queued since row_reads().begin() if they have not landed.
+  std::function<EnergyTotals()> queue_energy();
+  // A history row's reads (RowReads): queue_energy, queue_conditions, queue_positions and
+  // queue_forces put theirs here, and the first value asked for lands them all.
+  RowReads& row_reads() { return row_reads_; }
   // Time of the last energy row [s] (one step before time() when the row was the last step).
   double energy_time() const { return energy_row_step_ * dt_; }
   EnergyBalance& balance() { return balance_; }
@@ -105,6 +112,10 @@ class Solver {
   std::vector<real2> masses();   // (lumped mass, inertia)
   std::vector<real4> stresses(); // as of the last enqueue_stress() (none since release_output: DeviceError)
   Conditions conditions();
+  // conditions(), positions() and forces() with their reads queued into row_reads().
+  std::function<Conditions()> queue_conditions();
+  std::function<std::vector<real2>()> queue_positions();
+  std::function<std::vector<real2>()> queue_forces();
 
   // A host copy of positions and velocities (read back, waits), taken at a check that
   // passed, so a failed run can still write its last good frame.
@@ -191,6 +202,7 @@ class Solver {
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
   OrderedSums ordered_;  // the energy account's sums in item order (engine/energy.hpp)
+  RowReads row_reads_;
   size_t ce4_count_ = 0;
   long rebuilds_ = 0;
   long energy_row_step_ = 0;

@@ -3,8 +3,10 @@
 // --ranks` against a brute-force reference written here from the rules in
 // engine/partition.hpp.
 #include <doctest/doctest.h>
+
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <set>
 #include <vector>
 #include <cmath>
@@ -294,7 +296,45 @@ TEST_SUITE("partition") {
       CHECK(std::memcmp(&on_device[c], &on_host[c], sizeof(double)) == 0);
       CHECK(on_host[c] != 0.0);
     }
-    CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node) == on_host);
+    CHECK(all_items(cl, buffer, count, 4, 1, 2, ItemKind::Node)() == on_host);
+    // Queued (a history row): two sums in a row reuse the block-sum array; each gets its
+    // own bits once both have landed.
+    RowReads reads(cl);
+    reads.begin();
+    const auto first = device.queue(buffer, count, 4, 1, 2, reads);
+    const auto second = device.queue(buffer, count, 4, 0, 1, reads);
+    CHECK(second() == blocked_sums(rows, count, 4, 0, 1));
+    CHECK(first() == on_host);
+  }
+
+  TEST_CASE("row reads: many queued reads past the first staging chunk land with their own values, row after row") {
+    ClContext& cl = test::context();
+    // 40 arrays of 3,000 doubles (24 kB each): about 15 times the first 64 KiB chunk.
+    std::vector<compute::buffer> buffers;
+    std::vector<std::vector<double>> values;
+    for (int k = 0; k < 40; ++k) {
+      std::vector<double> v(3000);
+      for (size_t i = 0; i < v.size(); ++i) v[i] = 1000.0 * k + double(i) + 0.25;
+      buffers.push_back(cl.allocate(v.size() * sizeof(double), "test row read"));
+      upload(cl, buffers.back(), v);
+      values.push_back(v);
+    }
+    RowReads reads(cl);
+    for (int row = 0; row < 3; ++row) {
+      CAPTURE(row);
+      reads.begin();
+      std::vector<std::function<std::vector<double>()>> pending;
+      for (int k = 0; k < 40; ++k) pending.push_back(reads.read<double>(buffers[k], 3000 - k, k));
+      for (int k = 39; k >= 0; --k) {
+        const auto got = pending[k]();
+        REQUIRE(got.size() == size_t(3000 - k));
+        CHECK(std::equal(got.begin(), got.end(), values[k].begin() + k));
+      }
+      // The next row sees the device's new values, not the last row's.
+      for (auto& v : values) std::transform(v.begin(), v.end(), v.begin(), [](double x) { return x + 1.0; });
+      for (int k = 0; k < 40; ++k) upload(cl, buffers[k], values[k]);
+    }
+    CHECK(reads.read<double>(buffers[0], 0)().empty());
   }
 
   TEST_CASE("split sums: each rank's whole blocks and rank 0's shared ones give the rule's bits") {

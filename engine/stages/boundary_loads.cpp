@@ -36,10 +36,13 @@ void BoundaryLoads::enqueue(double time, int step) {
   cl_.enqueue(kernel_, count_);
 }
 
-void BoundaryLoads::add_energy(EnergyTotals& e, const ItemSums& sums) {
-  const auto sum = sums(cl_, edge_energy_, count_, 2, 0, 2, ItemKind::LoadedEdge);
-  e.load_work += sum[0];
-  e.absorbed += sum[1];
+EnergyPart BoundaryLoads::queue_energy(const ItemSums& sums) {
+  PendingSums pending = sums(cl_, edge_energy_, count_, 2, 0, 2, ItemKind::LoadedEdge);
+  return [pending](EnergyTotals& e) {
+    const auto sum = pending();
+    e.load_work += sum[0];
+    e.absorbed += sum[1];
+  };
 }
 
 }  // namespace fdem

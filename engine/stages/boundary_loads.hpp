@@ -17,9 +17,9 @@ class BoundaryLoads {
   // `step`, and the loads' work over the step before. Never waits; does nothing when no
   // edge is loaded.
   void enqueue(double time, int step);
-  // Load work and absorbed energy from t = 0 up to the current step's time (waits).
   // Load work and absorbed energy from t = 0 up to the last step, summed per edge by `sums` (waits).
-  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items) { queue_energy(sums)(totals); }
+  EnergyPart queue_energy(const ItemSums& sums);  // the same, added once `sums` have landed
 
   // The cumulative energy sums, for checkpoints.
   void save_state(StateWriter& out) const { out.buffer<real>("load_edge_energy", edge_energy_, count_, 2); }

@@ -274,6 +274,10 @@ void ContactForces::read_pool_state(cl_uint* state) {
   cl_.queue().enqueue_read_buffer_async(pool_state_, 0, 2 * sizeof(cl_uint), state);
 }
 
+std::function<std::vector<cl_uint>()> ContactForces::queue_pool_state(RowReads& reads) {
+  return reads.read<cl_uint>(pool_state_, 2);
+}
+
 void ContactForces::check_pool(const cl_uint* state) {
   if (state[1] != 0xffffffffu) throw NumericalError(pool_overflow_message(static_cast<long>(state[1])));
 }
@@ -427,6 +431,39 @@ ContactForces::StoredCouples ContactForces::stored_couples() {
     out.value.push_back(rows[slot[c]]);
   }
   return out;
+}
+
+std::function<ContactForces::RowTerms()> ContactForces::queue_row(RowReads& reads) {
+  const bool touching_known = count_ == 0 || touching_epoch_ == epoch_;
+  const bool words_known = energy_epoch_ == epoch_;
+  auto live = touching_known ? std::function<std::vector<cl_uchar>()>() : reads.read<cl_uchar>(live_, count_);
+  auto words = words_known ? std::function<std::vector<cl_long>()>()
+                           : reads.read<cl_long>(energy_, layout::CONTACT_ENERGY_WORDS);
+  auto slots = reads.read<real>(stored_slots_, stored_groups_);
+  const std::uint64_t epoch = epoch_;
+  return [this, live, words, slots, epoch] {
+    RowTerms t;
+    if (live) {
+      const auto flags = live();
+      const size_t n = static_cast<size_t>(std::count(flags.begin(), flags.end(), cl_uchar{1}));
+      if (epoch_ == epoch) touching_seen_ = n, touching_epoch_ = epoch;
+      t.touching = n;
+    } else {
+      t.touching = count_ == 0 ? 0 : touching_seen_;
+    }
+    std::vector<cl_long> e;
+    if (words) {
+      e = words();
+      if (epoch_ == epoch) energy_seen_ = e, energy_epoch_ = epoch;
+    } else {
+      e = energy_seen_;
+    }
+    // Group order, in double (sum_group_slots).
+    for (const real v : slots()) t.stored += static_cast<double>(v);
+    t.friction = static_cast<double>(e[layout::ENERGY_FRICTION]) / energy_scale_;
+    t.damping = static_cast<double>(e[layout::ENERGY_DAMPING]) / energy_scale_;
+    return t;
+  };
 }
 
 double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }

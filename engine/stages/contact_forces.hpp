@@ -6,6 +6,7 @@
 #include "engine/device_arrays.hpp"
 #include "engine/kernel_args.hpp"
 #include "engine/model.hpp"
+#include "engine/row_reads.hpp"
 #include "engine/stages/contact_carry.hpp"
 #include "engine/stages/monitor_ring.hpp"
 
@@ -96,6 +97,7 @@ class ContactForces {
   // read of the pool's two state words into `state` (no wait), and, once the queue has
   // passed it, the check of what was read.
   void read_pool_state(cl_uint* state);
+  std::function<std::vector<cl_uint>()> queue_pool_state(RowReads& reads);  // the same, into `reads`
   void check_pool(const cl_uint* state);
 
   // Fixed-point scale: the contact force on a node is contact_acc / force_scale() [N].
@@ -148,6 +150,15 @@ class ContactForces {
   StoredCouples stored_couples();
   double friction_dissipation();
   double damping_dissipation();
+  // A history row's contact terms: touching(), stored_energy(), friction_dissipation() and
+  // damping_dissipation(), their reads queued into `reads` without waiting. The function
+  // gives them (waiting if needed) and leaves touching() and energy_account() known for
+  // the rest of the row, as a read of them would.
+  struct RowTerms {
+    size_t touching = 0;
+    double stored = 0, friction = 0, damping = 0;
+  };
+  std::function<RowTerms()> queue_row(RowReads& reads);
   // friction_dissipation() + damping_dissipation() (one read).
   double dissipated_energy();
   std::vector<real> history();   // per couple, CONTACT_HISTORY reals, from the pool (waits; for tests)

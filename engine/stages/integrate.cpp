@@ -116,24 +116,40 @@ void Integrate::enqueue(double time_after, int step, bool energy_row) {
   }
 }
 
-void Integrate::add_energy(EnergyTotals& e, const ItemSums& sums) {
+EnergyPart Integrate::queue_energy(const ItemSums& sums, RowReads* reads) {
   // Per node, in node order by the fixed rule (rank-independent): the kernel wrote
   // (kinetic, gravity potential, damping work and reaction work up to t) on the energy row.
-  std::vector<double> sum(4, 0.0);
+  PendingSums pending;
   if (keep_rows_) {
-    sum = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
+    pending = sums(cl_, node_energy_, count_, 4, 0, 4, ItemKind::Node);
   } else {
     // The blocks' sums of the last energy row, added in block order (as OrderedSums does).
     const size_t blocks = groups_for(count_, kOrderedBlock);
-    const auto partial = download<real>(cl_, partials_, 4 * std::max<size_t>(1, blocks));
-    for (size_t b = 0; b < blocks; ++b)
-      for (int c = 0; c < 4; ++c) sum[c] += static_cast<double>(partial[4 * b + c]);
+    const size_t words = 4 * std::max<size_t>(1, blocks);
+    std::function<std::vector<real>()> partial;
+    if (reads) {
+      partial = reads->read<real>(partials_, words);
+    } else {
+      auto now = download<real>(cl_, partials_, words);
+      partial = [now] { return now; };
+    }
+    pending = [partial, blocks] {
+      const auto values = partial();
+      std::vector<double> sum(4, 0.0);
+      for (size_t b = 0; b < blocks; ++b)
+        for (int c = 0; c < 4; ++c) sum[c] += static_cast<double>(values[4 * b + c]);
+      return sum;
+    };
   }
-  e.kinetic += sum[0];
-  e.gravity_potential += sum[1];
-  if (!account_work_) return;
-  e.local_damping += -sum[2];
-  e.boundary_work += sum[3];
+  const bool account_work = account_work_;
+  return [pending, account_work](EnergyTotals& e) {
+    const auto sum = pending();
+    e.kinetic += sum[0];
+    e.gravity_potential += sum[1];
+    if (!account_work) return;
+    e.local_damping += -sum[2];
+    e.boundary_work += sum[3];
+  };
 }
 
 }  // namespace fdem

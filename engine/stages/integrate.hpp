@@ -47,7 +47,9 @@ class Integrate {
   // dissipation and boundary (reaction) work from t = 0 up to it (waits).
   // One rank: from the block sums the energy-row step took on the device (`sums` unused);
   // after keep_energy_rows() `sums` of the per-node energies.
-  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items) { queue_energy(sums)(totals); }
+  // The same, its reads queued: into `reads` without waiting (nullptr: read at once).
+  EnergyPart queue_energy(const ItemSums& sums, RowReads* reads = nullptr);
   // A split run (Solver::set_scope): the per-node energies of the rows stay on the device
   // (resident from now on) for energy()'s gather of the owned nodes' values.
   void keep_energy_rows();

@@ -63,10 +63,13 @@ void TriangleForces::enqueue_stress(int step) {
   cl_.enqueue(kernel_, count_);
 }
 
-void TriangleForces::add_energy(EnergyTotals& e, const ItemSums& sums) {
-  const auto sum = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
-  e.strain += sum[0];
-  e.viscous += sum[1];
+EnergyPart TriangleForces::queue_energy(const ItemSums& sums) {
+  PendingSums pending = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
+  return [pending](EnergyTotals& e) {
+    const auto sum = pending();
+    e.strain += sum[0];
+    e.viscous += sum[1];
+  };
 }
 
 }  // namespace fdem

@@ -22,7 +22,8 @@ class TriangleForces {
   // it is not (DeviceArrays::output_stress; for output, no energy accounted). Never waits.
   void enqueue_stress(int step);
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
-  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items);
+  void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items) { queue_energy(sums)(totals); }
+  EnergyPart queue_energy(const ItemSums& sums);  // the same, added once `sums` have landed
 
   // The energy state, for checkpoints: the last row's sums and, per triangle, the viscous
   // stress of the last step and its dissipation so far.
