@@ -35,6 +35,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// How old the history file's last sync may get before a row syncs it (HistoryWriter): the
+// rows a killed run can lose, beyond those after its last checkpoint or frame.
+constexpr double kHistorySyncSeconds = 0.5;
+
 // Steps (1-based step counts, step 0 = initial state) at which frames are written.
 std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt) {
   std::vector<long> list;
@@ -341,6 +345,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
                                                          io::ExodusOptions{config.output.float_frames, config.output.compress});
         table_holder = std::make_unique<HistoryTable>(model, masses, points);
         history_file = std::make_unique<io::HistoryWriter>(p.history_path + suffix, config.title, table_holder->variables());
+        // Rows sync at most every kHistorySyncSeconds, and always before a frame or a
+        // checkpoint: a killed run keeps every row up to its last checkpoint, which is
+        // what a restart continues from (docs/case-format.md, "history").
+        history_file->set_sync_interval(kHistorySyncSeconds);
         if (!model.ce4.empty()) fragments = std::make_unique<io::FragmentWriter>(p.fragments_path + suffix, config.title);
         if (!model.ce4.empty()) events = std::make_unique<io::EventsWriter>(p.events_path + suffix, config.title);
       }
@@ -413,6 +421,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
 
   long last_frame_step = -1;
   auto write_current_frame = [&](bool stress_current = false) {
+    if (history_file) history_file->sync();
     last_frame_step = solver.steps_done();
     const FrameData frame = read_frame(model, solver, split.get(), stress_current);
     if (root) write_frame(*exodus_file, fragments.get(), model, frame, solver.time(), cl);
@@ -420,6 +429,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
 
   const std::string ckpt_path = checkpoint_path(p);
   auto write_checkpoint = [&]() {
+    if (history_file) history_file->sync();  // every row up to the checkpoint is on disk
     const auto began = std::chrono::steady_clock::now();
     io::CheckpointData data;
     if (split) record_breaks();  // the whole catalogue up to now, for the file's break log

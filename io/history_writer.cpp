@@ -68,8 +68,18 @@ void HistoryWriter::append(double time, const std::vector<double>& values) {
   for (size_t k = 0; k < values.size(); ++k)
     check(nc_put_var1_double(nc, var_ids_[k], &rec, &values[k]), var_ids_[k]);
   check(nc_put_var1_double(nc, time_var_, &rec, &time), time_var_);
-  file_.check(nc_sync(nc), "row " + std::to_string(rows_) + ", sync");
   ++rows_;
+  unsynced_ = true;
+  if (sync_interval_ <= 0 ||
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_sync_).count() >= sync_interval_)
+    sync();
+}
+
+void HistoryWriter::sync() {
+  if (!unsynced_ || !file_.is_open()) return;
+  file_.check(nc_sync(file_.id()), "row " + std::to_string(rows_ - 1) + ", sync");
+  unsynced_ = false;
+  last_sync_ = std::chrono::steady_clock::now();
 }
 
 }  // namespace fdem::io

@@ -600,4 +600,24 @@ TEST_SUITE("exodus") {
     const auto ke = nc.doubles("kinetic_energy", 4);
     for (size_t r = 0; r < 4; ++r) CHECK(ke[r] == history_value(0, r));
   }
+
+  TEST_CASE("history writer with a sync interval: a killed writer keeps every row up to its last sync()") {
+    TempDir tmp;
+    const std::string path = tmp.file("interval_history.nc");
+    run_then_sigkill([&] {
+      auto* h = new HistoryWriter(path, "interval", kHistoryVars);
+      h->set_sync_interval(3600.0);  // no row syncs by itself within the test
+      for (size_t r = 0; r < 3; ++r)
+        h->append(static_cast<double>(r), {history_value(0, r), history_value(1, r), history_value(2, r)});
+      h->sync();
+      for (size_t r = 3; r < 5; ++r)
+        h->append(static_cast<double>(r), {history_value(0, r), history_value(1, r), history_value(2, r)});
+    });
+    NcReader nc(path);
+    const size_t rows = nc.dim_len("time");
+    CHECK(rows >= 3);
+    CHECK(rows <= 5);
+    const auto ke = nc.doubles("kinetic_energy", rows);
+    for (size_t r = 0; r < rows; ++r) CHECK(ke[r] == history_value(0, r));
+  }
 }
