@@ -292,7 +292,15 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
 // contact_forces, so that its work-items all do the full evaluation together instead of
 // idling beside separated neighbours. The list's order depends on scheduling, but what
 // contact_forces does per couple does not, and its sums are integer: the result does not.
-// counters[1]: entries in overlap_list (cleared by clear_contact_forces).
+// counters[list_counter]: entries in overlap_list. The two counters alternate from one
+// launch to the next (ContactForces flips list_counter): work-item 0 zeroes the other,
+// which the next step counts in, so no launch of its own clears them.
+// The step's start, done here to save a launch: work-item i < n_nodes zeroes node i's
+// fixed-point contact force (contact_forces adds into it after this kernel; it is read
+// for the node's force and for output after the step), and with POOL_MONITOR (a contact
+// skin) work-item 0 copies the history pool's rows taken so far to word RING_POOL of this
+// step's monitor ring slot, where the host reads it late and grows the pool before it
+// fills (ContactForces::ensure_pool). The launch covers max(n_couples, n_nodes) items.
 // bond_word[c] (with CE4s): couple c's couple_bond, written in the first step of a list
 // (bond_words_known = 0; also after a checkpoint is loaded) and read in the others.
 // live[c]: 1 when couple c touched in the last step, 2 when it overlaps but waits (see
@@ -316,12 +324,30 @@ __kernel void contact_classify(const uint n_couples,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live,
-                               __global uint* restrict slot BOND_ARGS CLASSIFY_BOND_ARGS) {
+                               __global uint* restrict slot BOND_ARGS CLASSIFY_BOND_ARGS,
+                               const uint n_nodes,
+                               __global long* restrict contact_acc,
+                               const uint list_counter
+#ifdef POOL_MONITOR
+                               , __global const uint* restrict pool_state, __global uint* restrict monitor,
+                               const uint monitor_slot
+#endif
+                               ) {
   const uint c = get_global_id(0);
+  if (c == 0) {
+    counters[1u - list_counter] = 0;
+#ifdef POOL_MONITOR
+    monitor[RING_WORDS * monitor_slot + RING_POOL] = pool_state[0];
+#endif
+  }
+  if (c < n_nodes) {
+    contact_acc[2 * c] = 0;
+    contact_acc[2 * c + 1] = 0;
+  }
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
                                        position, energy_scale, energy, same_list, live, slot BOND_PASS CLASSIFY_BOND_PASS))
-    overlap_list[atomic_inc(&counters[1])] = c;
+    overlap_list[atomic_inc(&counters[list_counter])] = c;
 #else
   __local uint group_count, group_base;
   if (get_local_id(0) == 0) group_count = 0;
@@ -331,7 +357,7 @@ __kernel void contact_classify(const uint n_couples,
                                                        live, slot BOND_PASS CLASSIFY_BOND_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (get_local_id(0) == 0) group_base = atomic_add(&counters[1], group_count);
+  if (get_local_id(0) == 0) group_base = atomic_add(&counters[list_counter], group_count);
   barrier(CLK_LOCAL_MEM_FENCE);
   if (listed) overlap_list[group_base + position_in_group] = c;
 #endif
@@ -395,9 +421,10 @@ __kernel void contact_forces(const uint n_couples,
                              __global real* restrict couple_stored,
                              __global const uint* restrict active,
                              const uint joined_since,
-                             const int step BOND_ARGS) {
+                             const int step BOND_ARGS,
+                             const uint list_counter) {
   const uint entry = get_global_id(0);
-  if (entry >= n_couples || entry >= counters[1]) return;
+  if (entry >= n_couples || entry >= counters[list_counter]) return;
   const uint c = overlap_list[entry];
   const ulong key = keys[c];
   uint tri[2], nodes[2][3];
@@ -686,31 +713,6 @@ __kernel void release_vanished(const uint n_previous,
     if (pending != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(pending * energy_scale));
     if (held != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(held * energy_scale));
   }
-}
-
-// One work-item per node: clears its fixed-point contact force (start of each step);
-// work-item 0 also clears the counters (counters[0] unused, overlap list length) and,
-// with POOL_MONITOR (a contact skin), copies the history pool's rows taken so far to
-// word RING_POOL of this step's monitor ring slot, where the host reads it late and
-// grows the pool before it fills (ContactForces::ensure_pool).
-__kernel void clear_contact_forces(const uint n_nodes, __global long* restrict contact_acc,
-                                   __global uint* restrict counters
-#ifdef POOL_MONITOR
-                                   , __global const uint* restrict pool_state, __global uint* restrict monitor,
-                                   const uint monitor_slot
-#endif
-                                   ) {
-  const uint i = get_global_id(0);
-  if (i == 0) {
-    counters[0] = 0;
-    counters[1] = 0;
-#ifdef POOL_MONITOR
-    monitor[RING_WORDS * monitor_slot + RING_POOL] = pool_state[0];
-#endif
-  }
-  if (i >= n_nodes) return;
-  contact_acc[2 * i] = 0;
-  contact_acc[2 * i + 1] = 0;
 }
 
 // One work-item per couple of the list (on energy rows, after contact_forces): the stored

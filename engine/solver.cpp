@@ -242,7 +242,7 @@ void Solver::step(bool energy_row) {
   if (energy_row) energy_row_step_ = steps_;
   // The step, stage by stage. Each stage writes its own slots; the gather sums them.
   if (contact_) {
-    contact_->enqueue_clear(steps_);
+    contact_->begin_step(steps_);
     // Detection every step, or with a skin once some node may have moved more than half
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").

@@ -152,7 +152,7 @@ class CoupleRunner {
     for (int k = 0; k < 6; ++k) pos[k] = {real(x[k].x()), real(x[k].y())}, vel[k] = {real(v[k].x()), real(v[k].y())};
     upload(cl, arrays_.position, pos);
     upload(cl, arrays_.velocity, vel);
-    forces_.enqueue_clear();
+    forces_.begin_step();
     forces_.enqueue(keys_, couples, first, dt, true, at_step);
     const auto acc = download<cl_long>(cl, arrays_.contact_acc, 12);
     CoupleResult r;

@@ -50,7 +50,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   const size_t first = first_capacity(model.num_triangles());
   // Friction dissipated, damping dissipated (ENERGY_FRICTION, ENERGY_DAMPING).
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
-      .add("contact counters (touching, overlap list)", 2 * sizeof(cl_uint))
+      .add("contact counters (overlap list, two alternating)", 2 * sizeof(cl_uint))
       .add("contact pool state", 2 * sizeof(cl_uint))
       .add(couple_arrays(first, group_size, !model.ce4_triangles.empty()))
       .add(shared_keys ? MemoryPlan() : key_list(first))
@@ -122,11 +122,10 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
-  clear_ = compute::kernel(program, "clear_contact_forces");
   release_ = compute::kernel(program, "release_vanished");
   const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_, shared_keys_);
   energy_ = arrays.allocate(cl, "contact energy account");
-  counters_ = arrays.allocate(cl, "contact counters (touching, overlap list)");
+  counters_ = arrays.allocate(cl, "contact counters (overlap list, two alternating)");
   pool_state_ = arrays.allocate(cl, "contact pool state");
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
@@ -184,6 +183,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   forces_step_ = f.later("step", cl_int(0));
   if (bonds) f("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   if (fans) f("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
+  forces_list_counter_ = f.later("list_counter", cl_uint(0));
   f.done();
 
   KernelArgs c(classify_);
@@ -201,15 +201,13 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     classify_bond_word_ = c.later("bond_word", bond_word_);
     classify_bond_words_known_ = c.later("bond_words_known", none);
   }
-  c.done();
-
-  KernelArgs k(clear_);
-  k("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc)("counters", counters_);
+  c("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc);
+  classify_list_counter_ = c.later("list_counter", cl_uint(0));
   if (monitored_) {
-    k("pool_state", pool_state_)("monitor", ring->buffer());
-    clear_monitor_slot_ = k.later("monitor_slot", cl_uint(0));
+    c("pool_state", pool_state_)("monitor", ring->buffer());
+    classify_monitor_slot_ = c.later("monitor_slot", cl_uint(0));
   }
-  k.done();
+  c.done();
 
   KernelArgs r(release_);
   release_previous_count_ = r.later("n_previous", none);
@@ -239,10 +237,9 @@ void ContactForces::ListArgs::bind_list(KernelArgs& args, const compute::buffer&
   history = args.later("history", history1);
 }
 
-void ContactForces::enqueue_clear(long step) {
+void ContactForces::begin_step(long step) {
   ++epoch_;
-  if (monitored_) clear_monitor_slot_.set(MonitorRing::slot_of(step));
-  cl_.enqueue(clear_, std::max<size_t>(arrays_.num_nodes, 1));
+  if (monitored_) classify_monitor_slot_.set(MonitorRing::slot_of(step));
 }
 
 void ContactForces::reset_pool() {
@@ -346,7 +343,12 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list->overlap_list.set(overlap_list_);
     list->live.set(live_);
   }
-  cl_.enqueue(classify_, count);
+  // The classification also starts the step (contact forces and the other counter
+  // zeroed, the pool's rows to the ring): over the nodes as well as the couples.
+  classify_list_counter_.set(list_counter_);
+  forces_list_counter_.set(list_counter_);
+  cl_.enqueue(classify_, std::max<size_t>({count, arrays_.num_nodes, 1}));
+  list_counter_ = 1 - list_counter_;
   bond_words_known_ = true;
   forces_dt_.set(static_cast<real>(dt));
   forces_energy_row_.set(energy_row ? 1 : 0);

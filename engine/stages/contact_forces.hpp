@@ -107,9 +107,10 @@ class ContactForces {
   // a history to the carry list (ContactCarry; waits once), for the next new list.
   // Without, enqueue(new_list) does it itself.
   void carry_before_detection();
-  // Zeroes the contact accumulator and the overlap list length (and, with a ring, writes
-  // the pool's rows taken to the ring slot of `step`). Never waits.
-  void enqueue_clear(long step = 0);
+  // The start of step `step`: the next enqueue's classification zeroes the contact
+  // accumulator and the next overlap-list counter, and with a ring writes the pool's rows
+  // taken to the ring slot of `step` (contact_classify; no launch of its own). Never waits.
+  void begin_step(long step = 0);
   // Forces of the couples in `keys` (sorted cl_ulong keys, i << 32 | j). With new_list the
   // keys come from a fresh detection and each couple's history is carried over from the
   // previous list by key; otherwise the list is the one of the last call. With
@@ -180,7 +181,7 @@ class ContactForces {
   std::uint64_t epoch_ = 1, touching_epoch_ = 0, energy_epoch_ = 0;
   size_t touching_seen_ = 0;
   std::vector<cl_long> energy_seen_;
-  compute::kernel classify_, forces_, clear_, release_;
+  compute::kernel classify_, forces_, release_;
   compute::buffer keys_, history_, energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
   compute::buffer slot_;        // per couple: its pool row (ContactCarry::kNoSlot: none)
   compute::buffer pool_state_;  // rows taken, first step a couple found the pool full
@@ -220,7 +221,11 @@ class ContactForces {
   };
   ListArgs classify_list_, forces_list_;
   KernelArg<compute::buffer> classify_slot_, forces_slot_, stored_live_, stored_slot_;
-  KernelArg<cl_uint> forces_pool_capacity_, clear_monitor_slot_;
+  KernelArg<cl_uint> forces_pool_capacity_, classify_monitor_slot_;
+  // Which of the two counters (contact counters) counts this step's overlap list; flips
+  // at each classification, which zeroes the other one for the next.
+  cl_uint list_counter_ = 0;
+  KernelArg<cl_uint> classify_list_counter_, forces_list_counter_;
   KernelArg<cl_uint> forces_energy_row_, forces_joined_since_;
   KernelArg<cl_int> forces_step_;
   KernelArg<compute::buffer> forces_couple_stored_;
