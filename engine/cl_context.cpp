@@ -3,6 +3,7 @@
 #include <boost/compute/exception.hpp>
 #include <chrono>
 #include <cstdlib>
+#include <iostream>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -23,6 +24,7 @@ DeviceInfo describe(const compute::platform& platform, const compute::device& de
   info.version = device.version();
   info.is_gpu = (device.type() & CL_DEVICE_TYPE_GPU) != 0;
   info.has_fp64 = device.supports_extension("cl_khr_fp64");
+  info.nv_compiler_options = device.supports_extension("cl_nv_compiler_options");
   info.global_memory = device.global_memory_size();
   info.max_allocation = device.get_info<cl_ulong>(CL_DEVICE_MAX_MEM_ALLOC_SIZE);
   info.compute_units = device.compute_units();
@@ -129,8 +131,30 @@ std::string ClContext::description() const {
   return out.str();
 }
 
+namespace {
+// Tuning experiments (docs/performance-notes.md): FDEM_CL_OPTIONS adds compiler options to
+// every stage's build ("-cl-nv-verbose"), or to one stage's with "STAGE=OPTIONS", several
+// separated by ";" ("cohesive_forces=-cl-nv-maxrregcount=64").
+std::string extra_build_options(const std::string& stage) {
+  const char* env = std::getenv("FDEM_CL_OPTIONS");
+  if (!env || !*env) return "";
+  std::string out, all = env;
+  size_t start = 0;
+  while (start <= all.size()) {
+    const size_t end = std::min(all.find(';', start), all.size());
+    const std::string item = all.substr(start, end - start);
+    const size_t eq = item.find('=');
+    const bool scoped = eq != std::string::npos && item.compare(0, 1, "-") != 0;
+    if (!scoped) out += " " + item;
+    else if (item.substr(0, eq) == stage) out += " " + item.substr(eq + 1);
+    start = end + 1;
+  }
+  return out;
+}
+}  // namespace
+
 compute::program ClContext::build(const KernelSource& stage, const std::map<std::string, std::string>& defines,
-                                  const std::vector<const KernelSource*>& libraries) const {
+                                  const std::vector<const KernelSource*>& libraries, int register_cap) const {
   std::ostringstream text;
   text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
@@ -148,7 +172,11 @@ compute::program ClContext::build(const KernelSource& stage, const std::map<std:
   }
   try {
     // Argument names are kept so that KernelArgs can check each binding by name.
-    program.build("-cl-std=CL1.2 -cl-kernel-arg-info");
+    std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info";
+    if (register_cap > 0 && info_.nv_compiler_options) options += " -cl-nv-maxrregcount=" + std::to_string(register_cap);
+    program.build(options + extra_build_options(stage.stage));
+    if (const char* env = std::getenv("FDEM_CL_BUILD_LOG"); env && *env == '1')
+      std::cerr << "build log of stage " << stage.stage << ":\n" << program.build_log() << "\n";
   } catch (const compute::opencl_error& e) {
     std::string log;
     try {

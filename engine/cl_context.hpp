@@ -27,6 +27,7 @@ struct DeviceInfo {
   std::string version;
   bool is_gpu = false;
   bool has_fp64 = false;
+  bool nv_compiler_options = false;  // cl_nv_compiler_options: -cl-nv-maxrregcount and others
   std::size_t global_memory = 0;
   std::size_t max_allocation = 0;
   unsigned compute_units = 0;
@@ -53,8 +54,11 @@ class ClContext {
   // `libraries`: files of shared functions (e.g. kernel_source::couple_geometry) placed
   // ahead of the stage's own text, after the defines. Throws BuildError carrying the
   // stage name and the build log.
+  // `register_cap` > 0: on NVIDIA GPUs (cl_nv_compiler_options) no work-item of the
+  // program uses more registers than that (-cl-nv-maxrregcount); elsewhere it does nothing.
+  // The cap changes register allocation only, not one operation: the same bits.
   compute::program build(const KernelSource& stage, const std::map<std::string, std::string>& defines = {},
-                         const std::vector<const KernelSource*>& libraries = {}) const;
+                         const std::vector<const KernelSource*>& libraries = {}, int register_cap = 0) const;
 
   // Work-group size used for 1D launches; global sizes are rounded up to it.
   std::size_t group_size() const { return group_size_; }

@@ -177,7 +177,10 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
 
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
-  const auto program = cl.build(kernel_source::cohesive_forces, defines);
+  // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
+  // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
+  // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
+  const auto program = cl.build(kernel_source::cohesive_forces, defines, {}, 128);
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
   args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("property", property_)("property_rows", property_rows_)("position", position)(

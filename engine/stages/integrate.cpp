@@ -38,7 +38,9 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
     for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale)) defines.insert(d);
     libraries.push_back(&kernel_source::node_gather);
   }
-  const auto program = cl.build(kernel_source::integrate, defines, libraries);
+  // NVIDIA: 68 registers a work-item fit three work-groups of 256 per SM, 64 four. H200,
+  // 1.08M TRI3: 0.159 → 0.139 ms a step (docs/performance-notes.md, session 7).
+  const auto program = cl.build(kernel_source::integrate, defines, libraries, 64);
   kernel_ = compute::kernel(program, "integrate");
   block_sums_ = compute::kernel(program, "ordered_block_sums");
   const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);

@@ -22,8 +22,11 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
     : cl_(cl), arrays_(a), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
-  kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
-                            "triangle_forces");
+  // NVIDIA: 96 registers a work-item fit two work-groups of 256 per SM, 80 three. H200,
+  // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
+  kernel_ = compute::kernel(
+      cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}, {}, 80),
+      "triangle_forces");
   const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_);
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
