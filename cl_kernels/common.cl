@@ -70,3 +70,36 @@ inline uint2 group_max_uint2(__local uint2* scratch, uint2 value) {
   }
   return scratch[0];
 }
+
+// Exclusive prefix sum of `value` over the work-group (Hillis-Steele in local memory;
+// integers, so the order of the additions does not matter); *total receives the group's
+// sum. Every work-item of the group must call it (barriers). Used by the carry-over and
+// by contact detection's counting sort.
+inline uint group_exclusive_scan(__local uint* scratch, const uint value, uint* total) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint offset = 1; offset < get_local_size(0); offset <<= 1) {
+    const uint add = lid >= offset ? scratch[lid - offset] : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    scratch[lid] += add;
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  const uint inclusive = scratch[lid];
+  *total = scratch[get_local_size(0) - 1];
+  barrier(CLK_LOCAL_MEM_FENCE);  // scratch is free again
+  return inclusive - value;
+}
+
+// Index of `key` in the ascending list keys[0 .. n), or -1 (binary search).
+inline int find_key(__global const ulong* keys, uint n, ulong key) {
+  uint lo = 0, hi = n;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2;
+    const ulong k = keys[mid];
+    if (k < key) lo = mid + 1;
+    else if (k > key) hi = mid;
+    else return (int)mid;
+  }
+  return -1;
+}

@@ -2,8 +2,8 @@
 // Only couples whose live flag is nonzero hold a history (a couple that stopped
 // overlapping had its history cleared by contact_forces.cl's forget_couple), so before
 // the detection rewrites the list, the keys and histories of those couples are copied,
-// in list order (so still sorted by key), to a compact carry list. The new list then
-// finds its couples' histories there by key, and the one history array of the contact
+// in list order, to a compact carry list. The new list then finds its couples' histories
+// there (carry_locate: each carried couple looks itself up in the new, ascending list), and the one history array of the contact
 // stage is rewritten in place. Also carried, with their (zero) history: couples of which
 // a triangle joined the candidates since the last list (mask value >= joined_since), so
 // that contact_forces still sees them as old couples (found), not as couples met over
@@ -14,24 +14,6 @@
 // empty entry of the contact stage's slot array: the couple holds no history row).
 // Layout: CONTACT_HISTORY reals per couple (engine/layouts.hpp); the contact stage keeps
 // them in a pool, couple c's at row slot[c] (contact_forces.cl).
-
-// Exclusive prefix sum of `value` over the work-group (Hillis-Steele in local memory);
-// *total receives the group's sum. Every work-item of the group must call it.
-inline uint group_exclusive_scan(__local uint* scratch, const uint value, uint* total) {
-  const uint lid = get_local_id(0);
-  scratch[lid] = value;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint offset = 1; offset < GROUP_SIZE; offset <<= 1) {
-    const uint add = lid >= offset ? scratch[lid - offset] : 0u;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    scratch[lid] += add;
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
-  const uint inclusive = scratch[lid];
-  *total = scratch[GROUP_SIZE - 1];
-  barrier(CLK_LOCAL_MEM_FENCE);  // scratch is free again
-  return inclusive - value;
-}
 
 // Whether couple c of the list is carried: live, or a triangle joined since the last list.
 inline uint carried(const uint c, const uint n_couples, __global const uchar* live, __global const ulong* keys,
@@ -104,4 +86,20 @@ __kernel void carry_scatter(const uint n_couples,
   carry_keys[at] = keys[c];
   for (int h = 0; h < CONTACT_HISTORY; ++h)
     carry_history[CONTACT_HISTORY * at + h] = row != NO_SLOT ? history[CONTACT_HISTORY * row + h] : (real)0;
+}
+
+// One work-item per carried couple r: finds it in the new list (ascending keys: a binary
+// search) and, when there, writes its carry-list row to carry_of[c] of its place c, where
+// the new list's first classification reads it (carry_of holds NO_SLOT for every other
+// couple). The carry list itself keeps the old list's order, which need not be ascending
+// once the old list was extended by joins (ContactDetection::extend_joined).
+__kernel void carry_locate(const uint n_carried,
+                           __global const ulong* restrict carry_keys,
+                           const uint n_couples,
+                           __global const ulong* restrict keys,
+                           __global uint* restrict carry_of) {
+  const uint r = get_global_id(0);
+  if (r >= n_carried) return;
+  const int c = find_key(keys, n_couples, carry_keys[r]);
+  if (c >= 0) carry_of[c] = r;
 }

@@ -1,16 +1,21 @@
-// Contact detection (paper Section 2.2, Figs. 6-7): a uniform grid of square cells at
-// least as large as the largest triangle's bounding box, rebuilt every run around where
-// the bodies are now. Each triangle is hashed to the cell of its box centre; the (hash,
-// triangle) list is sorted on the device (Boost.Compute, host side); a cell's first and
-// last position in the sorted list are found by comparing neighbours; every triangle then
-// scans the 3x3 cells around its own and records the couples (i < j) whose boxes overlap
-// and which share no node. Couples are keys (ulong(i) << 32 | j), appended through a
-// 32-bit atomic counter and sorted on the host side afterwards, so the list is canonical.
+// Contact detection (paper Section 2.2, Figs. 6-7): a uniform grid of square cells,
+// rebuilt every run around where the bodies are now, and a counting sort of the
+// triangles into it (a count per cell, a prefix sum, a scatter). The cell is as large as
+// a "small" triangle's box may be: the largest box side, or twice the mean side when the
+// largest is more than that (graded meshes: a cell as large as the largest element would
+// hold hundreds of the smallest). A small triangle is entered in the cell of its box
+// centre, a large one in every cell its box covers. Every triangle then looks through
+// the cells where a partner's entry must be (the 3x3 cells around a small triangle's
+// centre, the cells a large one covers and a ring around them) for the couples (i < j)
+// whose boxes overlap and which share no node, twice: once to count them, once (after a
+// prefix sum of the counts over the triangles) to write them, each triangle into its own
+// segment of the list, sorted there. Couples are keys (ulong(i) << 32 | j); triangle i's
+// segment follows triangle i-1's, so the list is in ascending key order, whatever order
+// the scatter put a cell's entries in. No sort of the whole list, no allocation; the host
+// reads the entry and couple counts once.
 //
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 // Lengths are in metres; a box is real4 (min x, min y, max x, max y).
-
-#define EMPTY_CELL 0xffffffffu
 
 #ifdef FDEM_DOUBLE
 #define REAL_EPS 2.220446049250313e-16
@@ -18,18 +23,24 @@
 #define REAL_EPS 1.1920929e-7f
 #endif
 
-// Cell (ix, iy) of a box's centre, clamped into the grid.
-// g = (x0, y0, cell size, unused), dims = (nx, ny, nx*ny, unused).
-inline int2 cell_of(real4 box, real4 g, uint4 dims) {
-  const real cx = (real)0.5 * (box.x + box.z);
-  const real cy = (real)0.5 * (box.y + box.w);
-  const real fx = floor((cx - g.x) / g.z);
-  const real fy = floor((cy - g.y) / g.z);
-  // Clamp in real before converting (out-of-range conversions are undefined); fmax
-  // returns its other operand for a NaN, so a non-finite centre lands in cell 0.
-  const int ix = (int)fmin(fmax(fx, (real)0), (real)(dims.x - 1));
-  const int iy = (int)fmin(fmax(fy, (real)0), (real)(dims.y - 1));
-  return (int2)(ix, iy);
+// Column or row of a coordinate, clamped into [0, cells - 1]. Clamped in real before
+// converting (out-of-range conversions are undefined); fmax returns its other operand
+// for a NaN, so a non-finite coordinate lands in cell 0.
+inline int cell_coordinate(const real v, const real origin, const real cell, const uint cells) {
+  return (int)fmin(fmax(floor((v - origin) / cell), (real)0), (real)(cells - 1));
+}
+
+// The cells where a triangle's entries go, (x0, y0, x1, y1) inclusive: the cell of the
+// box centre for a small box (both sides at most g.w), every cell the box covers for a
+// large one. g = (x0, y0, cell size, largest small side), dims = (nx, ny, nx*ny, unused).
+inline int4 entry_cells(const real4 box, const real4 g, const uint4 d) {
+  if (box.z - box.x <= g.w && box.w - box.y <= g.w) {
+    const int cx = cell_coordinate((real)0.5 * (box.x + box.z), g.x, g.z, d.x);
+    const int cy = cell_coordinate((real)0.5 * (box.y + box.w), g.y, g.z, d.y);
+    return (int4)(cx, cy, cx, cy);
+  }
+  return (int4)(cell_coordinate(box.x, g.x, g.z, d.x), cell_coordinate(box.y, g.y, g.z, d.y),
+                cell_coordinate(box.z, g.x, g.z, d.x), cell_coordinate(box.w, g.y, g.z, d.y));
 }
 
 inline bool boxes_overlap(real4 a, real4 b) {
@@ -37,18 +48,19 @@ inline bool boxes_overlap(real4 a, real4 b) {
 }
 
 // One work-item per triangle t: its current bounding box grown by half_skin on every
-// side, and the work-group's share of the global reduction (lowest corner, highest
-// corner, largest box side).
+// side, and the work-group's share of the global reductions (lowest corner, highest
+// corner, largest box side, sum of box sides).
 // Inputs: node positions [m], tri_nodes (3 per triangle), half_skin [m].
 // Outputs: boxes[t] [m]; per work-group g: partial_bounds[g] = (min x, min y, max x,
-// max y) of its boxes [m], partial_side[g] = its largest box side [m].
+// max y) of its boxes [m], partial_side[g] = (its largest box side, the sum of its box
+// sides (the larger of each box's two)) [m].
 __kernel void triangle_boxes(const uint n_triangles,
                              __global const uint* restrict tri_nodes,
                              __global const real2* restrict position,
                              const real half_skin,
                              __global real4* restrict boxes,
                              __global real4* restrict partial_bounds,
-                             __global real* restrict partial_side) {
+                             __global real2* restrict partial_side) {
   __local real4 scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
   const uint lid = get_local_id(0);
@@ -67,44 +79,52 @@ __kernel void triangle_boxes(const uint n_triangles,
   const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
   barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
   const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const real sum = group_sum4(scratch, (real4)(my_side, 0, 0, 0)).x;
   if (lid == 0) {
     partial_bounds[get_group_id(0)] = (real4)(-folded.x, -folded.y, folded.z, folded.w);
-    partial_side[get_group_id(0)] = largest;
+    partial_side[get_group_id(0)] = (real2)(largest, sum);
   }
 }
 
 // Launched as ONE work-group of GROUP_SIZE work-items. Work-item l folds the partials
-// l, l + GROUP_SIZE, ...; the group reduces them; work-item 0 then writes the grid:
-// origin = lowest box corner, cell = largest box side (plus a rounding margin, so that
-// two overlapping boxes always have centres in the same or adjacent cells), nx, ny so
-// the cells cover the highest box corner. When nx*ny would exceed max_cells the cell
-// grows until it fits (correct for any cell >= the largest box side).
+// l, l + GROUP_SIZE, ... in order; the group reduces them by a fixed tree; work-item 0
+// then writes the grid: origin = lowest box corner; the largest small side = the largest
+// box side, or twice the mean when that is smaller; cell = that side plus a rounding
+// margin (so that two overlapping small boxes have centres in the same or adjacent
+// cells); nx, ny so the cells cover the highest box corner. When nx*ny would exceed
+// max_cells the cell grows until it fits (correct for any cell >= the small side).
 // Inputs: n_groups partials from triangle_boxes [m]. Outputs: grid = (x0, y0, cell,
-// largest box side) [m]; dims = (nx, ny, nx*ny, 0).
+// largest small side) [m]; dims = (nx, ny, nx*ny, 0).
 __kernel void grid_setup(const uint n_groups,
+                         const uint n_triangles,
                          __global const real4* restrict partial_bounds,
-                         __global const real* restrict partial_side,
+                         __global const real2* restrict partial_side,
                          const uint max_cells,
                          __global real4* restrict grid,
                          __global uint4* restrict dims) {
   __local real4 scratch[GROUP_SIZE];
   const uint lid = get_local_id(0);
   real4 mine = (real4)((real)INFINITY, (real)INFINITY, -(real)INFINITY, -(real)INFINITY);
-  real my_side = 0;
+  real my_side = 0, my_sum = 0;
   for (uint g = lid; g < n_groups; g += GROUP_SIZE) {
     const real4 o = partial_bounds[g];
     mine = (real4)(fmin(mine.x, o.x), fmin(mine.y, o.y), fmax(mine.z, o.z), fmax(mine.w, o.w));
-    my_side = fmax(my_side, partial_side[g]);
+    my_side = fmax(my_side, partial_side[g].x);
+    my_sum += partial_side[g].y;
   }
   const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
   barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
   const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const real sum = group_sum4(scratch, (real4)(my_sum, 0, 0, 0)).x;
   if (lid != 0) return;
 
   const real4 b = (real4)(-folded.x, -folded.y, folded.z, folded.w);
   const real width = b.z - b.x, height = b.w - b.y;
   const real magnitude = fmax(fmax(fabs(b.x), fabs(b.y)), fmax(fabs(b.z), fabs(b.w)));
-  real cell = largest * (real)1.015625 + (real)16 * REAL_EPS * magnitude;
+  const real small_side = fmin(largest, (real)2 * sum / (real)max(n_triangles, 1u));
+  real cell = small_side * (real)1.015625 + (real)16 * REAL_EPS * magnitude;
   if (!(cell > (real)0) || !isfinite(cell)) cell = fmax(fmax(width, height), (real)1);
   real nx = floor(width / cell) + (real)1, ny = floor(height / cell) + (real)1;
   if (nx * ny > (real)max_cells) {
@@ -120,181 +140,279 @@ __kernel void grid_setup(const uint n_groups,
   // Non-finite bounds (a NaN or infinite node) leave nx, ny meaningless: one cell then.
   if (!(nx * ny <= (real)max_cells)) nx = ny = (real)1;
   const uint unx = (uint)nx, uny = (uint)ny;
-  grid[0] = (real4)(b.x, b.y, cell, largest);
+  grid[0] = (real4)(b.x, b.y, cell, isfinite(small_side) ? small_side : cell);
   dims[0] = (uint4)(unx, uny, unx * uny, 0);
 }
 
-// One work-item per cell c < max_cells: marks the cell empty.
-// Outputs: cell_first[c] = cell_last[c] = EMPTY_CELL.
-__kernel void clear_cells(const uint max_cells,
-                          __global uint* restrict cell_first,
-                          __global uint* restrict cell_last) {
-  const uint c = get_global_id(0);
-  if (c >= max_cells) return;
-  cell_first[c] = EMPTY_CELL;
-  cell_last[c] = EMPTY_CELL;
+// Exclusive prefix sum, in place, of data[0 .. n), in three launches: scan_blocks (one
+// work-group per block of SCAN_BLOCK = 4 x GROUP_SIZE entries: the block's own prefix sums
+// and its total), scan_block_sums (one work-group: the totals' prefix sums), scan_add
+// (each entry plus its block's offset). Unsigned integers: exact in any order.
+
+// One work-item per four consecutive entries of a block: the block-local exclusive
+// prefix sums of data, and the block's total in block_sums[group].
+__kernel void scan_blocks(const uint n, __global uint* restrict data, __global uint* restrict block_sums) {
+  __local uint scratch[GROUP_SIZE];
+  const uint base = get_group_id(0) * (4 * GROUP_SIZE) + 4 * get_local_id(0);
+  uint v[4], sum = 0;
+  for (int k = 0; k < 4; ++k) {
+    v[k] = base + k < n ? data[base + k] : 0u;
+    sum += v[k];
+  }
+  uint total;
+  uint running = group_exclusive_scan(scratch, sum, &total);
+  for (int k = 0; k < 4; ++k) {
+    if (base + k < n) data[base + k] = running;
+    running += v[k];
+  }
+  if (get_local_id(0) == 0) block_sums[get_group_id(0)] = total;
 }
 
-// One work-item per triangle t: the hash iy*nx + ix of the cell holding its box centre.
-// Inputs: boxes [m], the grid. Outputs: hash[t], and tri[t] = t (the value the sort
-// carries along).
-__kernel void cell_hash(const uint n_triangles,
-                        __global const real4* restrict boxes,
-                        __global const real4* restrict grid,
-                        __global const uint4* restrict dims,
-                        __global uint* restrict hash,
-                        __global uint* restrict tri) {
+// Launched as ONE work-group: block_sums[0 .. n_blocks) replaced by their exclusive
+// prefix sums (work-item l takes a contiguous run of blocks).
+__kernel void scan_block_sums(const uint n_blocks, __global uint* restrict block_sums) {
+  __local uint scratch[GROUP_SIZE];
+  const uint lid = get_local_id(0);
+  const uint per = (n_blocks + GROUP_SIZE - 1) / GROUP_SIZE;
+  const uint first = min(lid * per, n_blocks), last = min(first + per, n_blocks);
+  uint sum = 0;
+  for (uint b = first; b < last; ++b) sum += block_sums[b];
+  uint total;
+  uint running = group_exclusive_scan(scratch, sum, &total);
+  for (uint b = first; b < last; ++b) {
+    const uint count = block_sums[b];
+    block_sums[b] = running;
+    running += count;
+  }
+}
+
+// One work-item per entry k < n: adds the offset of its block.
+__kernel void scan_add(const uint n, __global uint* restrict data, __global const uint* restrict block_sums) {
+  const uint k = get_global_id(0);
+  if (k < n) data[k] += block_sums[k / (4 * GROUP_SIZE)];
+}
+
+// One work-item per triangle t: counts its entries into the cells (entry_cells), at
+// cell_start[cell + 1], which must be zero before. The prefix sum over the max_cells + 1
+// words then gives in cell_start[c + 1] the start of cell c's entries (cell_start[0] = 0).
+__kernel void cell_count(const uint n_triangles,
+                         __global const real4* restrict boxes,
+                         __global const real4* restrict grid,
+                         __global const uint4* restrict dims,
+                         volatile __global uint* cell_start) {
   const uint t = get_global_id(0);
   if (t >= n_triangles) return;
   const uint4 d = dims[0];
-  const int2 c = cell_of(boxes[t], grid[0], d);
-  hash[t] = (uint)c.y * d.x + (uint)c.x;
-  tri[t] = t;
+  const int4 r = entry_cells(boxes[t], grid[0], d);
+  for (int cy = r.y; cy <= r.w; ++cy)
+    for (int cx = r.x; cx <= r.z; ++cx) atomic_inc(&cell_start[(uint)cy * d.x + (uint)cx + 1]);
 }
 
-// One work-item per position k of the hash list sorted ascending: if k starts a run of
-// equal hashes it writes cell_first[hash] = k, if it ends one cell_last[hash] = k
-// (inclusive). Cells no triangle hashed to keep EMPTY_CELL from clear_cells.
-__kernel void cell_range(const uint n_triangles,
-                         __global const uint* restrict sorted_hash,
-                         __global uint* restrict cell_first,
-                         __global uint* restrict cell_last) {
-  const uint k = get_global_id(0);
-  if (k >= n_triangles) return;
-  const uint h = sorted_hash[k];
-  if (k == 0 || sorted_hash[k - 1] != h) cell_first[h] = k;
-  if (k == n_triangles - 1 || sorted_hash[k + 1] != h) cell_last[h] = k;
+// One work-item per triangle t: places t's entries in the cell-ordered list, each at
+// its cell's next free place (an atomic on the cell's start, which so moves to the cell's
+// end: afterwards cell c's entries are sorted_tri[cell_start[c] .. cell_start[c + 1]), in
+// an order that depends on scheduling; the couples do not). Entries past `capacity` are
+// not written (the host reads the total, grows and scatters again).
+__kernel void cell_scatter(const uint n_triangles,
+                           __global const real4* restrict boxes,
+                           __global const real4* restrict grid,
+                           __global const uint4* restrict dims,
+                           volatile __global uint* cell_start,
+                           const uint capacity,
+                           __global uint* restrict sorted_tri) {
+  const uint t = get_global_id(0);
+  if (t >= n_triangles) return;
+  const uint4 d = dims[0];
+  const int4 r = entry_cells(boxes[t], grid[0], d);
+  for (int cy = r.y; cy <= r.w; ++cy)
+    for (int cx = r.x; cx <= r.z; ++cx) {
+      const uint at = atomic_inc(&cell_start[(uint)cy * d.x + (uint)cx + 1]);
+      if (at < capacity) sorted_tri[at] = t;
+    }
 }
 
-// One work-item per triangle i: scans the 3x3 cells around the cell of its box centre;
-// for every triangle j > i listed there that is a candidate with i, whose box overlaps i's
-// and that shares no node with i, it appends the key (ulong(i) << 32 | j). Candidates:
-// i and j both active, or (with BONDED_PAIRS, activation "fractured") j is one of the up
-// to three triangles a CE4 joins to i (bond_partners[3i..3i+2], NO_PARTNER where none).
-// Bonded couples take part from the start, active or not: their faces touch along the
-// CE4 and may overlap under compression; a couple switched on only when its CE4 breaks
-// would start with that overlap's contact energy, which no force supplied (issue 11). The slot comes from a
-// 32-bit atomic counter; past `capacity` nothing is written but the counter still counts,
-// so the host learns the exact size needed and reruns.
-// Inputs: tri_nodes, boxes [m], active (nonzero = takes part), the grid, cell ranges,
-// sorted triangle list. Outputs: keys[0 .. capacity), count[0] = number of couples.
-__kernel void find_couples(const uint n_triangles,
+// Insertion sort of one triangle's few keys, ascending, by the work-item that wrote them.
+inline void sort_segment(__global ulong* segment, const uint n) {
+  for (uint a = 1; a < n; ++a) {
+    const ulong key = segment[a];
+    uint b = a;
+    while (b > 0 && segment[b - 1] > key) {
+      segment[b] = segment[b - 1];
+      --b;
+    }
+    segment[b] = key;
+  }
+}
+
+// Whether triangles i and j have a node in common (not a contact couple: the mesh holds them).
+inline bool shares_node(const uint i, const uint j, __global const uint* tri_nodes) {
+  const uint a0 = tri_nodes[3 * i], a1 = tri_nodes[3 * i + 1], a2 = tri_nodes[3 * i + 2];
+  const uint b0 = tri_nodes[3 * j], b1 = tri_nodes[3 * j + 1], b2 = tri_nodes[3 * j + 2];
+  return a0 == b0 || a0 == b1 || a0 == b2 || a1 == b0 || a1 == b1 || a1 == b2 || a2 == b0 || a2 == b1 || a2 == b2;
+}
+
+// The couples of triangle i, in one of two modes:
+// - a detection (covered = 0xffffffff): the couples (i, j) with j > i that are
+//   candidates (i and j both active, or with BONDED_PAIRS, activation "fractured", j one
+//   of the up to three triangles a CE4 joins to i: bond_partners[3i .. 3i+2], NO_PARTNER
+//   where none. Bonded couples take part from the start, active or not: their faces touch
+//   along the CE4 and may overlap under compression; a couple switched on only when its
+//   CE4 breaks would start with that overlap's contact energy, which no force supplied,
+//   issue 11);
+// - an extension by joins: when i joined after the list was made or last extended (mask
+//   value, the join's stamp, above `covered`), its couples with every other candidate j,
+//   except its bonded partners (in the list from the start) and, when j joined after
+//   `covered` too, those with j < i (j lists them); keys (lower << 32 | higher).
+// In both, j's box overlaps i's and j shares no node with i. i looks through the cells
+// around its entries (3x3 around a small triangle's, the covered ones and a ring around
+// them for a large one): a small j is there once, at its centre's cell; a large j may be
+// in several of them, and counts in the first (row-major) cell of the two ranges' overlap.
+// With `keys` the keys go to keys[0 ..), in scan order; returns the number of couples.
+inline uint triangle_couples(const uint i,
+                             const uint covered,
+                             __global const uint* tri_nodes,
+                             __global const real4* boxes,
+                             __global const uint* active,
+                             __global const real4* grid,
+                             __global const uint4* dims,
+                             __global const uint* cell_start,
+                             __global const uint* sorted_tri,
+                             const uint n_entries,
+#ifdef BONDED_PAIRS
+                             __global const uint* bond_partners,
+#endif
+#ifdef OWNED_FIRST
+                             __global const uchar* owned_first,
+#endif
+                             __global ulong* keys) {
+  const bool extension = covered != 0xffffffffu;
+  const uint stamp_i = active[i];
+#ifdef BONDED_PAIRS
+  const uint p0 = bond_partners[3 * i], p1 = bond_partners[3 * i + 1], p2 = bond_partners[3 * i + 2];
+#else
+  const uint p0 = NO_PARTNER, p1 = NO_PARTNER, p2 = NO_PARTNER;
+#endif
+  if (extension) {
+    if (stamp_i <= covered) return 0;
+  } else {
+#ifdef OWNED_FIRST
+    // A split run: this rank lists only the couples whose lower triangle it owns.
+    if (owned_first[i] == 0) return 0;
+#endif
+    if (stamp_i == 0) {
+      // Not a candidate itself: only its bonded partners j > i, looked at directly (no
+      // cells; in an intact fracture model that is nearly every triangle).
+      const real4 box = boxes[i];
+      const uint partner[3] = {p0, p1, p2};
+      uint found = 0;
+      for (int k = 0; k < 3; ++k) {
+        const uint j = partner[k];
+        if (j == NO_PARTNER || j <= i || !boxes_overlap(box, boxes[j]) || shares_node(i, j, tri_nodes)) continue;
+        if (keys) keys[found] = ((ulong)i << 32) | (ulong)j;
+        ++found;
+      }
+      // Ascending j, as a scan's segment is after its sort (at most three: sort here).
+      if (keys) sort_segment(keys, found);
+      return found;
+    }
+  }
+  const uint4 d = dims[0];
+  const real4 g = grid[0];
+  const real4 box = boxes[i];
+  const int4 mine = entry_cells(box, g, d);
+  const int x_lo = max(mine.x - 1, 0), x_hi = min(mine.z + 1, (int)d.x - 1);
+  const int y_lo = max(mine.y - 1, 0), y_hi = min(mine.w + 1, (int)d.y - 1);
+  uint found = 0;
+  for (int cy = y_lo; cy <= y_hi; ++cy) {
+    for (int cx = x_lo; cx <= x_hi; ++cx) {
+      const uint h = (uint)cy * d.x + (uint)cx;
+      // (min: after an overflow of the entries the host sorts again; read nothing past them)
+      const uint end = min(cell_start[h + 1], n_entries);
+      for (uint k = cell_start[h]; k < end; ++k) {
+        const uint j = sorted_tri[k];
+        const uint stamp_j = active[j];
+        const bool bonded = j == p0 || j == p1 || j == p2;
+        if (extension) {
+          if (j == i || stamp_j == 0 || (stamp_j > covered && j < i) || bonded) continue;
+        } else {
+          if (j <= i || !((stamp_i != 0 && stamp_j != 0) || bonded)) continue;
+        }
+        const real4 other = boxes[j];
+        if (!boxes_overlap(box, other)) continue;
+        const int4 theirs = entry_cells(other, g, d);
+        if (theirs.x != theirs.z || theirs.y != theirs.w) {  // large j: only in the overlap's first cell
+          if (cy != max(y_lo, theirs.y) || cx != max(x_lo, theirs.x)) continue;
+        }
+        if (shares_node(i, j, tri_nodes)) continue;
+        if (keys) keys[found] = i < j ? ((ulong)i << 32) | (ulong)j : ((ulong)j << 32) | (ulong)i;
+        ++found;
+      }
+    }
+  }
+  return found;
+}
+
+#ifdef BONDED_PAIRS
+#define BOND_ARG , bond_partners
+#define BOND_PARAM , __global const uint* restrict bond_partners
+#else
+#define BOND_ARG
+#define BOND_PARAM
+#endif
+#ifdef OWNED_FIRST
+#define OWNED_ARG , owned_first
+#define OWNED_PARAM , __global const uchar* restrict owned_first
+#else
+#define OWNED_ARG
+#define OWNED_PARAM
+#endif
+
+// One work-item per triangle i (and one more): the number of its couples
+// (triangle_couples; covered = 0xffffffff for a detection, the list's covered join stamp
+// for an extension) in couple_offset[i]. The prefix sum over the triangles then makes
+// them the segments' starts, and entry n_triangles, zero here, the total.
+__kernel void couple_count(const uint n_triangles,
+                           const uint covered,
                            __global const uint* restrict tri_nodes,
                            __global const real4* restrict boxes,
                            __global const uint* restrict active,
                            __global const real4* restrict grid,
                            __global const uint4* restrict dims,
-                           __global const uint* restrict cell_first,
-                           __global const uint* restrict cell_last,
+                           __global const uint* restrict cell_start,
                            __global const uint* restrict sorted_tri,
-                           const uint capacity,
-                           volatile __global uint* count,
-                           __global ulong* restrict keys
-#ifdef BONDED_PAIRS
-                           , __global const uint* restrict bond_partners
-#endif
-#ifdef OWNED_FIRST
-                           , __global const uchar* restrict owned_first
-#endif
-                           ) {
+                           const uint n_entries,
+                           __global uint* restrict couple_offset BOND_PARAM OWNED_PARAM) {
+  const uint i = get_global_id(0);
+  if (i > n_triangles) return;
+  couple_offset[i] = i == n_triangles ? 0u
+                                      : triangle_couples(i, covered, tri_nodes, boxes, active, grid, dims, cell_start,
+                                                         sorted_tri, n_entries BOND_ARG OWNED_ARG, (__global ulong*)0);
+}
+
+// One work-item per triangle i: writes its couples to keys[listed + couple_offset[i] ..
+// listed + couple_offset[i + 1]) and sorts that segment ascending (insertion sort: a few
+// entries). `listed`: 0 for a detection; for an extension the couples already listed (the
+// new ones follow them, by joining triangle, then key). The host has grown `keys` to the
+// total before.
+__kernel void couple_write(const uint n_triangles,
+                           const uint covered,
+                           __global const uint* restrict tri_nodes,
+                           __global const real4* restrict boxes,
+                           __global const uint* restrict active,
+                           __global const real4* restrict grid,
+                           __global const uint4* restrict dims,
+                           __global const uint* restrict cell_start,
+                           __global const uint* restrict sorted_tri,
+                           const uint n_entries,
+                           __global const uint* restrict couple_offset,
+                           const uint listed,
+                           __global ulong* restrict keys BOND_PARAM OWNED_PARAM) {
   const uint i = get_global_id(0);
   if (i >= n_triangles) return;
-#ifdef OWNED_FIRST
-  // A split run: this rank lists only the couples whose lower triangle it owns.
-  if (owned_first[i] == 0) return;
-#endif
-#ifdef BONDED_PAIRS
-  const uint p0 = bond_partners[3 * i], p1 = bond_partners[3 * i + 1], p2 = bond_partners[3 * i + 2];
-  const bool i_active = active[i] != 0;
-  if (!i_active && p0 == NO_PARTNER && p1 == NO_PARTNER && p2 == NO_PARTNER) return;
-#else
-  if (active[i] == 0) return;
-#endif
-  const uint4 d = dims[0];
-  const real4 box = boxes[i];
-  const int2 c = cell_of(box, grid[0], d);
-  const uint a0 = tri_nodes[3 * i], a1 = tri_nodes[3 * i + 1], a2 = tri_nodes[3 * i + 2];
-  const int y_lo = max(c.y - 1, 0), y_hi = min(c.y + 1, (int)d.y - 1);
-  const int x_lo = max(c.x - 1, 0), x_hi = min(c.x + 1, (int)d.x - 1);
-  for (int cy = y_lo; cy <= y_hi; ++cy) {
-    for (int cx = x_lo; cx <= x_hi; ++cx) {
-      const uint h = (uint)cy * d.x + (uint)cx;
-      const uint first = cell_first[h];
-      if (first == EMPTY_CELL) continue;
-      const uint last = cell_last[h];
-      for (uint k = first; k <= last; ++k) {
-        const uint j = sorted_tri[k];
-#ifdef BONDED_PAIRS
-        if (j <= i || !((i_active && active[j] != 0) || j == p0 || j == p1 || j == p2)) continue;
-#else
-        if (j <= i || active[j] == 0) continue;
-#endif
-        if (!boxes_overlap(box, boxes[j])) continue;
-        const uint b0 = tri_nodes[3 * j], b1 = tri_nodes[3 * j + 1], b2 = tri_nodes[3 * j + 2];
-        if (a0 == b0 || a0 == b1 || a0 == b2 || a1 == b0 || a1 == b1 || a1 == b2 ||
-            a2 == b0 || a2 == b1 || a2 == b2)
-          continue;
-        const uint slot = atomic_inc(count);
-        if (slot < capacity) keys[slot] = ((ulong)i << 32) | (ulong)j;
-      }
-    }
-  }
-}
-
-// Bitonic sort of buf[0 .. p) ascending (p a power of two), by the whole work-group.
-inline void bitonic_sort_local(__local ulong* buf, const uint p) {
-  const uint lid = get_local_id(0);
-  for (uint k = 2; k <= p; k <<= 1) {
-    for (uint j = k >> 1; j > 0; j >>= 1) {
-      for (uint i = lid; i < p; i += GROUP_SIZE) {
-        const uint l = i ^ j;
-        if (l > i) {
-          const ulong a = buf[i], b = buf[l];
-          const bool ascending = (i & k) == 0;
-          if ((a > b) == ascending) {
-            buf[i] = b;
-            buf[l] = a;
-          }
-        }
-      }
-      barrier(CLK_LOCAL_MEM_FENCE);
-    }
-  }
-}
-
-// Smallest power of two >= n (n <= SMALL_SORT).
-inline uint sort_width(const uint n) {
-  uint p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
-
-// Launched as ONE work-group (small models: n <= SMALL_SORT, a power of two). Sorts the
-// (hash, triangle) pairs by hash, ties by triangle (so the order a stable sort of the
-// hashes gives, the triangles being in order before): each pair as one ulong
-// hash << 32 | triangle in local memory, a bitonic network, written back. One launch
-// instead of a library sort's many (a small model's detection is launch-bound).
-__kernel void sort_small_pairs(const uint n, __global uint* restrict hash, __global uint* restrict tri) {
-  __local ulong buf[SMALL_SORT];
-  const uint p = sort_width(n);
-  for (uint i = get_local_id(0); i < p; i += GROUP_SIZE)
-    buf[i] = i < n ? ((ulong)hash[i] << 32) | (ulong)tri[i] : (ulong)0xffffffffffffffffUL;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  bitonic_sort_local(buf, p);
-  for (uint i = get_local_id(0); i < n; i += GROUP_SIZE) {
-    hash[i] = (uint)(buf[i] >> 32);
-    tri[i] = (uint)(buf[i] & 0xffffffffUL);
-  }
-}
-
-// Launched as ONE work-group (n <= SMALL_SORT): sorts the couple keys keys[0 .. n)
-// ascending in local memory (bitonic network; the keys are unique, so the order is the
-// one any sort gives).
-__kernel void sort_small_keys(const uint n, __global ulong* restrict keys) {
-  __local ulong buf[SMALL_SORT];
-  const uint p = sort_width(n);
-  for (uint i = get_local_id(0); i < p; i += GROUP_SIZE) buf[i] = i < n ? keys[i] : (ulong)0xffffffffffffffffUL;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  bitonic_sort_local(buf, p);
-  for (uint i = get_local_id(0); i < n; i += GROUP_SIZE) keys[i] = buf[i];
+  const uint first = couple_offset[i], end = couple_offset[i + 1];
+  if (first == end) return;
+  __global ulong* segment = keys + listed + first;
+  triangle_couples(i, covered, tri_nodes, boxes, active, grid, dims, cell_start, sorted_tri, n_entries
+                   BOND_ARG OWNED_ARG, segment);
+  sort_segment(segment, end - first);
 }

@@ -77,17 +77,11 @@ inline void add_force(__global long* acc, uint node, real2 f, real scale) {
   atom_add(&acc[2 * node + 1], convert_long_rte(f.y * scale));
 }
 
-// Index of `key` in the sorted list, or -1.
-inline int find_key(__global const ulong* keys, uint n, ulong key) {
-  uint lo = 0, hi = n;
-  while (lo < hi) {
-    const uint mid = (lo + hi) / 2;
-    const ulong k = keys[mid];
-    if (k < key) lo = mid + 1;
-    else if (k > key) hi = mid;
-    else return (int)mid;
-  }
-  return -1;
+// The row in the carry list of couple c of a new list (ContactCarry::locate wrote it,
+// NO_SLOT when the couple was not carried), or -1.
+inline int carried_row(const uint c, __global const uint* carry_of) {
+  const uint row = carry_of[c];
+  return row == NO_SLOT ? -1 : (int)row;
 }
 
 // A couple that does not touch: the couple let go. What its friction springs held (their
@@ -245,14 +239,18 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
-                            __global uchar* live, __global uint* slot BOND_ARGS CLASSIFY_BOND_ARGS) {
-  if (!same_list) slot[c] = NO_SLOT;  // a new list: no couple holds a pool row yet
+                            const uint new_from, __global uchar* live, __global uint* slot,
+                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS) {
+  // A new list, or couples appended to this one from `new_from` on (triangles that joined
+  // the candidates, ContactDetection::extend_joined): no pool row, no flag yet.
+  const bool fresh = !same_list || c >= new_from;
+  if (fresh) slot[c] = NO_SLOT;
 #ifdef CE4_BONDS
   // Most candidate couples of intact rock are carried by a CE4 or a bonded fan: with the
   // list's bond words known, such a couple costs two words read, not the key and the
   // gathers through bond_ce4, tri_nodes and node_origin that found its bond.
   uint word;
-  if (bond_words_known) {
+  if (c < bond_words_known) {
     word = bond_word[c];
   } else {
     const ulong key = keys[c];
@@ -279,8 +277,8 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
     couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
     if (!separated(x)) return true;
   }
-  if (!same_list || live[c]) {  // in place and already forgotten: nothing to read or write
-    const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, keys[c]);
+  if (fresh || live[c]) {  // in place and already forgotten: nothing to read or write
+    const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
     forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
     live[c] = 0;
   }
@@ -302,7 +300,9 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
 // step's monitor ring slot, where the host reads it late and grows the pool before it
 // fills (ContactForces::ensure_pool). The launch covers max(n_couples, n_nodes) items.
 // bond_word[c] (with CE4s): couple c's couple_bond, written in the first step of a list
-// (bond_words_known = 0; also after a checkpoint is loaded) and read in the others.
+// (bond_words_known = 0; also after a checkpoint is loaded; the first step after an
+// extension writes those of the appended couples, bond_words_known = new_from) and read
+// for couples c < bond_words_known.
 // live[c]: 1 when couple c touched in the last step, 2 when it overlaps but waits (see
 // contact_forces), 0 otherwise (written by both kernels; read in
 // place, to skip the history of couples that are apart and already forgotten; the host
@@ -321,10 +321,12 @@ __kernel void contact_classify(const uint n_couples,
                                const real energy_scale,
                                __global long* restrict energy,
                                const uint same_list,
+                               const uint new_from,
                                __global uint* restrict counters,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live,
-                               __global uint* restrict slot BOND_ARGS CLASSIFY_BOND_ARGS,
+                               __global uint* restrict slot,
+                               __global const uint* restrict carry_of BOND_ARGS CLASSIFY_BOND_ARGS,
                                const uint n_nodes,
                                __global long* restrict contact_acc,
                                const uint list_counter
@@ -346,7 +348,7 @@ __kernel void contact_classify(const uint n_couples,
   }
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, live, slot BOND_PASS CLASSIFY_BOND_PASS))
+                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS))
     overlap_list[atomic_inc(&counters[list_counter])] = c;
 #else
   __local uint group_count, group_base;
@@ -354,7 +356,7 @@ __kernel void contact_classify(const uint n_couples,
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       live, slot BOND_PASS CLASSIFY_BOND_PASS);
+                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[list_counter], group_count);
@@ -412,9 +414,11 @@ __kernel void contact_forces(const uint n_couples,
                              __global long* restrict energy,
                              __global uint* restrict counters,
                              const uint same_list,
+                             const uint new_from,
                              __global const uint* restrict overlap_list,
                              __global uchar* restrict live,
                              __global uint* restrict slot,
+                             __global const uint* restrict carry_of,
                              __global uint* restrict pool_state,
                              const uint pool_capacity,
                              const uint energy_row,
@@ -440,7 +444,7 @@ __kernel void contact_forces(const uint n_couples,
 
   // The row of the couple's history in previous_history (the pool itself in the same
   // list, the carry list in a new one), -1: none (zero).
-  const int found = same_list ? pool_row(c, slot) : find_key(previous_keys, n_previous, key);
+  const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
 
   // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
   // The barycentric weights (×3) of B's vertex q at the ends of A's edge e are
@@ -506,7 +510,8 @@ __kernel void contact_forces(const uint n_couples,
 #else
   const bool released_now = false;
 #endif
-  if ((found < 0 && !same_list && joined) || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
+  // (couples appended to the list in this step are new too: c >= new_from)
+  if ((found < 0 && (!same_list || c >= new_from) && joined) || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
     const int row = take_slot(c, slot, pool_state, pool_capacity, step);
     if (row >= 0)
       for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;

@@ -113,9 +113,9 @@ void upload(ClContext& cl, compute::buffer& buffer, const std::vector<T>& data) 
   if (!data.empty()) cl.queue().enqueue_write_buffer(buffer, 0, data.size() * sizeof(T), data.data());
 }
 template <typename T>
-std::vector<T> download(ClContext& cl, const compute::buffer& buffer, size_t count) {
+std::vector<T> download(ClContext& cl, const compute::buffer& buffer, size_t count, size_t first = 0) {
   std::vector<T> data(count);
-  if (count) cl.queue().enqueue_read_buffer(buffer, 0, count * sizeof(T), data.data());
+  if (count) cl.queue().enqueue_read_buffer(buffer, first * sizeof(T), count * sizeof(T), data.data());
   return data;
 }
 

@@ -478,6 +478,21 @@ int split_run_command(const Arguments& a) {
   return 0;
 }
 
+// How often the contact list was rebuilt and extended, and what each cost (host wall:
+// each includes its one wait for a count), from the profile's host-timed sections.
+void print_contact_list_profile(fdem::ClContext& cl, long steps, std::ostream& out) {
+  const auto& profile = cl.profile();
+  auto line = [&](const char* section, const char* what) {
+    for (const auto& [name, t] : profile)
+      if (name.rfind(section, 0) == 0 && t.launches > 0)
+        out << "  " << what << ": " << t.launches << " (" << std::fixed << std::setprecision(1)
+            << 1e3 * t.launches / std::max(1L, steps) << " per 1,000 steps), " << std::setprecision(3)
+            << 1e3 * t.seconds / t.launches << " ms each\n" << std::defaultfloat;
+  };
+  line("contact detection (host wall", "contact detections");
+  line("contact list extension", "contact list extensions by joins");
+}
+
 int run_command(const Arguments& a) {
   if (g_transport) return split_run_command(a);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
@@ -523,6 +538,7 @@ int run_command(const Arguments& a) {
       std::cout << "  " << std::left << std::setw(60) << name << std::right << std::setw(10) << t.launches
                 << " calls " << std::fixed << std::setprecision(3) << std::setw(10) << 1e3 * t.seconds << " ms "
                 << std::setw(10) << 1e6 * t.seconds / s.steps << " us/step\n" << std::defaultfloat;
+    print_contact_list_profile(cl, s.steps - s.first_step, std::cout);
   }
   return 0;
 }

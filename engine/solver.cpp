@@ -247,19 +247,42 @@ void Solver::step(bool energy_row) {
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
     if (activation_) activation_->enqueue(steps_);
-    const bool rebuild = !skin_ || rebuilds_ == 0 || skin_->rebuild_due(steps_);
-    if (rebuild) {
+    const ContactSkin::Due due =
+        !skin_ || rebuilds_ == 0 ? ContactSkin::Due::Moved : skin_->rebuild_due(steps_);
+    // Triangles joined the candidates and nothing moved far: their couples are added to
+    // the list from the last detection's grid (no new detection, no carry-over), unless
+    // there is no room or it cannot (ContactDetection::extend_joined: then a detection).
+    size_t extended = 0;
+    if (due == ContactSkin::Due::Joined && extend_joins_) {
+      const auto start = std::chrono::steady_clock::now();
+      const size_t listed = contact_->couples();
+      extended = detection_->extend_joined(listed, contact_->list_capacity(), ContactActivation::join_stamp(steps_));
+      if (extended) {
+        contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
+        contact_->enqueue_extended(detection_->couple_keys(), extended, dt_, energy_row, steps_);
+        skin_->joins_covered(steps_);
+        ++extensions_;
+      }
+      if (cl_.profiling())
+        cl_.add_host_time("contact list extension by joins (host wall, incl. count read)",
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    if (extended == 0 && due != ContactSkin::Due::Nothing) {
       const auto start = std::chrono::steady_clock::now();
       if (before_detection_) before_detection_();
       contact_->carry_before_detection();  // the detection rewrites the list the stage reads
       const size_t count = detection_->run();
+      detection_->set_covered_stamp(ContactActivation::join_stamp(steps_));
       if (cl_.profiling())
-        cl_.add_host_time("contact detection (host wall, incl. sorts and count read)",
+        cl_.add_host_time("contact detection (host wall, incl. count read)",
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       contact_->enqueue(detection_->couple_keys(), count, true, dt_, energy_row, steps_);
-      if (skin_) skin_->mark();
+      if (skin_) {
+        skin_->mark();
+        skin_->joins_covered(steps_);
+      }
       ++rebuilds_;
-    } else {
+    } else if (extended == 0) {
       if (skin_) contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
@@ -430,6 +453,8 @@ void Solver::save_state(StateWriter& out) {
   cl_.finish();
   out.integer("step", steps_);
   out.integer("contact_rebuilds", rebuilds_);
+  const cl_long extensions = extensions_;
+  out.host<cl_long>("contact_extensions", &extensions, 1);
   out.integer("energy_row_step", energy_row_step_);
   const auto b = balance_.state();
   out.number("balance_initial_stored", b[0]);
@@ -453,6 +478,9 @@ void Solver::save_state(StateWriter& out) {
 void Solver::load_state(StateReader& in) {
   steps_ = static_cast<long>(in.integer("step"));
   rebuilds_ = static_cast<long>(in.integer("contact_rebuilds"));
+  cl_long extensions = 0;
+  if (in.has("contact_extensions")) in.host<cl_long>("contact_extensions", &extensions, 1);
+  extensions_ = static_cast<long>(extensions);
   energy_row_step_ = static_cast<long>(in.integer("energy_row_step"));
   balance_.restore({in.number("balance_initial_stored"), in.number("balance_peak_kinetic")});
   in.buffer<real>("position", arrays_.position, arrays_.num_nodes, 2);
@@ -465,7 +493,13 @@ void Solver::load_state(StateReader& in) {
   if (contact_) {
     contact_->load_state(in);
     detection_->load_state(in);
-    if (skin_) skin_->load_state(in);
+    if (skin_) {
+      skin_->load_state(in);
+      // The list and the last detection's grid as the run had them, so that a join is met
+      // by the same extension as in the run that wrote the checkpoint.
+      if (detection_->restore_list(in)) contact_->share_keys(detection_->couple_keys());
+      detection_->rebuild_grid(skin_->position_at_build());
+    }
   }
   labels_step_ = -1;
   labels_broken_ = -1;

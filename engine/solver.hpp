@@ -134,6 +134,12 @@ class Solver {
   double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
   std::vector<real2> contact_forces();  // per node [N] (waits)
   long contact_rebuilds() const { return rebuilds_; }
+  // Steps whose list was extended by the couples of joined triangles instead of a new
+  // detection (activation "fractured" with a skin; ContactDetection::extend_joined).
+  long contact_extensions() const { return extensions_; }
+  // Off: every join is met by a new detection, as before extensions (for comparisons:
+  // the same forces, bitwise; tests/test_contact_cases.cpp).
+  void set_extend_joins(bool on) { extend_joins_ = on; }
   ContactDetection* detection() { return detection_.get(); }
   CohesiveForces* cohesive() { return cohesive_.get(); }
   // The pieces of the body now (models with CE4s; empty otherwise): per triangle, the
@@ -205,6 +211,8 @@ class Solver {
   RowReads row_reads_;
   size_t ce4_count_ = 0;
   long rebuilds_ = 0;
+  long extensions_ = 0;
+  bool extend_joins_ = true;
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)

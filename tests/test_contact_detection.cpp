@@ -133,15 +133,21 @@ void check_grid(ContactDetection& stage, const Model& m, const std::vector<real2
   CHECK(g.nx >= 1);
   CHECK(g.ny >= 1);
   CHECK(size_t(g.nx) * g.ny <= stage.max_cells());
-  double largest = 0;
+  double largest = 0, sum = 0;
   bool covered = true;
-  for (const auto& b : host_boxes(m, pos, skin)) {
-    largest = std::max({largest, double(b.hi_x - b.lo_x), double(b.hi_y - b.lo_y)});
+  const auto boxes = host_boxes(m, pos, skin);
+  for (const auto& b : boxes) {
+    const double side = std::max(double(b.hi_x - b.lo_x), double(b.hi_y - b.lo_y));
+    largest = std::max(largest, side);
+    sum += side;
     covered = covered && b.lo_x >= g.x0 && b.lo_y >= g.y0 && b.hi_x <= g.x0 + g.nx * g.cell_size &&
               b.hi_y <= g.y0 + g.ny * g.cell_size;
   }
   CHECK(covered);
-  CHECK(g.cell_size >= largest);
+  // Boxes up to the smaller of the largest side and twice the mean go into one cell.
+  const double small = std::min(largest, 2 * sum / std::max<size_t>(boxes.size(), 1));
+  CHECK(g.small_side == doctest::Approx(small).epsilon(1e-9));
+  CHECK(g.cell_size >= g.small_side);
 }
 
 }  // namespace
@@ -225,7 +231,7 @@ TEST_CASE("triangles of a deformed mesh that share a node are never couples") {
   }
 }
 
-TEST_CASE("an output buffer of one couple grows and gives the same list as a large one") {
+TEST_CASE("an output buffer of one couple grows to the count before the keys are written: the same list as a large one") {
   auto& cl = test::context();
   std::mt19937 rng(31);
   const Model m = varied_soup(2000, rng);
@@ -243,40 +249,116 @@ TEST_CASE("an output buffer of one couple grows and gives the same list as a lar
   CHECK(got == brute_force(m, model_positions(m), 0.01));
 }
 
-TEST_CASE("the radix-sort path (Boost.Compute's GPU path) gives the same couples as the default path") {
+TEST_CASE("the prefix sums' block edges: soups of 1,023 to 4,097 triangles give the brute force's couples") {
+  // The scans run in blocks of 4 x work-group entries (1,024 with groups of 256): the
+  // triangle counts straddle one and four blocks, and the cell count (4n + 1024, + 1) many.
   auto& cl = test::context();
-  std::mt19937 rng(41);
-  const Model m = varied_soup(2500, rng);
-  DeviceArrays arrays(cl, m);
-  ContactDetection merge(cl, arrays, 0.005);
-  ContactDetection radix(cl, arrays, 0.005);
-  radix.use_radix_sort(true);
-  const auto a = detect(cl, merge);
-  const auto b = detect(cl, radix);
-  CHECK(a == b);
-  CHECK(b == brute_force(m, model_positions(m), 0.005));
-}
-
-TEST_CASE("small models: the one-work-group sorts give the couples of the brute force and of the library's sorts") {
-  auto& cl = test::context();
-  // 60 and 300 triangles: both sorts in local memory; 1500: the (hash, triangle) sort in
-  // local memory, the couples (more than kSmallSort) through Boost.Compute.
-  for (int n : {60, 300, 1500}) {
+  for (int n : {1, 2, 1023, 1024, 1025, 4095, 4097}) {
     CAPTURE(n);
-    std::mt19937 rng(51 + n);
+    std::mt19937 rng(71 + n);
     const Model m = varied_soup(n, rng);
     DeviceArrays arrays(cl, m);
-    ContactDetection small(cl, arrays, 0.005);
-    ContactDetection library(cl, arrays, 0.005);
-    library.use_radix_sort(true);
-    const auto a = detect(cl, small);
-    MESSAGE(n << " triangles: " << a.size() << " couples");
-    CHECK(a.size() > 10);
-    CHECK(a == detect(cl, library));
+    ContactDetection stage(cl, arrays, 0.005);
+    const auto a = detect(cl, stage);
     CHECK(a == brute_force(m, model_positions(m), 0.005));
-    if (n == 300) CHECK(a.size() <= ContactDetection::kSmallSort);
-    if (n == 1500) CHECK(a.size() > ContactDetection::kSmallSort);
+    if (n > 1000) CHECK(a.size() > 100);
   }
+}
+
+TEST_CASE("an extension by joined triangles lists what a detection with them would have listed, once each") {
+  // A soup where a third of the triangles take part; then others join in three rounds
+  // (mask value = a join stamp above the list's), the bodies having moved since the
+  // detection. Each extension must hold exactly the couples of a detection at the
+  // detection's positions with the new mask that the list did not have: old list +
+  // extensions = that detection, as sets; old list unchanged; each extension's own
+  // segments sorted per joining triangle.
+  auto& cl = test::context();
+  std::mt19937 rng(83);
+  const Model m = varied_soup(3000, rng);
+  const auto at_detection = model_positions(m);
+  DeviceArrays arrays(cl, m);
+  const double skin = 0.004;
+  ContactDetection stage(cl, arrays, skin, 1000);  // a list that must grow, keeping its couples
+  std::vector<uint32_t> mask(m.num_triangles(), 0);
+  for (size_t t = 0; t < mask.size(); ++t) mask[t] = t % 3 == 0 ? 1u : 0u;
+  stage.set_active(mask);
+  const size_t first = stage.run();
+  stage.set_covered_stamp(2);
+  auto list = download<cl_ulong>(cl, stage.couple_keys(), first);
+  const auto expected = brute_force(m, at_detection, skin, mask);
+  CHECK(list == std::vector<cl_ulong>(expected.begin(), expected.end()));
+  // The nodes move (the extension must use the detection's boxes, not these).
+  std::vector<real2> moved = at_detection;
+  for (auto& p : moved) p.x += real(0.003);
+  upload(cl, arrays.position, moved);
+  std::uniform_int_distribution<int> pick(0, 4);
+  size_t listed = first;
+  for (cl_uint round = 3; round <= 5; ++round) {
+    CAPTURE(round);
+    for (size_t t = 0; t < mask.size(); ++t)
+      if (mask[t] == 0 && pick(rng) == 0) mask[t] = round;
+    stage.set_active(mask);
+    const size_t now = stage.extend_joined(listed, 1u << 30, round);
+    REQUIRE(now >= listed);
+    CHECK(stage.covered_stamp() == round);
+    const auto keys = download<cl_ulong>(cl, stage.couple_keys(), now);
+    CHECK(std::equal(list.begin(), list.end(), keys.begin()));  // the list so far, unchanged
+    std::vector<uint64_t> all(keys.begin(), keys.end());
+    std::sort(all.begin(), all.end());
+    CHECK(std::adjacent_find(all.begin(), all.end()) == all.end());  // no couple twice
+    std::vector<uint32_t> taking_part(mask.size());
+    for (size_t t = 0; t < mask.size(); ++t) taking_part[t] = mask[t] != 0;
+    CHECK(all == brute_force(m, at_detection, skin, taking_part));
+    MESSAGE("round " << round << ": " << now - listed << " couples appended to " << listed);
+    CHECK(now > listed);
+    list.assign(keys.begin(), keys.end());
+    listed = now;
+  }
+  // Nothing joined since: nothing appended.
+  CHECK(stage.extend_joined(listed, 1u << 30, 6) == listed);
+  // No room: 0, the caller detects again.
+  for (size_t t = 0; t < mask.size(); ++t)
+    if (mask[t] == 0) mask[t] = 7;
+  stage.set_active(mask);
+  CHECK(stage.extend_joined(listed, listed, 7) == 0);
+}
+
+TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times larger): the brute force's couples") {
+  // The cell follows twice the mean box, not the largest: the large triangles are
+  // entered in every cell they cover and found there once.
+  auto& cl = test::context();
+  std::mt19937 rng(97);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x, y;
+  std::vector<std::array<int, 3>> tris;
+  for (int t = 0; t < 3000; ++t) {
+    const bool big = t % 150 == 0;
+    add_triangle(x, y, tris, 0.5 * u(rng), 0.5 * u(rng), big ? 0.3 : 0.003, rng);
+  }
+  const Model m = test::make_model(x, y, tris, one_material());
+  DeviceArrays arrays(cl, m);
+  ContactDetection stage(cl, arrays, 0.001);
+  const auto a = detect(cl, stage);
+  CHECK(a == brute_force(m, model_positions(m), 0.001));
+  const auto g = stage.grid();
+  CHECK(g.small_side < 0.05);  // not the large triangles' size
+  check_grid(stage, m, model_positions(m), 0.001);
+}
+
+TEST_CASE("a pile of triangles in one cell: every couple listed once, each triangle's segment sorted") {
+  // 60 triangles with no node in common over nearly the same place: 1,770 couples, 59 for
+  // the first triangle, written by one work-item into its segment in cell order and sorted there.
+  auto& cl = test::context();
+  std::mt19937 rng(5);
+  std::vector<double> x, y;
+  std::vector<std::array<int, 3>> tris;
+  for (int t = 0; t < 60; ++t) add_triangle(x, y, tris, 0.001 * (t % 7), 0.001 * (t % 5), 0.05, rng);
+  const Model m = test::make_model(x, y, tris, one_material());
+  DeviceArrays arrays(cl, m);
+  ContactDetection stage(cl, arrays, 0.0);
+  const auto a = detect(cl, stage);
+  CHECK(a.size() == 60 * 59 / 2);
+  CHECK(a == brute_force(m, model_positions(m), 0.0));
 }
 
 TEST_CASE("two runs, and two stages, give identical couple lists") {
@@ -351,8 +433,6 @@ TEST_CASE("small cases: touching boxes, a shared node, far apart, one triangle")
   ContactDetection skinned(cl, arrays, 0.5);
   CHECK(detect(cl, skinned) == std::vector<uint64_t>{key(0, 1), key(3, 4)});
   CHECK(detect(cl, skinned) == brute_force(m, model_positions(m), 0.5));
-  skinned.use_radix_sort(true);  // radix sort on a list shorter than one of its blocks
-  CHECK(detect(cl, skinned) == std::vector<uint64_t>{key(0, 1), key(3, 4)});
 
   const Model single = test::make_model({0, 1, 0}, {0, 0, 1}, {{0, 1, 2}}, one_material());
   DeviceArrays one(cl, single);

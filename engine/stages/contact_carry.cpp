@@ -37,6 +37,18 @@ ContactCarry::ContactCarry(ClContext& cl, size_t triangles, size_t list_capacity
   count_kernel_ = compute::kernel(program, "carry_count");
   offsets_kernel_ = compute::kernel(program, "carry_offsets");
   scatter_kernel_ = compute::kernel(program, "carry_scatter");
+  locate_kernel_ = compute::kernel(program, "carry_locate");
+}
+
+void ContactCarry::locate(const compute::buffer& keys, size_t count, size_t carried, const compute::buffer& carry_of) {
+  if (count == 0) return;
+  const cl_uint none = kNoSlot;
+  cl_.queue().enqueue_fill_buffer(carry_of, &none, sizeof(none), 0, count * sizeof(cl_uint));
+  if (carried == 0) return;
+  bind_args(locate_kernel_)("n_carried", static_cast<cl_uint>(carried))("carry_keys", keys_)(
+      "n_couples", static_cast<cl_uint>(count))("keys", keys)("carry_of", carry_of)
+      .done();
+  cl_.enqueue(locate_kernel_, carried);
 }
 
 size_t ContactCarry::carry(const compute::buffer& keys, const compute::buffer& history, const compute::buffer& slot,

@@ -36,6 +36,9 @@ class ContactCarry {
   // number, to grow the carry list when it does not fit).
   size_t carry(const compute::buffer& keys, const compute::buffer& history, const compute::buffer& slot,
                const compute::buffer& live, const compute::buffer& active, size_t n_couples, cl_uint joined_since);
+  // For a new list of `count` keys (ascending): carry_of[c] = the carry-list row of couple
+  // c, NO_SLOT for couples that were not carried. Never waits.
+  void locate(const compute::buffer& keys, size_t count, size_t carried, const compute::buffer& carry_of);
   const compute::buffer& keys() const { return keys_; }
   const compute::buffer& history() const { return history_; }
   size_t capacity() const { return capacity_; }
@@ -44,7 +47,7 @@ class ContactCarry {
   ClContext& cl_;
   size_t capacity_, offsets_capacity_;
   compute::buffer keys_, history_, count_, offsets_;
-  compute::kernel count_kernel_, offsets_kernel_, scatter_kernel_;
+  compute::kernel count_kernel_, offsets_kernel_, scatter_kernel_, locate_kernel_;
 };
 
 }  // namespace fdem

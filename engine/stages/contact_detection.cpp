@@ -2,11 +2,7 @@
 
 #include <algorithm>
 #include <map>
-#include <boost/compute/algorithm/detail/radix_sort.hpp>
-#include <boost/compute/algorithm/sort.hpp>
-#include <boost/compute/algorithm/sort_by_key.hpp>
 #include <boost/compute/exception.hpp>
-#include <boost/compute/iterator/buffer_iterator.hpp>
 #include <string>
 
 #include "base/errors.hpp"
@@ -16,22 +12,17 @@ namespace fdem {
 
 namespace {
 
-template <typename T>
-compute::buffer_iterator<T> at(const compute::buffer& b, size_t i) {
-  return compute::make_buffer_iterator<T>(b, i);
-}
-
 // Most grid cells a run may use: 4 per triangle + 1024.
 size_t cell_limit(size_t triangles) { return 4 * triangles + 1024; }
 
-// Device memory a Boost.Compute sort of `count` keys (and values) takes besides its
-// input: one copy of the keys and of the values, and in its radix sort 16 uint offsets
-// plus 16 uint counters per block of 128 (its merge sorts need only the copies).
-size_t sort_scratch(size_t count, size_t key_bytes, size_t value_bytes) {
-  return count * (key_bytes + value_bytes) + 16 * sizeof(cl_uint) * (1 + (count + 127) / 128);
-}
+// Blocks of the prefix sums (4 entries per work-item of a work-group).
+size_t scan_blocks(size_t entries, size_t group_size) { return std::max<size_t>(1, (entries + 4 * group_size - 1) / (4 * group_size)); }
 
 }  // namespace
+
+MemoryPlan ContactDetection::cell_entries(size_t capacity) {
+  return MemoryPlan().add("contact cell entries", std::max<size_t>(capacity, 1) * sizeof(cl_uint));
+}
 
 MemoryPlan ContactDetection::couple_list(size_t capacity) {
   return MemoryPlan().add("contact couples", capacity * sizeof(cl_ulong));
@@ -42,27 +33,23 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
   const size_t n = std::max<size_t>(triangles, 1), groups = std::max<size_t>(groups_for(triangles, group_size), 1);
   const size_t capacity = first_capacity(triangles, initial_capacity);
   MemoryPlan p;
-  using L = MemoryPlan::Lifetime;
-  // Boxes, cells, hashes and sorted triangles: used only while a detection finds its
-  // couples, allocated by run() for that and released before the couples' sort.
-  p.add("contact boxes", n * sizeof(real4), L::Detection)
+  // Resident, so that a detection allocates nothing: the boxes, the cells' starts (one
+  // more than the cells), the cells' entries (one per small triangle, one per covered
+  // cell of a large one: grows when a detection finds more, like the couples), and one
+  // uint per triangle (+1) for the couples' segment starts.
+  p.add("contact boxes", n * sizeof(real4))
       .add("contact partial bounds", groups * sizeof(real4))
-      .add("contact partial sides", groups * sizeof(real))
+      .add("contact partial sides", groups * sizeof(real2))
       .add("contact grid", sizeof(real4))
       .add("contact grid size", 4 * sizeof(cl_uint))
-      .add("contact cell first", cell_limit(triangles) * sizeof(cl_uint), L::Detection)
-      .add("contact cell last", cell_limit(triangles) * sizeof(cl_uint), L::Detection)
-      .add("contact hashes", n * sizeof(cl_uint), L::Detection)
-      .add("contact sorted triangles", n * sizeof(cl_uint), L::Detection)
+      .add("contact cell start", (cell_limit(triangles) + 1) * sizeof(cl_uint))
+      .add(cell_entries(first_entries(triangles)))
+      .add("contact triangle offsets", (n + 1) * sizeof(cl_uint))
+      .add("contact scan blocks", scan_blocks(cell_limit(triangles) + 1, group_size) * sizeof(cl_uint))
       .add("contact active mask", n * sizeof(cl_uint))
-      .add("contact couple counter", sizeof(cl_uint))
       .add(couple_list(capacity));
   if (bonds) p.add("contact bond partners", 3 * n * sizeof(cl_uint));
   if (owned_first) p.add("contact owned triangles", n * sizeof(cl_uchar));
-  // The two sorts of a run, one after the other; the couples' at the first capacity. The
-  // hashes' sort runs while the detection arrays above exist (counted with them).
-  p.add("sort scratch: cell hashes", sort_scratch(triangles, sizeof(cl_uint), sizeof(cl_uint)), L::Detection)
-      .add("sort scratch: couples", sort_scratch(capacity, sizeof(cl_ulong), 0), L::Scratch);
   return p;
 }
 
@@ -79,13 +66,17 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
 
   const size_t n = std::max<size_t>(count_, 1);
   const MemoryPlan arrays = plan(count_, group, initial_capacity, !bonds.empty(), !owned_first.empty());
-  detection_arrays_ = arrays;
+  boxes_ = arrays.allocate(cl, "contact boxes");
   partial_bounds_ = arrays.allocate(cl, "contact partial bounds");
   partial_side_ = arrays.allocate(cl, "contact partial sides");
   grid_ = arrays.allocate(cl, "contact grid");
   dims_ = arrays.allocate(cl, "contact grid size");
-    active_ = arrays.allocate(cl, "contact active mask");
-  counter_ = arrays.allocate(cl, "contact couple counter");
+  cell_start_ = arrays.allocate(cl, "contact cell start");
+  sorted_tri_ = arrays.allocate(cl, "contact cell entries");
+  entries_capacity_ = std::max<size_t>(first_entries(count_), 1);
+  offsets_ = arrays.allocate(cl, "contact triangle offsets");
+  scan_blocks_ = arrays.allocate(cl, "contact scan blocks");
+  active_ = arrays.allocate(cl, "contact active mask");
   keys_ = arrays.allocate(cl, "contact couples");
   upload(cl, active_, std::vector<cl_uint>(count_, 1u));
   if (!bonds.empty()) {
@@ -108,8 +99,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   upload(cl, dims_, std::vector<cl_uint>{1, 1, 1, 0});
 
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(group)},
-                                                            {"NO_PARTNER", std::to_string(kNoPartner) + "u"},
-                                                            {"SMALL_SORT", std::to_string(kSmallSort)}};
+                                             {"NO_PARTNER", std::to_string(kNoPartner) + "u"}};
   if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
   if (!owned_first.empty()) {
     if (owned_first.size() != count_) throw DeviceError("contact detection: the owned-triangle mask has the wrong size");
@@ -123,173 +113,187 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   boxes_kernel_ = compute::kernel(program, "triangle_boxes");
   {
     KernelArgs k(boxes_kernel_);
-    k("n_triangles", nt)("tri_nodes", a.tri_nodes)("position", a.position)("half_skin", static_cast<real>(0.5 * skin));
-    bind_later(k, "boxes", kBoxes);
-    k("partial_bounds", partial_bounds_)("partial_side", partial_side_).done();
+    k("n_triangles", nt)("tri_nodes", a.tri_nodes);
+    box_positions_ = k.later("position", a.position);
+    k("half_skin", static_cast<real>(0.5 * skin))("boxes", boxes_)("partial_bounds", partial_bounds_)(
+        "partial_side", partial_side_)
+        .done();
   }
-
+  positions_ = a.position;
   grid_kernel_ = compute::kernel(program, "grid_setup");
-  bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("partial_bounds", partial_bounds_)(
-      "partial_side", partial_side_)("max_cells", static_cast<cl_uint>(max_cells_))("grid", grid_)("dims", dims_)
+  bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("n_triangles", nt)(
+      "partial_bounds", partial_bounds_)("partial_side", partial_side_)("max_cells", static_cast<cl_uint>(max_cells_))(
+      "grid", grid_)("dims", dims_)
       .done();
-
-  clear_kernel_ = compute::kernel(program, "clear_cells");
+  cell_count_kernel_ = compute::kernel(program, "cell_count");
+  bind_args(cell_count_kernel_)("n_triangles", nt)("boxes", boxes_)("grid", grid_)("dims", dims_)(
+      "cell_start", cell_start_)
+      .done();
+  cell_scatter_kernel_ = compute::kernel(program, "cell_scatter");
   {
-    KernelArgs k(clear_kernel_);
-    k("max_cells", static_cast<cl_uint>(max_cells_));
-    bind_later(k, "cell_first", kCellFirst);
-    bind_later(k, "cell_last", kCellLast);
+    KernelArgs k(cell_scatter_kernel_);
+    k("n_triangles", nt)("boxes", boxes_)("grid", grid_)("dims", dims_)("cell_start", cell_start_);
+    scatter_capacity_ = k.later("capacity", static_cast<cl_uint>(entries_capacity_));
+    scatter_entries_ = k.later("sorted_tri", sorted_tri_);
     k.done();
   }
+  scan_blocks_kernel_ = compute::kernel(program, "scan_blocks");
+  scan_sums_kernel_ = compute::kernel(program, "scan_block_sums");
+  scan_add_kernel_ = compute::kernel(program, "scan_add");
 
-  hash_kernel_ = compute::kernel(program, "cell_hash");
-  {
-    KernelArgs k(hash_kernel_);
-    k("n_triangles", nt);
-    bind_later(k, "boxes", kBoxes);
-    k("grid", grid_)("dims", dims_);
-    bind_later(k, "hash", kHash);
-    bind_later(k, "tri", kTri);
-    k.done();
-  }
-
-  range_kernel_ = compute::kernel(program, "cell_range");
-  {
-    KernelArgs k(range_kernel_);
-    k("n_triangles", nt);
-    bind_later(k, "sorted_hash", kHash);
-    bind_later(k, "cell_first", kCellFirst);
-    bind_later(k, "cell_last", kCellLast);
-    k.done();
-  }
-
-  small_pairs_kernel_ = compute::kernel(program, "sort_small_pairs");
-  {
-    KernelArgs k(small_pairs_kernel_);
-    k("n", nt);
-    bind_later(k, "hash", kHash);
-    bind_later(k, "tri", kTri);
-    k.done();
-  }
-  small_keys_kernel_ = compute::kernel(program, "sort_small_keys");
-  {
-    KernelArgs k(small_keys_kernel_);
-    small_keys_count_ = k.later("n", cl_uint(0));
-    small_keys_keys_ = k.later("keys", keys_);
-    k.done();
-  }
-
-  couples_kernel_ = compute::kernel(program, "find_couples");
-  KernelArgs couples(couples_kernel_);
-  couples("n_triangles", nt)("tri_nodes", a.tri_nodes);
-  bind_later(couples, "boxes", kBoxes);
-  couples("active", active_)("grid", grid_)("dims", dims_);
-  bind_later(couples, "cell_first", kCellFirst);
-  bind_later(couples, "cell_last", kCellLast);
-  bind_later(couples, "sorted_tri", kTri);
-  couples_capacity_ = couples.later("capacity", static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
-  couples("count", counter_);
-  couples_keys_ = couples.later("keys", keys_);
-  if (!bonds.empty()) couples("bond_partners", bond_partners_);
-  if (!owned_first.empty()) couples("owned_first", owned_first_);
-  couples.done();
+  // The couple kernels serve detections (covered = kDetection) and extensions alike.
+  auto couples_common = [&](compute::kernel& k, Couples& bound, bool write) {
+    KernelArgs args(k);
+    args("n_triangles", nt);
+    bound.covered = args.later("covered", kDetection);
+    args("tri_nodes", a.tri_nodes)("boxes", boxes_)("active", active_)("grid", grid_)("dims", dims_)(
+        "cell_start", cell_start_);
+    bound.entries = args.later("sorted_tri", sorted_tri_);
+    bound.n_entries = args.later("n_entries", static_cast<cl_uint>(std::min<size_t>(entries_capacity_, 0xffffffffu)));
+    args("couple_offset", offsets_);
+    if (write) {
+      bound.listed = args.later("listed", cl_uint(0));
+      bound.keys = args.later("keys", keys_);
+    }
+    if (!bonds.empty()) args("bond_partners", bond_partners_);
+    if (!owned_first.empty()) args("owned_first", owned_first_);
+    args.done();
+  };
+  couple_count_kernel_ = compute::kernel(program, "couple_count");
+  couples_common(couple_count_kernel_, count_args_, false);
+  couple_write_kernel_ = compute::kernel(program, "couple_write");
+  couples_common(couple_write_kernel_, write_args_, true);
+  // Extensions by joined triangles: one rank only (a split run's couples are placed by
+  // their rank in the whole sorted list; it detects again instead).
+  split_ = !owned_first.empty();
 }
 
 void ContactDetection::grow(size_t needed) {
   const size_t capacity = grown(needed);
   keys_ = couple_list(capacity).allocate(cl_, "contact couples");
   capacity_ = capacity;
-  couples_capacity_.set(static_cast<cl_uint>(std::min<size_t>(capacity_, 0xffffffffu)));
-  couples_keys_.set(keys_);
+  write_args_.keys.set(keys_);
 }
 
-void ContactDetection::find_couples() {
+void ContactDetection::exclusive_scan(const compute::buffer& data, size_t entries) {
+  const size_t group = cl_.group_size(), blocks = scan_blocks(entries, group);
+  const cl_uint n = static_cast<cl_uint>(entries);
+  bind_args(scan_blocks_kernel_)("n", n)("data", data)("block_sums", scan_blocks_).done();
+  cl_.enqueue(scan_blocks_kernel_, blocks * group);
+  bind_args(scan_sums_kernel_)("n_blocks", static_cast<cl_uint>(blocks))("block_sums", scan_blocks_).done();
+  cl_.enqueue(scan_sums_kernel_, group);  // one work-group
+  bind_args(scan_add_kernel_)("n", n)("data", data)("block_sums", scan_blocks_).done();
+  cl_.enqueue(scan_add_kernel_, entries);
+}
+
+void ContactDetection::bin_triangles(bool boxes) {
   const cl_uint zero = 0;
-  try {
-    cl_.queue().enqueue_fill_buffer(counter_, &zero, sizeof(zero), 0, sizeof(zero));
-  } catch (const compute::opencl_error& e) {
-    throw DeviceError(std::string("contact detection: clearing the couple counter failed: ") + e.what());
+  if (boxes) {
+    cl_.enqueue(boxes_kernel_, count_);
+    cl_.enqueue(grid_kernel_, cl_.group_size());  // one work-group
   }
-  cl_.enqueue(couples_kernel_, count_);
+  cl_.queue().enqueue_fill_buffer(cell_start_, &zero, sizeof(zero), 0, (max_cells_ + 1) * sizeof(cl_uint));
+  cl_.enqueue(cell_count_kernel_, count_);
+  exclusive_scan(cell_start_, max_cells_ + 1);
+  cl_.enqueue(cell_scatter_kernel_, count_);
 }
 
-void ContactDetection::bind_later(KernelArgs& args, const char* name, int array) {
-  detection_args_.push_back({array, args.later(name, counter_)});  // the counter until run() binds the array
+void ContactDetection::count_couples(cl_uint covered) {
+  count_args_.covered.set(covered);
+  cl_.enqueue(couple_count_kernel_, count_ + 1);
+  exclusive_scan(offsets_, count_ + 1);
 }
 
-void ContactDetection::hold_arrays(bool on) {
-  static const char* const names[kDetectionArrays] = {"contact boxes", "contact cell first", "contact cell last",
-                                                      "contact hashes", "contact sorted triangles"};
-  compute::buffer* held[kDetectionArrays] = {&boxes_, &cell_first_, &cell_last_, &hash_, &tri_};
-  for (int k = 0; k < kDetectionArrays; ++k)
-    *held[k] = on ? detection_arrays_.allocate(cl_, names[k]) : compute::buffer();
-  for (auto& [array, arg] : detection_args_) arg.set(on ? *held[array] : counter_);
+std::array<size_t, 2> ContactDetection::read_totals() {
+  // The entries' total is the last cell's end; the couples' the last segment start. Two
+  // reads, one wait (the queue is in order).
+  cl_uint entries = 0, couples = 0;
+  cl_.queue().enqueue_read_buffer_async(cell_start_, max_cells_ * sizeof(cl_uint), sizeof(cl_uint), &entries);
+  cl_.queue().enqueue_read_buffer(offsets_, count_ * sizeof(cl_uint), sizeof(cl_uint), &couples);
+  return {entries, couples};
+}
+
+size_t ContactDetection::bin_and_count(bool boxes, cl_uint covered) {
+  bin_triangles(boxes);
+  count_couples(covered);
+  auto totals = read_totals();
+  if (totals[0] > entries_capacity_) {
+    // More cell entries than the array holds (large triangles covering many cells): grow
+    // to the total read and sort again (the boxes and the grid stand).
+    entries_capacity_ = grown(totals[0]);
+    sorted_tri_ = cell_entries(entries_capacity_).allocate(cl_, "contact cell entries");
+    scatter_entries_.set(sorted_tri_);
+    scatter_capacity_.set(static_cast<cl_uint>(std::min<size_t>(entries_capacity_, 0xffffffffu)));
+    for (Couples* bound : {&count_args_, &write_args_}) {
+      bound->entries.set(sorted_tri_);
+      bound->n_entries.set(static_cast<cl_uint>(std::min<size_t>(entries_capacity_, 0xffffffffu)));
+    }
+    bin_triangles(false);
+    count_couples(covered);
+    totals = read_totals();
+    if (totals[0] > entries_capacity_) throw DeviceError("contact detection: cell entry count changed between two sorts");
+  }
+  return totals[1];
+}
+
+void ContactDetection::write_couples(cl_uint covered, size_t listed) {
+  write_args_.covered.set(covered);
+  write_args_.listed.set(static_cast<cl_uint>(listed));
+  cl_.enqueue(couple_write_kernel_, count_);
+}
+
+void ContactDetection::rebuild_grid(const compute::buffer& positions_at_run) {
+  if (count_ == 0) return;
+  box_positions_.set(positions_at_run);
+  try {
+    bin_and_count(true, kDetection);  // the couples' count is not used: the list is restored
+  } catch (const compute::opencl_error& e) {
+    box_positions_.set(positions_);
+    throw DeviceError(std::string("contact detection: rebuilding the grid failed: ") + e.what());
+  }
+  box_positions_.set(positions_);
+  can_extend_ = !split_ && stamp_loaded_;
+}
+
+size_t ContactDetection::extend_joined(size_t listed, size_t limit, cl_uint covered_to) {
+  if (!can_extend_ || count_ == 0) return 0;
+  size_t added = 0;
+  try {
+    count_couples(covered_);
+    cl_uint total = 0;
+    cl_.queue().enqueue_read_buffer(offsets_, count_ * sizeof(cl_uint), sizeof(cl_uint), &total);
+    added = total;
+    if (listed + added > limit) return 0;
+    if (listed + added > capacity_) {  // grow, keeping the listed couples
+      compute::buffer old = keys_;
+      grow(listed + added);
+      if (listed) cl_.queue().enqueue_copy_buffer(old, keys_, 0, 0, listed * sizeof(cl_ulong));
+    }
+    if (added > 0) write_couples(covered_, listed);
+  } catch (const compute::opencl_error& e) {
+    throw DeviceError(std::string("contact detection: extending the list by joined triangles failed: ") + e.what());
+  }
+  covered_ = std::max(covered_, covered_to);
+  last_count_ = listed + added;
+  return last_count_;
 }
 
 size_t ContactDetection::run() {
   last_count_ = 0;
   if (count_ == 0) return 0;
-  auto& queue = cl_.queue();
-  // Boxes, cells, hashes: for this detection only (released once the count is read; the
-  // count's read waits for every kernel that used them).
-  hold_arrays(true);
-  struct Release {
-    ContactDetection& d;
-    ~Release() {
-      try {
-        d.hold_arrays(false);
-      } catch (...) {  // unwinding from a failed detection: the arrays go with the stage
-      }
-    }
-  } release{*this};
-
-  // 1. Boxes and the grid around them.
-  cl_.enqueue(boxes_kernel_, count_);
-  cl_.enqueue(grid_kernel_, cl_.group_size());  // one work-group
-  cl_.enqueue(clear_kernel_, max_cells_);
-  // 2-4. Hash, sort (hash, triangle), cell ranges.
-  cl_.enqueue(hash_kernel_, count_);
+  size_t found = 0;
   try {
-    if (force_radix_)
-      compute::detail::radix_sort_by_key(at<cl_uint>(hash_, 0), at<cl_uint>(hash_, count_), at<cl_uint>(tri_, 0), queue);
-    else if (count_ <= kSmallSort)
-      cl_.enqueue(small_pairs_kernel_, cl_.group_size());  // one work-group
-    else
-      compute::sort_by_key(at<cl_uint>(hash_, 0), at<cl_uint>(hash_, count_), at<cl_uint>(tri_, 0), queue);
+    // Boxes, grid, triangles into cells, couples per triangle: one wait for the totals.
+    found = bin_and_count(true, kDetection);
+    if (found > capacity_) grow(found);
+    // Each triangle writes and sorts its segment: the list in ascending key order.
+    write_couples(kDetection, 0);
   } catch (const compute::opencl_error& e) {
-    throw DeviceError(std::string("contact detection: sorting the cell hashes failed: ") + e.what());
-  }
-  cl_.enqueue(range_kernel_, count_);
-
-  // 5. Couples; on overflow grow to the exact count (×1.5) and scan again.
-  find_couples();
-  size_t found = download<cl_uint>(cl_, counter_, 1)[0];
-  if (found > capacity_) {
-    grow(found);
-    find_couples();
-    found = download<cl_uint>(cl_, counter_, 1)[0];
-    if (found > capacity_)  // the scan is deterministic in its count; this cannot happen
-      throw DeviceError("contact detection: couple count changed between two scans");
-  }
-  hold_arrays(false);  // before the couples' sort takes its scratch
-
-  // 6. Canonical order.
-  if (found > 1) {
-    try {
-      if (force_radix_) {
-        compute::detail::radix_sort(at<cl_ulong>(keys_, 0), at<cl_ulong>(keys_, found), queue);
-      } else if (found <= kSmallSort) {
-        small_keys_count_.set(static_cast<cl_uint>(found));
-        small_keys_keys_.set(keys_);
-        cl_.enqueue(small_keys_kernel_, cl_.group_size());  // one work-group
-      } else {
-        compute::sort(at<cl_ulong>(keys_, 0), at<cl_ulong>(keys_, found), queue);
-      }
-    } catch (const compute::opencl_error& e) {
-      throw DeviceError(std::string("contact detection: sorting the couples failed: ") + e.what());
-    }
+    throw DeviceError(std::string("contact detection: ") + e.what());
   }
   last_count_ = found;
+  can_extend_ = !split_;
+  stamp_loaded_ = true;
   return found;
 }
 
@@ -300,7 +304,7 @@ size_t ContactDetection::last_count() const { return last_count_; }
 ContactDetection::Grid ContactDetection::grid() {
   const auto g = download<real4>(cl_, grid_, 1)[0];
   const auto d = download<cl_uint>(cl_, dims_, 4);
-  return Grid{static_cast<double>(g.z), static_cast<double>(g.x), static_cast<double>(g.y), d[0], d[1]};
+  return Grid{static_cast<double>(g.z), static_cast<double>(g.x), static_cast<double>(g.y), d[0], d[1], static_cast<double>(g.w)};
 }
 
 void ContactDetection::set_active(const std::vector<uint32_t>& active) {
@@ -308,6 +312,32 @@ void ContactDetection::set_active(const std::vector<uint32_t>& active) {
     throw InputError("contact detection: active mask has " + std::to_string(active.size()) +
                      " entries for " + std::to_string(count_) + " triangles");
   upload(cl_, active_, active);
+}
+
+bool ContactDetection::restore_list(StateReader& in) {
+  if (split_) return false;
+  const size_t listed = static_cast<size_t>(in.integer("contact_couples"));
+  if (listed > capacity_) grow(listed);
+  in.buffer<cl_ulong>("contact_keys", keys_, listed);
+  last_count_ = listed;
+  return true;
+}
+
+void ContactDetection::save_state(StateWriter& out) const {
+  out.buffer<cl_uint>("contact_active", active_, count_);
+  const cl_long covered = covered_;
+  out.host<cl_long>("contact_covered_stamp", &covered, 1);
+}
+
+void ContactDetection::load_state(StateReader& in) {
+  in.buffer<cl_uint>("contact_active", active_, count_);
+  // A checkpoint written before lists were extended has no stamp: no extension until the
+  // next run() (an extension needs to know which joins the list holds).
+  stamp_loaded_ = in.has("contact_covered_stamp");
+  cl_long covered = 0;
+  if (stamp_loaded_) in.host<cl_long>("contact_covered_stamp", &covered, 1);
+  covered_ = static_cast<cl_uint>(covered);
+  can_extend_ = false;  // until rebuild_grid (the Solver calls it with the skin's positions)
 }
 
 }  // namespace fdem

@@ -24,9 +24,6 @@ class ContactDetection {
   ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
                    const std::vector<std::array<int, 2>>& bonds = {}, const std::vector<char>& owned_first = {});
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
-  // Sorts of at most this many entries run in one work-group's local memory (16 KiB of
-  // ulongs), not through Boost.Compute (use_radix_sort(true) still forces the library's).
-  static constexpr size_t kSmallSort = 2048;
   // The couples the output holds at first (initial_capacity 0: 8 per triangle), and the
   // capacity it grows to when a scan finds `needed` couples (×1.5).
   static size_t first_capacity(size_t triangles, size_t initial_capacity = 0) {
@@ -34,68 +31,100 @@ class ContactDetection {
   }
   static size_t grown(size_t needed) { return needed + (needed + 1) / 2; }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size(); `bonds`:
-  // some are given), and the scratch of the sorts of a run (Boost.Compute's own
-  // allocations, outside ClContext, while a detection runs).
+  // some are given). A detection allocates nothing more (unless the list grows).
   static MemoryPlan plan(size_t triangles, size_t group_size, size_t initial_capacity = 0, bool bonds = false,
                          bool owned_first = false);
   // The couple list of `capacity` couples (the constructor's and grow()'s).
   static MemoryPlan couple_list(size_t capacity);
+  // The cells' entries: one per small triangle, one per covered cell of a large one; at
+  // first room for two per triangle, grown (×1.5) to what a detection finds.
+  static size_t first_entries(size_t triangles) { return 2 * std::max<size_t>(triangles, 1); }
+  static MemoryPlan cell_entries(size_t capacity);
   // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
   // every side, overlap, and that share no node. Writes them to couple_keys() as
   // cl_ulong keys (ulong(i) << 32 | j), sorted ascending, unique; returns their count.
-  // Waits (it reads the count to grow the buffer on overflow and rerun: never drops a couple).
-  // The final sort of the keys is enqueued on the (in-order) queue after that read.
+  // Waits once, for the count (the list grows to it before the keys are written: never
+  // drops a couple); the writing of the keys is enqueued after that read.
   size_t run();
   compute::buffer& couple_keys();        // cl_ulong × capacity(); the first `count` are valid
+
+  // Extends the list of `listed` couples (run()'s, and earlier extensions) by the couples
+  // of the triangles that joined the candidates since (activation "fractured": mask value
+  // above covered_stamp()), found with the last run's boxes and grid, so without a new
+  // detection: the couples that run() would have listed then had those triangles been
+  // candidates (with a skin, every couple that can touch before the next detection is
+  // due). Appended after the others, each joining triangle's couples sorted; no couple
+  // twice. Returns the new count, or 0 when there is nothing to extend from (no run yet,
+  // a split run, or `limit` couples would be exceeded: then run() instead). Waits once (the count).
+  size_t extend_joined(size_t listed, size_t limit, cl_uint covered_to);
+  // Join stamps up to this are in the list (run() at step s covers join_stamp(s); an
+  // extension covers what it is given).
+  cl_uint covered_stamp() const { return covered_; }
+  void set_covered_stamp(cl_uint stamp) { covered_ = stamp; }
+  // After a checkpoint is loaded: the last run's boxes and grid again, from the positions
+  // it ran on (the skin's copy), for extend_joined. The couple list is left alone.
+  void rebuild_grid(const compute::buffer& positions_at_run);
+  // After a checkpoint is loaded: the contact stage's list (its keys, "contact_keys") into
+  // this stage's buffer, which the contact stage then reads (shared keys). False for a split run.
+  bool restore_list(StateReader& in);
   size_t capacity() const;
   size_t last_count() const;
-  struct Grid { double cell_size, x0, y0; unsigned nx, ny; };
+  struct Grid { double cell_size, x0, y0; unsigned nx, ny; double small_side; };  // small_side: the largest box side entered in one cell
   Grid grid();                           // the grid of the last run (host read; for `fdem check` and tests)
   // Optional candidate mask for later (fracture activation): one cl_uint per triangle, nonzero =
   // takes part. Default: every triangle takes part.
   void set_active(const std::vector<uint32_t>& active);
   compute::buffer& active_mask() { return active_; }  // cl_uint per triangle, on the device
 
-  // Forces Boost.Compute's radix sort for both sorts (the path it takes on GPUs) instead of
-  // its device-dependent dispatch (merge sort on CPU devices). The couples do not depend on it.
-  void use_radix_sort(bool on) { force_radix_ = on; }
   // Most grid cells a run may use (nx·ny ≤ this): 4 per triangle + 1024.
   size_t max_cells() const { return max_cells_; }
   // The candidate mask (activation changes it as CE4s break), for checkpoints.
-  void save_state(StateWriter& out) const { out.buffer<cl_uint>("contact_active", active_, count_); }
-  void load_state(StateReader& in) { in.buffer<cl_uint>("contact_active", active_, count_); }
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
 
  private:
+  static constexpr cl_uint kDetection = 0xffffffffu;  // the couple kernels' `covered` for a detection
   void grow(size_t needed);
-  void find_couples();  // resets the counter and enqueues the scan
-  // The arrays of one detection (MemoryPlan::Lifetime::Detection), bound by name in the
-  // kernels that use them: allocated and bound (on), or released (off; the kernels then
-  // hold the counter, and no kernel of the detection runs until the next run()).
-  enum { kBoxes, kCellFirst, kCellLast, kHash, kTri, kDetectionArrays };
-  void bind_later(KernelArgs& args, const char* name, int array);
-  void hold_arrays(bool on);
+  // Exclusive prefix sum of the first `entries` uints of `data`, in place (three launches).
+  void exclusive_scan(const compute::buffer& data, size_t entries);
+  // (boxes: and the grid around them, first) the counting sort of the triangles into cells.
+  void bin_triangles(bool boxes);
+  void count_couples(cl_uint covered);     // per triangle, then their prefix sum
+  std::array<size_t, 2> read_totals();     // cell entries, couples (waits)
+  // bin_triangles and count_couples, again with more room when the entries overflowed;
+  // returns the couples' total.
+  size_t bin_and_count(bool boxes, cl_uint covered);
+  void write_couples(cl_uint covered, size_t listed);
 
   ClContext& cl_;
   size_t count_;        // triangles
   size_t groups_;       // work-groups of the box kernel
   size_t max_cells_;
   size_t capacity_ = 0;
+  size_t entries_capacity_ = 0;
   size_t last_count_ = 0;
-  bool force_radix_ = false;
+  bool split_ = false;
+  bool can_extend_ = false;    // a run's grid is in place (and not a split run)
+  bool stamp_loaded_ = true;   // false after loading a checkpoint without covered_
+  cl_uint covered_ = 0;
 
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
-  compute::buffer cell_first_, cell_last_, hash_, tri_, active_, counter_, keys_, owned_first_;
+  compute::buffer cell_start_;   // max_cells + 1: the cells' counts (at c + 1), then their starts and ends
+  compute::buffer sorted_tri_;   // the cells' entries (triangles), cell after cell
+  compute::buffer offsets_;      // triangles + 1: each one's couple count, then its segment's start
+  compute::buffer scan_blocks_;  // the prefix sums' block totals
+  compute::buffer active_, keys_, owned_first_;
   compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
-  MemoryPlan detection_arrays_;    // the plan, for the sizes of boxes_ ... tri_ (null between runs)
-  std::vector<std::pair<int, KernelArg<compute::buffer>>> detection_args_;
-  compute::kernel boxes_kernel_, grid_kernel_, clear_kernel_, hash_kernel_, range_kernel_, couples_kernel_;
-  // Sorts of up to kSmallSort entries: one work-group in local memory (a small model's
-  // detection would otherwise spend its time launching the library sort's passes).
-  compute::kernel small_pairs_kernel_, small_keys_kernel_;
-  KernelArg<cl_uint> small_keys_count_;
-  KernelArg<compute::buffer> small_keys_keys_;
-  KernelArg<cl_uint> couples_capacity_;
-  KernelArg<compute::buffer> couples_keys_;
+  compute::buffer positions_;      // the node positions the boxes are taken from (rebuild_grid binds others for a while)
+  compute::kernel boxes_kernel_, grid_kernel_, cell_count_kernel_, cell_scatter_kernel_;
+  compute::kernel scan_blocks_kernel_, scan_sums_kernel_, scan_add_kernel_;
+  compute::kernel couple_count_kernel_, couple_write_kernel_;
+  KernelArg<compute::buffer> box_positions_, scatter_entries_;
+  KernelArg<cl_uint> scatter_capacity_;
+  struct Couples {
+    KernelArg<cl_uint> covered, listed, n_entries;
+    KernelArg<compute::buffer> entries, keys;
+  } count_args_, write_args_;
 };
 
 }  // namespace fdem

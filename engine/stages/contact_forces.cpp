@@ -32,6 +32,7 @@ MemoryPlan ContactForces::key_list(size_t capacity) {
 MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size, bool bonds) {
   return MemoryPlan()
       .add("contact history slots", capacity * sizeof(cl_uint))
+      .add("contact carry rows", capacity * sizeof(cl_uint))
       .add(bonds ? MemoryPlan().add("contact bond words", capacity * sizeof(cl_uint)) : MemoryPlan())
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
@@ -171,9 +172,11 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   f("force_scale", static_cast<real>(force_scale_))("energy_scale", static_cast<real>(energy_scale_))(
       "contact_acc", a.contact_acc)("energy", energy_)("counters", counters_);
   forces_list_.same_list = f.later("same_list", none);
+  forces_list_.new_from = f.later("new_from", none);
   forces_list_.overlap_list = f.later("overlap_list", overlap_list_);
   forces_list_.live = f.later("live", live_);
   forces_slot_ = f.later("slot", slot_);
+  forces_carry_of_ = f.later("carry_of", carry_of_);
   f("pool_state", pool_state_);
   forces_pool_capacity_ = f.later("pool_capacity", static_cast<cl_uint>(pool_rows_));
   forces_energy_row_ = f.later("energy_row", none);
@@ -191,10 +194,12 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   c("tri_nodes", a.tri_nodes)("position", a.position)("energy_scale", static_cast<real>(energy_scale_))(
       "energy", energy_);
   classify_list_.same_list = c.later("same_list", none);
+  classify_list_.new_from = c.later("new_from", none);
   c("counters", counters_);
   classify_list_.overlap_list = c.later("overlap_list", overlap_list_);
   classify_list_.live = c.later("live", live_);
   classify_slot_ = c.later("slot", slot_);
+  classify_carry_of_ = c.later("carry_of", carry_of_);
   if (bonds) c("bond_ce4", bond_ce4_)("ce4_status", *ce4_status);
   if (fans) c("node_origin", node_origin_)("mesh_node_state", *mesh_node_state);
   if (bonds) {
@@ -284,6 +289,16 @@ long ContactForces::pool_overflow_step() {
   return state[1] == 0xffffffffu ? -1 : static_cast<long>(state[1]);
 }
 
+void ContactForces::enqueue_extended(const compute::buffer& keys, size_t count, double dt, bool energy_row,
+                                     long step) {
+  if (!shared_keys_ || count > list_capacity_ || count < count_)
+    throw DeviceError("contact: a list extension to " + std::to_string(count) + " couples does not fit its arrays (" +
+                      std::to_string(list_capacity_) + ")");
+  extended_from_ = count_;
+  keys_ = keys;
+  enqueue(keys, count, false, dt, energy_row, step);
+}
+
 void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_list, double dt, bool energy_row,
                             long step) {
   ++epoch_;
@@ -324,12 +339,21 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   const compute::buffer& list_keys = new_list ? keys : keys_;
   classify_slot_.set(slot_);
   forces_slot_.set(slot_);
+  classify_carry_of_.set(carry_of_);
+  forces_carry_of_.set(carry_of_);
+  // A new list finds its carried couples' rows through carry_of (written here, read by
+  // the classification and the forces of this step).
+  if (new_list) carry_.locate(keys, count, carried, carry_of_);
   // A new list (or arrays just allocated or loaded) has its bond words written by this
   // step's classification; the later steps of the list read them.
   if (new_list) bond_words_known_ = false;
+  // Couples appended since the last step (an extension) start fresh from new_from on;
+  // otherwise every couple of the same list is old (new_from = count).
+  const size_t new_from = new_list ? 0 : std::min(extended_from_, count);
+  extended_from_ = static_cast<size_t>(-1);
   if (bonds_) {
     classify_bond_word_.set(bond_word_);
-    classify_bond_words_known_.set(bond_words_known_ ? 1u : 0u);
+    classify_bond_words_known_.set(static_cast<cl_uint>(bond_words_known_ ? new_from : 0));
   }
   forces_pool_capacity_.set(static_cast<cl_uint>(pool_rows_));
   for (ListArgs* list : {&classify_list_, &forces_list_}) {
@@ -340,6 +364,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
     list->previous_history.set(new_list ? carry_.history() : history_);
     list->history.set(history_);
     list->same_list.set(same_list);
+    list->new_from.set(static_cast<cl_uint>(new_from));
     list->overlap_list.set(overlap_list_);
     list->live.set(live_);
   }
@@ -368,6 +393,7 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
       cl_.enqueue(stored_partials_, count);
     }
   }
+  if (!new_list) count_ = count;  // an extension grew the list in place
   if (new_list) {
     if (shared_keys_)
       keys_ = keys;  // the detection leaves them alone until carry_before_detection
@@ -474,6 +500,7 @@ void ContactForces::allocate_list(const MemoryPlan& arrays) {
   overlap_list_ = arrays.allocate(cl_, "contact overlap list");
   live_ = arrays.allocate(cl_, "contact live flags");
   slot_ = arrays.allocate(cl_, "contact history slots");
+  carry_of_ = arrays.allocate(cl_, "contact carry rows");
   stored_slots_ = arrays.allocate(cl_, "contact stored slots");
   if (bonds_) bond_word_ = arrays.allocate(cl_, "contact bond words");
   bond_words_known_ = false;

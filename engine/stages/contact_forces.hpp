@@ -124,6 +124,16 @@ class ContactForces {
   void request_energy_row() { energy_row_requested_ = true; }
 
   size_t couples() const { return count_; }
+  // The current list extended in place to `count` couples (ContactDetection::extend_joined
+  // appended the new ones to the shared keys): the step as enqueue's for the same list,
+  // the appended couples starting without history (new, as in a new list). Never waits.
+  void enqueue_extended(const compute::buffer& keys, size_t count, double dt, bool energy_row, long step);
+  // Couples the list's own arrays hold: an extension past it needs a new detection
+  // (0 when the list is not the detection's own, shared keys: then never extended).
+  size_t list_capacity() const { return shared_keys_ ? list_capacity_ : 0; }
+  // After a checkpoint is loaded: the detection restored the list into its own buffer
+  // (shared keys), the stage reads it there again.
+  void share_keys(const compute::buffer& keys) { if (shared_keys_) keys_ = keys; }
   size_t touching();             // couples in contact in the last step (waits; counts live flags)
   // Energy account [J] (each waits; 2⁻³² J resolution). stored_energy: the normal
   // penalty potential E = P_n t ∫_{c∩t}(φ_c + φ_t) dA (the normal forces are exactly −∇E)
@@ -183,6 +193,7 @@ class ContactForces {
   std::vector<cl_long> energy_seen_;
   compute::kernel classify_, forces_, release_;
   compute::buffer keys_, history_, energy_, counters_, pair_index_, pair_props_, overlap_list_, live_;
+  compute::buffer carry_of_;  // per couple of a new list: its carry-list row (ContactCarry::locate)
   compute::buffer slot_;        // per couple: its pool row (ContactCarry::kNoSlot: none)
   compute::buffer pool_state_;  // rows taken, first step a couple found the pool full
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0, pool_rows_ = 0, triangles_ = 0;
@@ -203,6 +214,7 @@ class ContactForces {
   // classification of a list's first step (bond_words_known_ false until then).
   compute::buffer bond_word_;
   bool bonds_ = false, bond_words_known_ = false;
+  size_t extended_from_ = static_cast<size_t>(-1);  // enqueue_extended: the couples before the extension
   KernelArg<compute::buffer> classify_bond_word_;
   KernelArg<cl_uint> classify_bond_words_known_;
   long last_list_step_ = -1;  // the step of the last new list (-1: none yet)
@@ -214,13 +226,14 @@ class ContactForces {
   // same-list flag, the overlap list and the live flags. Each kernel declares the first six
   // first, in this order (bind_list).
   struct ListArgs {
-    KernelArg<cl_uint> count, previous_count, same_list;
+    KernelArg<cl_uint> count, previous_count, same_list, new_from;
     KernelArg<compute::buffer> keys, previous_keys, previous_history, history, overlap_list, live;
     void bind_list(KernelArgs& args, const compute::buffer& keys, const compute::buffer& history0,
                    const compute::buffer& history1);
   };
   ListArgs classify_list_, forces_list_;
   KernelArg<compute::buffer> classify_slot_, forces_slot_, stored_live_, stored_slot_;
+  KernelArg<compute::buffer> classify_carry_of_, forces_carry_of_;
   KernelArg<cl_uint> forces_pool_capacity_, classify_monitor_slot_;
   // Which of the two counters (contact counters) counts this step's overlap list; flips
   // at each classification, which zeroes the other one for the next.

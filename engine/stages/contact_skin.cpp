@@ -37,25 +37,30 @@ void ContactSkin::mark() {
   pool_seen_ = 0;  // a new list empties the contact history pool
 }
 
-bool ContactSkin::decide(unsigned slot, bool exact) {
+namespace {
+ContactSkin::Due worst(ContactSkin::Due a, ContactSkin::Due b) { return a > b ? a : b; }
+}  // namespace
+
+ContactSkin::Due ContactSkin::decide(unsigned slot, bool exact) {
   const cl_uint* w = &host_[layout::RING_WORDS * slot];
   const double moved = as_value(w[layout::RING_MOVED]);
   largest_speed_ = std::max(largest_speed_, as_value(w[layout::RING_SPEED]));
-  if (generation_of_[slot] != generation_) return false;  // measured against an older detection
+  if (generation_of_[slot] != generation_) return Due::Nothing;  // measured against an older detection
   pool_seen_ = std::max<size_t>(pool_seen_, w[layout::RING_POOL]);
-  if (w[layout::RING_JOINED] != 0) return true;                              // triangles joined the candidates
   const double margin = exact ? 0.0 : 2.0 * kSlots * largest_speed_ * dt_;
-  return !(moved + margin <= half_skin_);                  // NaN: rebuild (the NaN check stops the run)
+  if (!(moved + margin <= half_skin_)) return Due::Moved;  // NaN: rebuild (the NaN check stops the run)
+  // Triangles joined the candidates in a step whose joins the list does not hold yet.
+  return w[layout::RING_JOINED] != 0 && step_of_[slot] > joins_covered_step_ ? Due::Joined : Due::Nothing;
 }
 
-bool ContactSkin::decide_batch() {
+ContactSkin::Due ContactSkin::decide_batch() {
   if (batch_read_.get()) batch_read_.wait();  // none after a restart: the checkpoint held the batch
   batch_pending_ = false;
   if (reduce_) reduce_(&host_[layout::RING_WORDS * batch_first_], kBatch);
   speed_known_ = true;
   largest_speed_ = 0;  // the batch's own speeds (decide() takes their maximum)
-  bool due = false;
-  for (unsigned k = 0; k < kBatch; ++k) due = decide(batch_first_ + k, false) || due;
+  Due due = Due::Nothing;
+  for (unsigned k = 0; k < kBatch; ++k) due = worst(decide(batch_first_ + k, false), due);
   // The most history pool rows taken in one step (consecutive slots of this detection),
   // the batch's own, like the speeds.
   pool_rate_ = 0;
@@ -68,15 +73,18 @@ bool ContactSkin::decide_batch() {
   return due;
 }
 
-void ContactSkin::measured(long step) { generation_of_[MonitorRing::slot_of(step)] = generation_; }
+void ContactSkin::measured(long step) {
+  generation_of_[MonitorRing::slot_of(step)] = generation_;
+  step_of_[MonitorRing::slot_of(step)] = step;
+}
 
-bool ContactSkin::rebuild_due(long step) {
+ContactSkin::Due ContactSkin::rebuild_due(long step) {
   const unsigned slot = MonitorRing::slot_of(step);
   const bool batch_ends = slot % kBatch == kBatch - 1;
   // The far margin would eat more than half of the half-skin: test this step exactly.
   // Until a first batch has told the speeds, every step is exact too.
   const bool exact = !speed_known_ || !(2.0 * kSlots * largest_speed_ * dt_ <= 0.5 * half_skin_);
-  bool due = false;
+  Due due = Due::Nothing;
   // The batch read kBatch steps ago: look at it before its slots are measured again.
   if (batch_ends && batch_pending_) due = decide_batch();
   if (exact) {
@@ -86,7 +94,7 @@ bool ContactSkin::rebuild_due(long step) {
                                     &host_[words * slot]);
     if (reduce_) reduce_(&host_[words * slot], 1);
     const double speed_before = largest_speed_;
-    due = decide(slot, true) || due;
+    due = worst(decide(slot, true), due);
     largest_speed_ = std::max(speed_before, largest_speed_);
   }
   if (batch_ends) {
@@ -111,6 +119,9 @@ void ContactSkin::save_state(StateWriter& out) {
   out.integer("skin_flags", (batch_pending_ ? 1 : 0) | (speed_known_ ? 2 : 0));
   out.number("skin_largest_speed", largest_speed_);
   out.integer("skin_synchronous", synchronous_);
+  std::vector<cl_long> steps(step_of_.begin(), step_of_.end());
+  steps.push_back(joins_covered_step_);
+  out.host<cl_long>("skin_slot_steps", steps.data(), steps.size());
 }
 
 void ContactSkin::load_state(StateReader& in) {
@@ -127,6 +138,12 @@ void ContactSkin::load_state(StateReader& in) {
   speed_known_ = flags & 2;
   largest_speed_ = in.number("skin_largest_speed");
   synchronous_ = static_cast<long>(in.integer("skin_synchronous"));
+  // Checkpoints written before lists were extended: every join flag counts again (an
+  // extension that finds nothing new costs a count, no couple twice).
+  std::vector<cl_long> steps(kSlots + 1, -1);
+  if (in.has("skin_slot_steps")) in.host<cl_long>("skin_slot_steps", steps.data(), steps.size());
+  for (unsigned k = 0; k < kSlots; ++k) step_of_[k] = in.has("skin_slot_steps") ? steps[k] : 0;
+  joins_covered_step_ = steps[kSlots];
   batch_read_ = compute::event();
 }
 

@@ -48,9 +48,16 @@ class ContactSkin {
   // The integration that ends step − 1 has enqueued the test of `step` (positions then
   // against those at the last mark()). Never waits.
   void measured(long step);
-  // Says whether detection must run at `step`, from the tests read so far. Waits only
-  // for a batch read kBatch steps ago, or for its own test in the exact mode above.
-  bool rebuild_due(long step);
+  // What the list needs at `step`, from the tests read so far: nothing; the couples of
+  // triangles that joined the candidates since the joins it covers (Joined: the list can
+  // be extended, ContactDetection::extend_joined); or a new detection (Moved: some node
+  // may have moved more than half the skin). Waits only for a batch read kBatch steps
+  // ago, or for its own test in the exact mode above.
+  enum class Due { Nothing, Joined, Moved };
+  Due rebuild_due(long step);
+  // The list holds the couples of every join up to the activation of `step` (a detection
+  // or an extension at that step): joins flagged in slots of steps up to it are done.
+  void joins_covered(long step) { joins_covered_step_ = step; }
   compute::buffer& position_at_build() { return at_build_; }
   MonitorRing& ring() { return ring_; }
   long synchronous_checks() const { return synchronous_; }
@@ -67,8 +74,8 @@ class ContactSkin {
   void load_state(StateReader& in);
 
  private:
-  bool decide(unsigned slot, bool exact);
-  bool decide_batch();
+  Due decide(unsigned slot, bool exact);
+  Due decide_batch();
 
   ClContext& cl_;
   DeviceArrays& arrays_;
@@ -82,6 +89,8 @@ class ContactSkin {
   unsigned batch_first_ = 0;
   bool batch_pending_ = false, speed_known_ = false;
   std::array<long, kSlots> generation_of_{};   // mark() count when the slot was measured
+  std::array<long, kSlots> step_of_{};         // the step whose test and joins the slot holds
+  long joins_covered_step_ = -1;               // see joins_covered()
   long generation_ = 0;
   double largest_speed_ = 0;                   // from the latest test read [m/s]
   size_t pool_seen_ = 0;                       // see pool_rows_seen()
