@@ -53,6 +53,7 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
                           r.key_path("activation") + " = \"fractured\" (with \"all\" every "
                           "triangle takes part in contact from the start)");
   if (r.has("regions")) c.regions = *r.strings("regions");
+  for (const std::string& region : c.regions) check_region_name(r, "regions", region);
   // Default "skin": a user who writes neither key gets the fast path, with a margin the
   // model takes from the mesh (engine/model.cpp) unless `skin` gives it.
   c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
