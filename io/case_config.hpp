@@ -145,7 +145,9 @@ enum class ContactRebuild { Step, Skin };
 
 struct ContactConfig {
   double normal_penalty = 0.0;      // P_n [Pa]
-  double tangential_penalty = 0.0;  // P_tan [Pa/m]; when not given, = normal_penalty (numerically)
+  // P_tan [Pa/m]. nullopt: not given; the model takes 6 P_n / h for each pair, h the mean
+  // triangle edge of the mesh (engine/model.hpp, default_tangential_penalty).
+  std::optional<double> tangential_penalty;
   double friction = 0.0;            // Coulomb μ
   std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
   std::string activation = "all";   // "all" or "fractured"
