@@ -80,6 +80,16 @@ TEST_CASE("default tangential penalty: 6 P_n / h with h the mean triangle edge; 
   REQUIRE(warnings.size() == 1);
   CHECK(doctest::String(warnings[0].c_str()) == doctest::Contains((path + " (from --set contact.tangential_penalty=1e8): contact.tangential_penalty = "
                                                  "1e+08 Pa/m is more than 10x away from 6 P_n / h").c_str()));
+  // A pair that only inherits [contact]'s P_tan is not warned about twice; one with its
+  // own P_n is, since its consistent value differs.
+  const std::string pair = "contact.pair=[{materials=[\"block\",\"base\"]}]";
+  const PreparedCase inherits = prepare_case(path, {"contact.tangential_penalty=1e8", pair});
+  CHECK(model_warnings(inherits.model, inherits.config).size() == 1);
+  const PreparedCase own_pn =
+      prepare_case(path, {"contact.tangential_penalty=1e8", "contact.pair=[{materials=[\"block\",\"base\"],normal_penalty=2e8}]"});
+  const auto both = model_warnings(own_pn.model, own_pn.config);
+  REQUIRE(both.size() == 2);
+  CHECK(doctest::String(both[1].c_str()) == doctest::Contains("contact.tangential_penalty (taken by contact.pair[0]) = 1e+08 Pa/m"));
   const auto off = model_warnings(prepare_case(path, {"contact.tangential_penalty=0"}).model,
                                   prepare_case(path, {"contact.tangential_penalty=0"}).config);
   REQUIRE(off.size() == 1);
