@@ -79,13 +79,17 @@ double as_number(const Context& ctx, const toml::node& n, const std::string& pat
   if (auto d = n.value_exact<double>()) v = *d;
   if (!v) ctx.fail(n, path + " must be a number, found " + describe(n));
   if (!std::isfinite(*v)) ctx.fail(n, path + " must be finite, found " + format_number(*v, kDigits));
-  // Subnormal numbers are refused, not taken: no SI quantity of a case is that small, and
-  // a device may flush them to zero (OpenCL allows it), so a positive density or
-  // penalty could silently become 0.
-  if (std::fpclassify(*v) == FP_SUBNORMAL)
-    ctx.fail(n, path + " = " + shortest_text(*v) + " is out of range (allowed: 0, or |" + path +
-                    "| >= " + format_number(std::numeric_limits<double>::min(), kDigits) +
-                    ", the smallest normal double; subnormal numbers are refused)");
+  // Magnitudes outside [1e-30, 1e30] (other than 0) are refused: no quantity of a case in
+  // SI units lies outside (time steps of picoseconds, penalties of 1e16 Pa/m), and the
+  // run multiplies such values (dt² E, 6 P_n / h) into overflow or underflow: dt = 1e308
+  // once ran to a NaN state with exit 0. That includes the subnormal numbers (-1e-310),
+  // which a device may also flush to zero, silently turning a positive value into 0.
+  if (*v != 0 && !(std::fabs(*v) >= kSmallestMagnitude && std::fabs(*v) <= kLargestMagnitude))
+    ctx.fail(n, path + " = " + shortest_text(*v) + " is out of range (allowed: 0, or " +
+                    format_number(kSmallestMagnitude) + " <= |" + path + "| <= " + format_number(kLargestMagnitude) +
+                    (std::fpclassify(*v) == FP_SUBNORMAL ? "; subnormal numbers are refused" : "") +
+                    ": no quantity of a case in SI units lies outside, and products of such values "
+                    "overflow or underflow a double)");
   if (!range.contains(*v))
     ctx.fail(n, path + " = " + format_number(*v, kDigits) + " is out of range (allowed: " +
                     range.text(path) + ")");

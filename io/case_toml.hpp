@@ -24,6 +24,9 @@ namespace fdem::io::detail {
 // Values from the case file are echoed in messages to 15 significant digits.
 constexpr int kDigits = 15;
 
+// Every number of a case is 0 or of a magnitude in [1e-30, 1e30] (as_number).
+constexpr double kSmallestMagnitude = 1e-30, kLargestMagnitude = 1e30;
+
 // "string \"x\"", "integer 3", "array of 2": what a node holds, for messages.
 std::string describe(const toml::node& n);
 
