@@ -218,8 +218,11 @@ constexpr long kMaxFrames = 1000000;
 // steps, a finite end time steps × dt, output.every and output.history_every at most
 // kMaxSteps steps apart, and at most steps + 1 frames (a frame per step and one at
 // t = 0), and at most kMaxFrames. read_case calls it with a numeric dt; with
-// dt = "auto" it must be called with the dt the run uses, before anything is allocated
-// from the counts.
+// dt = "auto" it calls it with dt = 0, which checks only what does not depend on dt
+// (time.steps, output.frames against kMaxFrames, and against steps + 1 when time.steps
+// is given) and returns time.steps, or -1 when the count needs dt. With dt = "auto" the
+// run must call it again with the dt it uses, before anything is allocated from the
+// counts.
 long run_steps(const CaseConfig& c, double dt);
 
 }  // namespace fdem::io

@@ -4,6 +4,7 @@
 #include "io/case_config.hpp"
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -111,9 +112,9 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   flatten(root, "", ctx, c);
   c.text = content.str();
   // With a numeric dt (or a step count) the run's length is known now: check it here,
-  // so that `fdem check` refuses it at the key's line before the mesh is read.
-  if (!c.time.dt_auto) run_steps(c, c.time.dt);
-  else if (c.time.steps > 0) run_steps(c, 0.0);
+  // so that `fdem check` refuses it at the key's line before the mesh is read. With
+  // dt = "auto" what does not depend on dt is checked (frames at most 10^6).
+  run_steps(c, c.time.dt_auto ? 0.0 : c.time.dt);
   return c;
 }
 
@@ -125,15 +126,16 @@ std::string origin_of(const CaseConfig& c, const std::string& key) {
 long run_steps(const CaseConfig& c, double dt) {
   const TimeConfig& t = c.time;
   const OutputConfig& o = c.output;
-  const bool known_dt = dt > 0;  // dt = 0: time.steps with dt = "auto", before the mesh
+  const bool known_dt = dt > 0;  // dt = 0: dt = "auto", before the mesh
+  const bool known_steps = known_dt || t.steps > 0;
   const std::string dt_text =
       "time.dt = " + format_number(dt, kDigits) + " s" + (t.dt_auto ? " (\"auto\")" : "");
   auto fail = [&](const std::string& key, const std::string& what) -> void {
     throw InputError(origin_of(c, key) + ": " + what);
   };
   const std::string limit = "2^53 = " + count_text(double(kMaxSteps));
-  double steps = double(t.steps);
-  if (t.steps <= 0) {
+  double steps = known_steps ? double(t.steps) : std::numeric_limits<double>::infinity();
+  if (t.steps <= 0 && known_dt) {
     // As the run counts them: the end rounded up to whole steps, a last step that ends
     // within 1e-9 of a step of `end` not counted.
     const double n = std::ceil(t.end / dt - 1e-9);
@@ -160,7 +162,7 @@ long run_steps(const CaseConfig& c, double dt) {
   double frames = o.frames > 0 ? o.frames : 20;
   std::string frames_key = "output.frames", subject = "output.frames = " + count_text(frames);
   if (o.every > 0) {
-    if (!known_dt) return long(steps);  // the stride needs dt: checked again with the run's dt
+    if (!known_dt) return known_steps ? long(steps) : -1;  // the stride needs dt: checked again with the run's dt
     const double stride = std::max(1.0, std::round(o.every / dt));
     frames = std::ceil(steps / stride) + 1;
     frames_key = "output.every";
@@ -175,7 +177,7 @@ long run_steps(const CaseConfig& c, double dt) {
   if (frames > double(kMaxFrames))
     fail(frames_key, subject + " is more than the limit of " + count_text(double(kMaxFrames)) +
                          " frames (for a finer record in time use output.history_every or [[probe]] entries)");
-  return long(steps);
+  return known_steps ? long(steps) : -1;
 }
 
 }  // namespace fdem::io

@@ -112,6 +112,13 @@ TEST_CASE("frames: at most steps + 1 and 10^6, refused before any schedule is bu
   CHECK(error_with(with(kBase, "end = 10.0", "end = 2e6"), {"output.frames=1000001"}) ==
         contains("(from --set output.frames=1000001): output.frames = 1000001 is more than the limit of 1000000 "
                  "frames"));
+  // With dt = "auto" the step count waits for the mesh, the limit of 10^6 does not.
+  const std::string automatic = with(kBase, "dt = 1.0", "dt = \"auto\"");
+  CHECK(error_with(automatic, {"output.frames=2147483647"}) ==
+        contains("(from --set output.frames=2147483647): output.frames = 2147483647 is more than the limit of 1000000"));
+  CHECK(error_with(automatic, {"output.frames=1000"}) == "");
+  CHECK(error_with(with(automatic, "end = 10.0", "steps = 10"), {"output.frames=12"}) ==
+        contains("output.frames = 12 is more than the run's 10 steps + 1"));
   // output.every: one frame a step at most, and the count is the one the run would write.
   CHECK(error_of(kBase + "[output]\nevery = 1e-9\n") == "");
   CHECK(error_of(with(kBase, "end = 10.0", "end = 2e6") + "[output]\nevery = 1.0\n") ==
