@@ -3,6 +3,7 @@
 // The device stage is engine/stages/cohesive_forces.*; the law is in cl_kernels/cohesive_forces.cl.
 #pragma once
 #include <array>
+#include <string>
 #include <vector>
 
 namespace fdem {
@@ -18,8 +19,18 @@ struct FractureProperties {           // one per fracturable material or interfa
 
 // f(D) of Eq. 10: f(0) = 1, f(1) = 0, decreasing in between for the usual A, B, C.
 double softening(double D, double a, double b, double c);
-// I_f = ∫₀¹ f(D) dD, by adaptive Simpson to 1e-12 (≈ 0.38631 for 0.63, 1.8, 6.0).
+// I_f = ∫₀¹ f(D) dD, by adaptive Simpson to 1e-12 (≈ 0.38631 for 0.63, 1.8, 6.0). Throws
+// NumericalError when f is not finite somewhere or the panels do not converge within
+// kSofteningPanels evaluations (never recurses without bound).
 double softening_integral(double a, double b, double c);
+constexpr long kSofteningPanels = 1L << 20;
+
+// What is wrong with the softening curve of a, b, c for the CE4 law, or "" when it is a
+// curve the law can use: f finite on [0, 1], f(0) = 1 and f(1) = 0 to round-off, never
+// rising (the kernel keeps the smallest f reached, so a rising stretch would be cut off
+// and the dissipated energy would no longer be G_f), and I_f computable. Checked on 1001
+// points; the case reader calls it for every `softening` table.
+std::string softening_curve_problem(double a, double b, double c);
 
 struct CohesiveModel {
   // Nodes (i, j, j', i'): edge i→j of triangle 1 (counter-clockwise, so its interior is

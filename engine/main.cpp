@@ -269,18 +269,8 @@ int check_command(const Arguments& a) {
   std::cout << "regions   ";
   for (const auto& r : m.regions) std::cout << r.name << " (" << r.nodes.size() << " nodes" << (r.prescribed ? ", prescribed" : "") << ")  ";
   std::cout << "\nloaded edges " << m.loaded_edges.size() << "\n";
-  if (!m.ce4.empty()) {
-    std::cout << "CE4       " << m.ce4.size() << " cohesive elements\n";
-    double stiffest = 0;
-    for (const auto& mat : p.config.materials)
-      if (mat.fracture) stiffest = std::max(stiffest, mat.young);
-    for (const auto& f : m.fracture)
-      for (const auto& [name, value] : {std::pair{"opening", f.penalty_opening}, std::pair{"sliding", f.penalty_sliding},
-                                        std::pair{"overlap", f.penalty_overlap}})
-        if (value < 10 * stiffest)
-          std::cout << "warning: CE4 " << name << " penalty " << value << " Pa is below 10 x E (" << 10 * stiffest
-                    << " Pa): intact rock will be too soft and stress waves too slow (seed paper, Section 3.4)\n";
-  }
+  if (!m.ce4.empty()) std::cout << "CE4       " << m.ce4.size() << " cohesive elements\n";
+  for (const auto& warning : fdem::model_warnings(m, p.config)) std::cout << "warning: " << warning << "\n";
   for (const auto& probe : p.probes)
     std::cout << "probe     " << probe.name << " at (" << probe.point[0] << ", " << probe.point[1] << "): node "
               << m.node_tags[probe.node] << " at (" << m.x[probe.node] << ", " << m.y[probe.node] << "), "

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/format.hpp"
 #include "io/mesh.hpp"
 #include "io/suggest.hpp"
 
@@ -52,7 +53,7 @@ std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a,
 
 }  // namespace
 
-double default_skin(const Model& model) {
+double mean_edge_length(const Model& model) {
   double sum = 0;
   size_t edges = 0;
   for (const auto& tri : model.triangles)
@@ -61,12 +62,19 @@ double default_skin(const Model& model) {
       sum += std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]);
       ++edges;
     }
-  return edges ? kDefaultSkinFraction * sum / static_cast<double>(edges) : 0.0;
+  return edges ? sum / static_cast<double>(edges) : 0.0;
+}
+
+double default_skin(const Model& model) { return kDefaultSkinFraction * mean_edge_length(model); }
+
+double default_tangential_penalty(double normal_penalty, double mean_edge) {
+  return kTangentialPenaltyFactor * normal_penalty / mean_edge;
 }
 
 namespace {
 
-ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& config) {
+// `mean_edge`: mean_edge_length of the model, the h of the default P_tan.
+ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& config, double mean_edge) {
   ContactModel contact;
   contact.enabled = true;
   contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
@@ -89,7 +97,13 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
     contact.max_tangential_penalty = std::max(contact.max_tangential_penalty, ptan);
     return static_cast<uint32_t>(contact.pair_props.size() / layout::CONTACT_PROPS - 1);
   };
-  const uint32_t defaults = row(c.normal_penalty, c.tangential_penalty, c.friction, c.damping);
+  // P_tan not given in the pair nor in [contact]: consistent with the pair's own P_n.
+  auto tangential = [&](const std::optional<double>& pair_value, double pn) {
+    return pair_value ? *pair_value
+                      : c.tangential_penalty ? *c.tangential_penalty : default_tangential_penalty(pn, mean_edge);
+  };
+  const uint32_t defaults =
+      row(c.normal_penalty, tangential(std::nullopt, c.normal_penalty), c.friction, c.damping);
   contact.pair_index.assign(n * n, defaults);
   auto index_of = [&](const std::string& name) {
     for (size_t m = 0; m < n; ++m)
@@ -98,8 +112,8 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
   };
   for (const auto& pair : c.pairs) {
     const size_t a = index_of(pair.materials[0]), b = index_of(pair.materials[1]);
-    const uint32_t r = row(pair.normal_penalty.value_or(c.normal_penalty),
-                           pair.tangential_penalty.value_or(c.tangential_penalty), pair.friction.value_or(c.friction),
+    const double pn = pair.normal_penalty.value_or(c.normal_penalty);
+    const uint32_t r = row(pn, tangential(pair.tangential_penalty, pn), pair.friction.value_or(c.friction),
                            pair.damping ? pair.damping : c.damping);
     contact.pair_index[a * n + b] = contact.pair_index[b * n + a] = r;
   }
@@ -544,7 +558,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     remember_region(name, dim, nodes, false);
   }
   if (config.contact) {
-    model.contact = build_contact(*config.contact, config);
+    model.contact = build_contact(*config.contact, config, mean_edge_length(model));
     if (model.contact.skin_from_mesh) model.contact.skin = default_skin(model);
     for (const auto& name : config.contact->regions) {
       int dim = 0;
@@ -620,6 +634,76 @@ StableStep stable_time_step(const Model& model) {
     if (dt < best.dt) best = {dt, t};
   }
   return best;
+}
+
+std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config) {
+  std::vector<std::string> out;
+  auto where = [&](const std::string& key) { return io::origin_of(config, key) + ": "; };
+  if (config.contact) {
+    const io::ContactConfig& c = *config.contact;
+    const double h = mean_edge_length(model);
+    // One check per place a P_tan is written: [contact], then each [[contact.pair]].
+    auto check = [&](const std::string& key, const std::string& shown, std::optional<double> ptan, double pn,
+                     double mu) {
+      if (!ptan || mu == 0) return;  // a default is consistent; without friction P_tan does nothing
+      const double consistent = default_tangential_penalty(pn, h);
+      if (*ptan == 0) {
+        out.push_back(where(key) + shown + " = 0 turns the tangential contact force off, so friction = " +
+                      format_number(mu) + " has no effect");
+      } else if (*ptan > 10 * consistent || *ptan < consistent / 10) {
+        out.push_back(where(key) + shown + " = " + format_number(*ptan) + " Pa/m is more than 10x away from " +
+                      "6 P_n / h = " + format_number(consistent) + " Pa/m (P_n " + format_number(pn) +
+                      " Pa, h " + format_number(h) + " m, the mean triangle edge)" +
+                      (*ptan < consistent ? ": the elastic slip before sliding is much larger than the overlap, and a "
+                                            "block that must stick creeps (cases/sliding/README.md)"
+                                          : ": the friction spring is much stiffer than the normal one and sets the "
+                                            "stable step") +
+                      "; leave tangential_penalty out for 6 P_n / h");
+      }
+    };
+    check("contact.tangential_penalty", "contact.tangential_penalty", c.tangential_penalty, c.normal_penalty,
+          c.friction);
+    for (size_t k = 0; k < c.pairs.size(); ++k) {
+      const auto& p = c.pairs[k];
+      const std::string index = std::to_string(k);
+      const double pn = p.normal_penalty.value_or(c.normal_penalty), mu = p.friction.value_or(c.friction);
+      if (p.tangential_penalty)
+        check("contact.pair." + index + ".tangential_penalty", "contact.pair[" + index + "].tangential_penalty",
+              p.tangential_penalty, pn, mu);
+      else if (pn != c.normal_penalty || (mu > 0) != (c.friction > 0))  // else [contact]'s warning says it
+        check("contact.tangential_penalty", "contact.tangential_penalty (taken by contact.pair[" + index + "])",
+              c.tangential_penalty, pn, mu);
+    }
+  }
+  // CE4 penalties against the stiffest fracturable material's E (seed paper, Sections 2.1
+  // and 3.4): an intact rock made compliant by its CE4s, and slower waves.
+  if (!model.ce4.empty()) {
+    double stiffest = 0;
+    for (const auto& m : config.materials)
+      if (m.fracture) stiffest = std::max(stiffest, m.young);
+    const bool dynamic = !config.damping.mass_scaling;
+    auto check = [&](const std::string& prefix, const std::string& shown, const io::FractureConfig& f) {
+      for (const auto& [key, value] : {std::pair<const char*, double>{"opening", f.penalty_opening},
+                                       {"sliding", f.penalty_sliding},
+                                       {"overlap", f.penalty_overlap}})
+        if (value < 10 * stiffest)
+          out.push_back(where(prefix + ".penalty." + key) + shown + ".penalty." + key + " = " + format_number(value) +
+                        " Pa is below 10 E = " + format_number(10 * stiffest) +
+                        " Pa (E of the stiffest fracturable material): the intact CE4s make the rock too compliant "
+                        "and stress waves too slow" +
+                        (dynamic ? "; the seed paper (Section 3.4) measured 4660 m/s instead of 5000 m/s with "
+                                   "penalties = E, and says penalties near E must not be used for dynamic fracture "
+                                   "analysis (it uses 50 E)"
+                                 : " (seed paper, Section 2.1)"));
+    };
+    for (size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].fracture)
+        check("material." + std::to_string(m) + ".fracture", "material[" + std::to_string(m) + "].fracture",
+              *config.materials[m].fracture);
+    for (size_t i = 0; i < config.interfaces.size(); ++i)
+      check("interface." + std::to_string(i), "interface[" + std::to_string(i) + "]", config.interfaces[i].fracture);
+  }
+  return out;
 }
 
 }  // namespace fdem

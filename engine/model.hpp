@@ -153,12 +153,32 @@ struct Model {
 // `notes`.
 Model build_model(const io::Mesh& mesh, const io::CaseConfig& config, std::vector<std::string>& notes);
 
+// The mean edge length of the model's triangles [m] (every triangle, reference
+// positions): the element size h of the contact defaults below.
+double mean_edge_length(const Model& model);
+
 // The contact skin when [contact] gives no `skin` and rebuilds by "skin" (the default):
 // kDefaultSkinFraction × the mean edge length of the model's triangles [m]. A fifth of an
 // element: candidates grow by about that much around each box, and the detection runs
 // again once a node has moved a tenth of an element (docs/case-format.md).
 constexpr double kDefaultSkinFraction = 0.2;
 double default_skin(const Model& model);
+
+// P_tan when neither [contact] nor the pair gives `tangential_penalty`: 6 P_n / h [Pa/m],
+// h = mean_edge_length. Two triangles of size h overlapping by d over a length L push
+// apart with about 6 P_n d L / h (the modulus stable_time_step uses), a normal stiffness
+// of 6 P_n / h per unit length and thickness; the friction spring P_tan × L is then as
+// stiff along the contact as across it, so an elastic slip before sliding is about as
+// small as the overlap (cases/sliding/README.md: a block that must stick creeps 11 µm
+// instead of 16 mm with P_tan = P_n Pa/m).
+constexpr double kTangentialPenaltyFactor = 6.0;
+double default_tangential_penalty(double normal_penalty, double mean_edge);
+
+// Warnings about a case that runs but that the method's own consistency or the seed
+// paper advises against, each naming its key (`fdem check` prints them): a contact
+// P_tan more than 10× away from 6 P_n / h, and CE4 penalties below 10 E (Section 3.4 of
+// the paper: penalties near E must not be used for dynamic fracture).
+std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config);
 
 // Stable time step estimate over all triangles (the smallest triangle height h over the
 // P-wave speed, reduced by the viscous damping ratio ξ: Δt = h/c (√(1+ξ²) − ξ)), and the

@@ -42,6 +42,7 @@ BoundaryConfig read_boundary(const TableReader& r) {
   r.check_keys(kBoundaryKeys);
   BoundaryConfig b;
   b.region = r.required_string("region");
+  check_region_name(r, "region", b.region);
   if (const toml::node* fix = r.find("fix")) {
     const std::vector<std::string> axes = *r.strings("fix");
     for (std::size_t i = 0; i < axes.size(); ++i) {
@@ -90,6 +91,7 @@ InitialConfig read_initial(const TableReader& r) {
   r.check_keys(kInitialKeys);
   InitialConfig c;
   c.region = r.required_string("region");
+  check_region_name(r, "region", c.region);
   if (!r.has("velocity")) r.missing("velocity");
   c.velocity = *r.pair("velocity");
   return c;

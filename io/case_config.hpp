@@ -30,7 +30,7 @@ struct TimeConfig {
 
 struct OutputConfig {
   std::string dir = "out";  // resolved relative to the current working directory
-  std::string name;         // base name of the output files; default: case file stem
+  std::string name;         // base name of the output files; default: case file stem; one file name (docs/case-format.md, [output])
   int frames = -1;          // number of frames (first and last included); < 0 when every is given
   double every = -1.0;      // [s] time between frames; < 0 when frames is given
   double history_every = -1.0;  // [s]; < 0: steps/1000 steps
@@ -145,7 +145,9 @@ enum class ContactRebuild { Step, Skin };
 
 struct ContactConfig {
   double normal_penalty = 0.0;      // P_n [Pa]
-  double tangential_penalty = 0.0;  // P_tan [Pa/m]; when not given, = normal_penalty (numerically)
+  // P_tan [Pa/m]. nullopt: not given; the model takes 6 P_n / h for each pair, h the mean
+  // triangle edge of the mesh (engine/model.hpp, default_tangential_penalty).
+  std::optional<double> tangential_penalty;
   double friction = 0.0;            // Coulomb μ
   std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
   std::string activation = "all";   // "all" or "fractured"
@@ -185,6 +187,9 @@ struct CaseConfig {
   // Every key of the case after --set, by dotted path ("material.0.young") → its TOML
   // value; checkpoints keep it so that a restart can name any key that changed.
   std::map<std::string, std::string> settings;
+  // The same keys → where their value came from, as messages write it ("case.toml:12",
+  // "case.toml (from --set time.end=1)"): for checks made after reading (run_steps).
+  std::map<std::string, std::string> origin;
   std::string text;  // the case file's text as read
 };
 
@@ -195,5 +200,29 @@ struct CaseConfig {
 // name as a suggestion), missing required key (naming its table), wrong type, value out
 // of range, and a bad --set.
 CaseConfig read_case(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Where the key's value came from ("case.toml:12", or the --set), or the case path when
+// the key is absent: the prefix of a message about it.
+std::string origin_of(const CaseConfig& c, const std::string& key);
+
+// The most steps a run may take: 2^53, the largest count a double holds exactly with
+// every count below it (the time n × dt, the frame schedule and the restart's step of a
+// time are computed in doubles).
+constexpr long kMaxSteps = 1L << 53;
+// The most frames a run may write (output.frames, or the frames output.every gives).
+constexpr long kMaxFrames = 1000000;
+
+// The number of steps of the run at time step `dt` [s]: time.steps, or time.end / dt
+// rounded up (at least 1). Checks first that the count and the output schedule fit, and
+// throws InputError naming the key, its file and line otherwise: at most kMaxSteps
+// steps, a finite end time steps × dt, output.every and output.history_every at most
+// kMaxSteps steps apart, and at most steps + 1 frames (a frame per step and one at
+// t = 0), and at most kMaxFrames. read_case calls it with a numeric dt; with
+// dt = "auto" it calls it with dt = 0, which checks only what does not depend on dt
+// (time.steps, output.frames against kMaxFrames, and against steps + 1 when time.steps
+// is given) and returns time.steps, or -1 when the count needs dt. With dt = "auto" the
+// run must call it again with the dt it uses, before anything is allocated from the
+// counts.
+long run_steps(const CaseConfig& c, double dt);
 
 }  // namespace fdem::io

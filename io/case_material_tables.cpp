@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "engine/cohesive_model.hpp"
+
 namespace fdem::io::detail {
 namespace {
 
@@ -56,14 +58,38 @@ FractureConfig read_fracture_keys(const TableReader& r) {
                      softening.path() + ": a + b = " +
                          format_number(f.softening_a + f.softening_b, kDigits) +
                          " is out of range (allowed: a + b > 1)");
+    if (const std::string problem = softening_curve_problem(f.softening_a, f.softening_b, f.softening_c);
+        !problem.empty())
+      softening.fail(softening.blamed(softening.blamed("a", "b"), "c"),
+                     softening.path() + " = { a = " + format_number(f.softening_a, kDigits) +
+                               ", b = " + format_number(f.softening_b, kDigits) + ", c = " +
+                               format_number(f.softening_c, kDigits) + " } is not a softening curve the "
+                               "CE4 law can use (Eq. 10: f falls from 1 at D = 0 to 0 at D = 1): " + problem);
   }
   return f;
+}
+
+// A material's name is its element block's name in the Exodus file (engine/run.cpp),
+// where names are fixed arrays of 32 bytes (io/exodus_writer.cpp, kMaxNameLength), and
+// the CE4 block of a fracturable case is named "cohesive". "" when the name fits.
+std::string material_name_problem(const std::string& name) {
+  if (const std::string c = control_character(name); !c.empty())
+    return "holds a control character (" + c + "): a name is one line of printable characters";
+  if (name.size() > kMaxMaterialName)
+    return "is " + std::to_string(name.size()) + " bytes long, more than the " +
+           std::to_string(kMaxMaterialName) + " that fit in an Exodus block name";
+  if (name == kCohesiveBlockName)
+    return "is reserved: the Exodus file names its block of cohesive elements (CE4s) \"" +
+           std::string(kCohesiveBlockName) + "\"";
+  return "";
 }
 
 MaterialConfig read_material(const TableReader& r) {
   r.check_keys(kMaterialKeys);
   MaterialConfig m;
   m.name = r.required_string("name");
+  if (const std::string problem = material_name_problem(m.name); !problem.empty())
+    r.fail("name", r.key_path("name") + " = " + quoted_text(m.name) + " " + problem);
   if (!r.has("regions")) r.missing("regions");
   m.regions = *r.strings("regions");
   m.density = r.required_number("density", kPositive);

@@ -58,7 +58,8 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
     if (toml::array* entries = cur->as_array()) {
       if (!is_index(part))
         fail(shown + " is an array of tables: give an index, e.g. " + shown + ".0." + part);
-      const std::size_t index = std::stoul(part);
+      std::size_t index = 0;  // is_index: at most 9 digits, so no overflow
+      for (char c : part) index = index * 10 + static_cast<std::size_t>(c - '0');
       if (index >= entries->size())
         fail("index " + part + " is out of range: the case has " +
              std::to_string(entries->size()) + " " + heading + " entries (indices start at 0)");

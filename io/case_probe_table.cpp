@@ -6,6 +6,8 @@
 
 namespace fdem::io::detail {
 
+constexpr std::size_t kMaxProbeName = 252;  // NC_MAX_NAME (256) less "_sxx"
+
 // [[probe]] entries: the name prefixes history variables, so it must be a netCDF-safe
 // identifier and unique. Whether the point lies in the mesh is checked with the model.
 std::vector<ProbeConfig> read_probes(const TableReader& top) {
@@ -21,6 +23,10 @@ std::vector<ProbeConfig> read_probes(const TableReader& top) {
     if (!identifier)
       r.fail("name", r.key_path("name") + " = \"" + p.name + "\" must start with a letter and "
                      "hold only letters, digits and '_' (it prefixes history variables)");
+    // The history variables are NAME_vx ... NAME_sxy, and netCDF names hold 256 bytes.
+    if (p.name.size() > kMaxProbeName)
+      r.fail("name", r.key_path("name") + " is " + std::to_string(p.name.size()) + " characters long, more than the " +
+                         std::to_string(kMaxProbeName) + " that its history variables (NAME_sxx) leave for it");
     if (auto [it, fresh] = seen.emplace(p.name, r.path()); !fresh)
       r.fail("name", r.key_path("name") + " = \"" + p.name + "\" is already the name of " +
                          it->second + ": probe names must be unique");

@@ -14,7 +14,31 @@ std::string resolve_against(const std::string& dir, const std::string& file) {
   return (fs::path(dir) / p).lexically_normal().string();
 }
 
+// The output files are output.dir / (name + a suffix): a name is one file name, so that
+// nothing is written outside output.dir. "" when `name` is fine, else what is wrong.
+std::string output_name_problem(const std::string& name) {
+  if (name.empty()) return "must not be empty";
+  if (name == "." || name == "..") return "is a directory, not a file name";
+  if (name.find_first_of("/\\") != std::string::npos)
+    return "holds a path separator: it is the base name of files inside output.dir (give directories "
+           "in output.dir)";
+  if (const std::string c = control_character(name); !c.empty())
+    return "holds a control character (" + c + "): a name is one line of printable characters";
+  if (name.size() > kMaxOutputName)
+    return "is " + std::to_string(name.size()) + " bytes long, more than the limit of " +
+           std::to_string(kMaxOutputName) + " (the files add suffixes such as _fragments.nc.resume, and a "
+           "file name holds at most 255 bytes)";
+  return "";
+}
+
 }  // namespace
+
+void check_region_name(const TableReader& r, std::string_view key, const std::string& name) {
+  if (name.size() > kMaxRegionName)
+    r.fail(key, r.key_path(key) + ": region name " + quoted_text(name.substr(0, 40)) + "... is " +
+                    std::to_string(name.size()) + " bytes long, more than the " + std::to_string(kMaxRegionName) +
+                    " that history variable names leave for it (netCDF names hold 256 bytes)");
+}
 
 MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
   r.check_keys(kMeshKeys);
@@ -53,14 +77,23 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path) {
   r.check_keys(kOutputKeys);
   OutputConfig o;
   if (auto dir = r.string("dir")) o.dir = *dir;
-  o.name = r.string("name").value_or(fs::path(case_path).stem().string());
   if (o.dir.empty()) r.fail("dir", "output.dir must not be empty");
-  if (o.name.empty()) r.fail("name", "output.name must not be empty");
+  if (auto name = r.string("name")) {
+    o.name = *name;
+    if (const std::string problem = output_name_problem(o.name); !problem.empty())
+      r.fail("name", "output.name = " + quoted_text(o.name) + " " + problem);
+  } else {
+    o.name = fs::path(case_path).stem().string();
+    if (const std::string problem = output_name_problem(o.name); !problem.empty())
+      r.ctx().fail(r.table(), "output.name is not given, and the case file's stem " + quoted_text(o.name) +
+                                  ", its default, " + problem + ": give output.name");
+  }
   r.exclusive("frames", "every");
   o.every = r.number("every", kPositive).value_or(-1.0);
   o.frames = r.integer<int>("frames", 1).value_or(o.every > 0 ? -1 : 20);
   o.history_every = r.number("history_every", kPositive).value_or(-1.0);
   if (r.has("regions")) o.regions = *r.strings("regions");
+  for (const std::string& region : o.regions) check_region_name(r, "regions", region);
   o.energy_limit = r.number("energy_limit", kPositive).value_or(o.energy_limit);
   o.checkpoint_every = r.number("checkpoint_every", kNonNegative).value_or(0.0);
   o.float_frames = r.choice<bool>("precision", {{"double", false}, {"float", true}}).value_or(false);

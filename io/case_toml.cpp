@@ -1,6 +1,7 @@
 #include "io/case_toml.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace fdem::io::detail {
 
@@ -13,6 +14,39 @@ std::string describe(const toml::node& n) {
     return a->is_array_of_tables() ? "array of tables" : "array of " + std::to_string(a->size());
   if (n.is_table()) return "table";
   return "a date/time";
+}
+
+namespace {
+bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
+std::string hex(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  return {"0123456789abcdef"[byte >> 4], "0123456789abcdef"[byte & 15]};
+}
+}  // namespace
+
+std::string shortest_text(double v) {
+  for (int digits = 1; digits < 17; ++digits)
+    if (const std::string s = format_number(v, digits); std::strtod(s.c_str(), nullptr) == v) return s;
+  return format_number(v, 17);
+}
+
+std::string quoted_text(std::string_view s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\r') out += "\\r";
+    else if (c == '"' || c == '\\') out += std::string("\\") + c;
+    else if (is_control(c)) out += "\\u00" + hex(c);
+    else out += c;
+  }
+  return out + "\"";
+}
+
+std::string control_character(std::string_view s) {
+  for (char c : s)
+    if (is_control(c)) return "byte 0x" + hex(c);
+  return "";
 }
 
 std::string Range::text(std::string_view name) const {
@@ -45,6 +79,17 @@ double as_number(const Context& ctx, const toml::node& n, const std::string& pat
   if (auto d = n.value_exact<double>()) v = *d;
   if (!v) ctx.fail(n, path + " must be a number, found " + describe(n));
   if (!std::isfinite(*v)) ctx.fail(n, path + " must be finite, found " + format_number(*v, kDigits));
+  // Magnitudes outside [1e-30, 1e30] (other than 0) are refused: no quantity of a case in
+  // SI units lies outside (time steps of picoseconds, penalties of 1e16 Pa/m), and the
+  // run multiplies such values (dt² E, 6 P_n / h) into overflow or underflow: dt = 1e308
+  // once ran to a NaN state with exit 0. That includes the subnormal numbers (-1e-310),
+  // which a device may also flush to zero, silently turning a positive value into 0.
+  if (*v != 0 && !(std::fabs(*v) >= kSmallestMagnitude && std::fabs(*v) <= kLargestMagnitude))
+    ctx.fail(n, path + " = " + shortest_text(*v) + " is out of range (allowed: 0, or " +
+                    format_number(kSmallestMagnitude) + " <= |" + path + "| <= " + format_number(kLargestMagnitude) +
+                    (std::fpclassify(*v) == FP_SUBNORMAL ? "; subnormal numbers are refused" : "") +
+                    ": no quantity of a case in SI units lies outside, and products of such values "
+                    "overflow or underflow a double)");
   if (!range.contains(*v))
     ctx.fail(n, path + " = " + format_number(*v, kDigits) + " is out of range (allowed: " +
                     range.text(path) + ")");

@@ -24,6 +24,9 @@ namespace fdem::io::detail {
 // Values from the case file are echoed in messages to 15 significant digits.
 constexpr int kDigits = 15;
 
+// Every number of a case is 0 or of a magnitude in [1e-30, 1e30] (as_number).
+constexpr double kSmallestMagnitude = 1e-30, kLargestMagnitude = 1e30;
+
 // "string \"x\"", "integer 3", "array of 2": what a node holds, for messages.
 std::string describe(const toml::node& n);
 
@@ -71,6 +74,14 @@ class Context {
   std::set<std::string> override_sources_;
   std::map<const toml::node*, std::string> created_;  // tables that --set had to create
 };
+
+// The fewest digits that read back as v (what the user wrote for a subnormal, where 15
+// digits would show round-off: -1e-310, not -9.99999999999997e-311).
+std::string shortest_text(double v);
+// A string as messages show it: in double quotes, control characters escaped ("a\nb").
+std::string quoted_text(std::string_view s);
+// The first control character of s (bytes below 0x20, and 0x7f) as "byte 0x0a", or "".
+std::string control_character(std::string_view s);
 
 double as_number(const Context& ctx, const toml::node& n, const std::string& path,
                  const Range& range);

@@ -39,9 +39,98 @@ std::string incline_case(const test::TempDir& dir, double degrees, const std::st
   return dir.write("incline.toml", text.str());
 }
 
+// The same block and base with nothing that damps: no viscosity, no contact damping,
+// μ = `mu`, and `tangential` the [contact] line for P_tan ("" for the default); 0.1 s.
+std::string undamped_incline_case(const test::TempDir& dir, double degrees, double mu, const std::string& tangential) {
+  const double g = 9.81, a = degrees * M_PI / 180;
+  std::ostringstream text;
+  text.precision(17);
+  text << "title = \"undamped incline\"\n[mesh]\ngeo = \"" << test::source_path("cases/sliding/sliding.geo")
+       << "\"\nsize = 0.025\n[time]\ndt = \"auto\"\nend = 0.1\n[output]\ndir = \"" << dir.str()
+       << "\"\nframes = 2\nhistory_every = 0.005\nregions = [\"block\"]\n"
+       << "[[material]]\nname = \"block\"\nregions = [\"block\"]\ndensity = 2000.0\nyoung = 1e8\npoisson = 0.25\n"
+       << "[[material]]\nname = \"base\"\nregions = [\"base\"]\ndensity = 2000.0\nyoung = 1e8\npoisson = 0.25\n"
+       << "[gravity]\ng = [" << g * std::sin(a) << ", " << -g * std::cos(a) << "]\n"
+       << "[contact]\nnormal_penalty = 1e8\n" << tangential << "friction = " << mu << "\nrebuild = \"skin\"\nskin = 1e-3\n"
+       << "[[boundary]]\nregion = \"base\"\nfix = [\"x\", \"y\"]\n";
+  return dir.write("incline.toml", text.str());
+}
+
 }  // namespace
 
 TEST_SUITE("contact") {
+
+TEST_CASE("default tangential penalty: 6 P_n / h with h the mean triangle edge; check warns about a P_tan far from it") {
+  test::TempDir dir;
+  const std::string path = undamped_incline_case(dir, 19.62, 0.4, "");
+  const PreparedCase p = prepare_case(path, {});
+  const double h = mean_edge_length(p.model);
+  CHECK(h == doctest::Approx(5 * default_skin(p.model)));  // the h of the default skin
+  const double ptan = p.model.contact.pair_props[layout::PAIR_TANGENTIAL_PENALTY];
+  CHECK(ptan == doctest::Approx(6 * 1e8 / h).epsilon(1e-12));
+  MESSAGE("sliding mesh at size 0.025: mean edge h = " << h << " m, default P_tan = " << ptan << " Pa/m for P_n = 1e8 Pa");
+  CHECK(ptan > 1e10);  // h is about 2 cm: hundreds of times the former default, 1e8 "Pa/m"
+  CHECK(model_warnings(p.model, p.config).empty());
+  // A pair without its own P_tan takes 6 × its own P_n / h.
+  const PreparedCase paired = prepare_case(path, {"contact.pair=[{materials=[\"block\",\"base\"],normal_penalty=2e8}]"});
+  const auto& pp = paired.model.contact;
+  const uint32_t row = pp.pair_index[0 * 2 + 1];
+  CHECK(pp.pair_props[row * layout::CONTACT_PROPS + layout::PAIR_TANGENTIAL_PENALTY] == doctest::Approx(6 * 2e8 / h));
+
+  const PreparedCase soft = prepare_case(path, {"contact.tangential_penalty=1e8"});
+  const auto warnings = model_warnings(soft.model, soft.config);
+  REQUIRE(warnings.size() == 1);
+  CHECK(doctest::String(warnings[0].c_str()) == doctest::Contains((path + " (from --set contact.tangential_penalty=1e8): contact.tangential_penalty = "
+                                                 "1e+08 Pa/m is more than 10x away from 6 P_n / h").c_str()));
+  // A pair that only inherits [contact]'s P_tan is not warned about twice; one with its
+  // own P_n is, since its consistent value differs.
+  const std::string pair = "contact.pair=[{materials=[\"block\",\"base\"]}]";
+  const PreparedCase inherits = prepare_case(path, {"contact.tangential_penalty=1e8", pair});
+  CHECK(model_warnings(inherits.model, inherits.config).size() == 1);
+  const PreparedCase own_pn =
+      prepare_case(path, {"contact.tangential_penalty=1e8", "contact.pair=[{materials=[\"block\",\"base\"],normal_penalty=2e8}]"});
+  const auto both = model_warnings(own_pn.model, own_pn.config);
+  REQUIRE(both.size() == 2);
+  CHECK(doctest::String(both[1].c_str()) == doctest::Contains("contact.tangential_penalty (taken by contact.pair[0]) = 1e+08 Pa/m"));
+  const auto off = model_warnings(prepare_case(path, {"contact.tangential_penalty=0"}).model,
+                                  prepare_case(path, {"contact.tangential_penalty=0"}).config);
+  REQUIRE(off.size() == 1);
+  CHECK(doctest::String(off[0].c_str()) == doctest::Contains("contact.tangential_penalty = 0 turns the tangential contact force off, so friction = 0.4 has no effect"));
+}
+
+TEST_CASE("CE4 penalties below 10 E: check warns naming the key and the seed paper's section") {
+  test::TempDir dir;
+  test::BarCase bar;
+  bar.time = "dt = \"auto\"\nsteps = 10\n";
+  bar.output = "dir = \"" + dir.str() + "\"\n";
+  bar.material = "[material.fracture]\ntensile_strength = 1e6\ncohesion = 2e6\nfriction_angle = 30.0\ngf1 = 10.0\ngf2 = 50.0\n"
+                 "penalty = { opening = 10e9, sliding = 500e9, overlap = 500e9 }\n";
+  const std::string path = dir.write("bar.toml", bar.text());
+  const PreparedCase p = prepare_case(path, {});
+  auto warnings = model_warnings(p.model, p.config);
+  REQUIRE(warnings.size() == 1);
+  CHECK(doctest::String(warnings[0].c_str()) == doctest::Contains((path + ":").c_str()));
+  CHECK(doctest::String(warnings[0].c_str()) == doctest::Contains("material[0].fracture.penalty.opening = 1e+10 Pa is below 10 E = 1e+11 Pa"));
+  CHECK(doctest::String(warnings[0].c_str()) == doctest::Contains("the seed paper (Section 3.4)"));
+  const PreparedCase fine = prepare_case(path, {"material.0.fracture.penalty.opening=500e9"});
+  CHECK(model_warnings(fine.model, fine.config).empty());
+}
+
+TEST_CASE("an undamped block on a 19.6 degree incline with μ = 0.4 sticks under the default P_tan") {
+  // 0.9 × atan 0.4: static friction holds it, and nothing damps the bounce on the
+  // contact springs. With P_tan = P_n numerically (the former default) it ratchets down
+  // the slope (cases/sliding/README.md).
+  test::TempDir still;
+  test::run(undamped_incline_case(still, 19.62, 0.4, ""), {});
+  const auto x = history(still, "incline", "block_disp_x");
+  MESSAGE("undamped block, default P_tan: creep " << x.back() << " m in 0.1 s");
+  CHECK(std::fabs(x.back()) < 5e-4 * 0.05);
+  test::TempDir soft;
+  test::run(undamped_incline_case(soft, 19.62, 0.4, "tangential_penalty = 1e8\n"), {});
+  const auto x_soft = history(soft, "incline", "block_disp_x");
+  MESSAGE("undamped block, P_tan = 1e8 Pa/m: creep " << x_soft.back() << " m in 0.1 s");
+  CHECK(std::fabs(x_soft.back()) > 10 * std::fabs(x.back()));
+}
 
 TEST_CASE("disc impact: b = 1 returns the kinetic energy within 1%; b = 2, 5 lose more, as the contact's dissipation says") {
   const std::string impact = test::source_path("cases/impact/case.toml");
