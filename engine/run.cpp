@@ -239,10 +239,14 @@ class PendingOutputs {
 
 // Folders a run must not write its files straight into: the root of the file system, the
 // system's own directories (with everything below them), and the folders whose
-// subfolders hold data but which hold none themselves. As root nothing else would stop it.
-const char* const kSystemTrees[] = {"/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64",
-                                    "/libx32", "/proc", "/sbin", "/sys", "/usr"};
-const char* const kSystemFolders[] = {"/home", "/media", "/mnt", "/opt", "/run", "/srv", "/var"};
+// subfolders may hold data (/dev/shm, /usr/local/src, /var/tmp, /run/user/UID) but which
+// hold none themselves. As root nothing else would stop it.
+const char* const kSystemTrees[] = {"/bin",         "/boot",     "/etc",       "/lib",         "/lib32",
+                                    "/lib64",       "/libx32",   "/proc",      "/sbin",        "/sys",
+                                    "/usr/bin",     "/usr/include", "/usr/lib", "/usr/lib32",  "/usr/lib64",
+                                    "/usr/libexec", "/usr/libx32", "/usr/sbin", "/usr/share"};
+const char* const kSystemFolders[] = {"/dev", "/home", "/media", "/mnt", "/opt", "/run",
+                                      "/srv", "/usr",  "/usr/local", "/usr/src", "/var"};
 
 // InputError when output.dir is one of those, or output.name would put a file elsewhere
 // than output.dir (io/case_reader checks the characters of a name; this is the backstop
@@ -308,7 +312,7 @@ void check_output(const PreparedCase& p) {
   std::vector<std::string> files = {p.exodus_path, p.history_path, checkpoint_path(p)};
   if (!p.model.ce4.empty()) files.insert(files.end(), {p.fragments_path, p.events_path});
   for (const auto& file : files) {
-    const auto status = fs::symlink_status(file, ec);
+    const auto status = fs::status(file, ec);
     if (!ec && fs::exists(status) && !fs::is_regular_file(status))
       throw OutputError("output file '" + file + "' exists and is not a regular file: move it away or choose another "
                         "output.dir or output.name");
