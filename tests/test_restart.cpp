@@ -376,4 +376,27 @@ TEST_CASE("a run that fails before its first frame leaves the earlier run's file
   CHECK_FALSE(has_partial_files(out));
 }
 
+// Issue 28, row 6: signals are honoured in every loop that can run long, the restart's
+// copy of the earlier files included.
+TEST_CASE("a signal while a restart copies the earlier files stops it, the files and checkpoint as they were") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = bar_case(dir, out, 20);
+  test::run(path);
+  const std::string exo = out + "/bar.exo", history = out + "/bar_history.nc", ckpt = out + "/bar.ckpt";
+  const std::string exo_bytes = text_of(exo), history_bytes = text_of(history), ckpt_bytes = text_of(ckpt);
+  volatile std::sig_atomic_t stop = SIGTERM;  // arrived before the copy's first record
+  RunOptions options = test::restart_from(ckpt);
+  options.stop = &stop;
+  const auto s = test::run(prepare_case(path, {"time.steps=40"}), options);
+  CHECK(s.interrupted);
+  CHECK(s.stop_reason == "SIGTERM");
+  CHECK(s.steps == 0);
+  CHECK(s.checkpoint == ckpt);
+  CHECK(text_of(exo) == exo_bytes);
+  CHECK(text_of(history) == history_bytes);
+  CHECK(text_of(ckpt) == ckpt_bytes);
+  CHECK_FALSE(has_partial_files(out));
+}
+
 }  // TEST_SUITE
