@@ -195,6 +195,10 @@ int check_checkpoint(const std::string& path) {
             << "precision  " << text("precision") << "\n"
             << "mesh       " << text("mesh_hash") << "\n"
             << "broken CE4 " << integer("broken_ce4") << "\n"
+            // The records the output files held (one 16-digit digest and a space each):
+            // what --restart checks the earlier files against.
+            << "output     " << (text("exodus_frame_digests").size() + 1) / 17 << " frames, "
+            << (text("history_row_digests").size() + 1) / 17 << " history rows\n"
             << "worst energy_error so far " << number("worst_energy_error") << "\n";
   return 0;
 }
@@ -255,7 +259,11 @@ void print_memory_plan(const fdem::Model& m, size_t group_size) {
 }
 
 int check_command(const Arguments& a) {
-  if (a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt") return check_checkpoint(a.case_path);
+  // A checkpoint, or the one before it that every checkpoint keeps.
+  const auto ends_with = [&](const std::string& tail) {
+    return a.case_path.size() > tail.size() && a.case_path.compare(a.case_path.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends_with(".ckpt") || ends_with(".ckpt.prev")) return check_checkpoint(a.case_path);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
   const auto& m = p.model;

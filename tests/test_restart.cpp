@@ -342,8 +342,13 @@ TEST_CASE("a checkpoint whose attributes were edited is refused, naming the attr
   const pid_t check = start_fdem({"check", edited}, dir.str() + "/check.log");
   CHECK(wait_exit(check) == 2);
   CHECK(text_of(dir.str() + "/check.log").find("attribute 'step'") != std::string::npos);
-  // The file as written passes.
+  // The file as written passes; `check` says what the output files held at it, and takes
+  // the one kept before it too.
   CHECK(io::read_checkpoint_file(ckpt).integers.at("step") == 20);
+  fs::copy_file(ckpt, dir.str() + "/bar.ckpt.prev");
+  const pid_t good = start_fdem({"check", dir.str() + "/bar.ckpt.prev"}, dir.str() + "/good.log");
+  CHECK(wait_exit(good) == 0);
+  CHECK(text_of(dir.str() + "/good.log").find("output     6 frames, 20 history rows") != std::string::npos);
 }
 
 // Issue 28, row 12: a run that failed before its first frame left empty files over the
