@@ -51,7 +51,7 @@ bool may_change(const std::string& key) {
 }
 
 // The version of what a checkpoint holds; a change of its contents changes it.
-constexpr const char* kCheckpointFormat = "6";
+constexpr const char* kCheckpointFormat = "7";
 
 }  // namespace
 
@@ -64,6 +64,8 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
   // later): a broken CE4 is closed (1) or released (2 + step); version 3 had 1 for both.
   // 5 (2026-12-02): the loads' work per loaded edge (load_edge_energy) instead of per work-group.
   // 6 (2026-12-03): no ce4_output; a CE4's break time is the w of ce4_friction_slip.
+  // 7 (2026-12-03, later): every attribute is under the checksums (io/checkpoint_file.cpp),
+  // and the digests of the records the output files held (io/output_resume.hpp).
   if (text("format_version") != kCheckpointFormat)
     throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") + "'; this fdem reads version " +
                      kCheckpointFormat + ": continue that run with the fdem that wrote it, or start it again");

@@ -195,6 +195,10 @@ int check_checkpoint(const std::string& path) {
             << "precision  " << text("precision") << "\n"
             << "mesh       " << text("mesh_hash") << "\n"
             << "broken CE4 " << integer("broken_ce4") << "\n"
+            // The records the output files held (one 16-digit digest and a space each):
+            // what --restart checks the earlier files against.
+            << "output     " << (text("exodus_frame_digests").size() + 1) / 17 << " frames, "
+            << (text("history_row_digests").size() + 1) / 17 << " history rows\n"
             << "worst energy_error so far " << number("worst_energy_error") << "\n";
   return 0;
 }
@@ -255,7 +259,11 @@ void print_memory_plan(const fdem::Model& m, size_t group_size) {
 }
 
 int check_command(const Arguments& a) {
-  if (a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt") return check_checkpoint(a.case_path);
+  // A checkpoint, or the one before it that every checkpoint keeps.
+  const auto ends_with = [&](const std::string& tail) {
+    return a.case_path.size() > tail.size() && a.case_path.compare(a.case_path.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends_with(".ckpt") || ends_with(".ckpt.prev")) return check_checkpoint(a.case_path);
   const auto p = fdem::prepare_case(a.case_path, a.overrides);
   print_notes(p);
   const auto& m = p.model;
@@ -280,13 +288,23 @@ int check_command(const Arguments& a) {
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"
             << "steps     " << p.steps << "\n";
+  // Where the files go: what `fdem run` would write, in a folder it can write (checked
+  // below, after the device, in the order `fdem run` meets them).
+  std::cout << "output    " << std::filesystem::absolute(p.config.output.dir).lexically_normal().string() << "/ ("
+            << std::filesystem::path(p.exodus_path).filename().string() << ", "
+            << std::filesystem::path(p.history_path).filename().string()
+            << (m.ce4.empty() ? std::string()
+                              : ", " + std::filesystem::path(p.fragments_path).filename().string() + ", " +
+                                    std::filesystem::path(p.events_path).filename().string())
+            << ", " << std::filesystem::path(fdem::checkpoint_path(p)).filename().string() << ")\n";
   if (a.ranks > 0) print_partition(a, m);
+  // The device as `fdem run` opens it: a selection it cannot use is refused the same way.
   std::unique_ptr<fdem::ClContext> device;
-  std::string no_device;
+  std::exception_ptr no_device;
   try {
     device = std::make_unique<fdem::ClContext>(a.device);
-  } catch (const fdem::DeviceError& e) {
-    no_device = e.what();
+  } catch (const fdem::DeviceError&) {
+    no_device = std::current_exception();
   }
   // What the Solver allocates (Solver::plan); the work-group size changes only the
   // per-group slots (without a device: 64, PoCL's).
@@ -295,11 +313,9 @@ int check_command(const Arguments& a) {
   if (m.contact.enabled) std::cout << " (contact lists for " << fdem::Solver::expected_couples(m) << " couples)";
   std::cout << "\n";
   if (a.memory) print_memory_plan(m, device ? device->group_size() : 64);
-  if (!device) {
-    std::cout << "device    none usable: " << no_device << "\n";
-    return 0;
-  }
-  try {
+  if (!device) std::rethrow_exception(no_device);
+  fdem::check_output(p);
+  {
     fdem::ClContext& cl = *device;
     std::cout << "device    " << cl.description() << ", " << mib(cl.info().global_memory)
               << (bytes > cl.info().global_memory ? "  -- TOO SMALL" : "  -- fits") << "\n";
@@ -328,8 +344,6 @@ int check_command(const Arguments& a) {
                   << " once the run has started\n";
       }
     }
-  } catch (const fdem::DeviceError& e) {
-    std::cout << "device    none usable: " << e.what() << "\n";
   }
   return 0;
 }
@@ -490,7 +504,9 @@ int run_command(const Arguments& a) {
   fdem::ClContext cl(a.device, a.profile);
   std::cout << "fdem " << FDEM_VERSION << ": " << p.config.path << " on " << cl.description() << "\n"
             << p.model.num_nodes() << " nodes, " << p.model.num_triangles() << " TRI3, dt " << p.dt << " s, "
-            << p.steps << " steps\n" << std::flush;
+            << p.steps << " steps\n"
+            << "output in " << std::filesystem::absolute(p.config.output.dir).lexically_normal().string() << "/\n"
+            << std::flush;
   const bool status_line = !a.quiet && isatty(STDERR_FILENO);
   fdem::RunOptions options;
   if (a.restart) options.restart = a.restart_file.empty() ? fdem::checkpoint_path(p) : a.restart_file;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <unistd.h>
 #include <filesystem>
 #include <iomanip>
 #include <memory>
@@ -28,6 +31,7 @@
 #include "io/events_writer.hpp"
 #include "io/history_writer.hpp"
 #include "io/output_resume.hpp"
+#include <functional>
 
 namespace fdem {
 
@@ -197,7 +201,123 @@ std::string describe_failure(const Model& model, const Conditions& c) {
 }
 
 
+// The checkpoint's attributes with the digests of the records each file held when it was
+// written (io/output_resume.hpp): what a restart checks the earlier files against.
+constexpr const char* kExodusDigests = "exodus_frame_digests";
+constexpr const char* kHistoryDigests = "history_row_digests";
+constexpr const char* kFragmentDigests = "fragment_frame_digests";
+
+// A run's output files, written as PATH.partial until put_in_place renames them to PATH
+// (at the run's first frame or checkpoint). Until then a failed run removes them, so it
+// leaves an earlier run's files at PATH as they were.
+class PendingOutputs {
+ public:
+  static constexpr const char* kSuffix = ".partial";
+  PendingOutputs() = default;
+  PendingOutputs(const PendingOutputs&) = delete;
+  PendingOutputs& operator=(const PendingOutputs&) = delete;
+  ~PendingOutputs() {
+    std::error_code ec;
+    if (!placed_)
+      for (const auto& path : paths_) fs::remove(path + kSuffix, ec);
+  }
+  void add(const std::string& path) { paths_.push_back(path); }
+  bool placed() const { return placed_; }
+  void put_in_place() {
+    placed_ = true;
+    for (const auto& path : paths_) {
+      std::error_code ec;
+      fs::rename(path + kSuffix, path, ec);
+      if (ec) throw OutputError("cannot put " + path + kSuffix + " in place of " + path + ": " + ec.message());
+    }
+  }
+
+ private:
+  std::vector<std::string> paths_;
+  bool placed_ = false;
+};
+
+// Folders a run must not write its files straight into: the root of the file system, the
+// system's own directories (with everything below them), and the folders whose
+// subfolders may hold data (/dev/shm, /usr/local/src, /var/tmp, /run/user/UID) but which
+// hold none themselves. As root nothing else would stop it.
+const char* const kSystemTrees[] = {"/bin",         "/boot",     "/etc",       "/lib",         "/lib32",
+                                    "/lib64",       "/libx32",   "/proc",      "/sbin",        "/sys",
+                                    "/usr/bin",     "/usr/include", "/usr/lib", "/usr/lib32",  "/usr/lib64",
+                                    "/usr/libexec", "/usr/libx32", "/usr/sbin", "/usr/share"};
+const char* const kSystemFolders[] = {"/dev", "/home", "/media", "/mnt", "/opt", "/run",
+                                      "/srv", "/usr",  "/usr/local", "/usr/src", "/var"};
+
+// InputError when output.dir is one of those, or output.name would put a file elsewhere
+// than output.dir (io/case_reader checks the characters of a name; this is the backstop
+// for the paths the run builds from it).
+void check_output_place(const io::CaseConfig& c) {
+  std::error_code ec;
+  fs::path dir = fs::weakly_canonical(fs::absolute(c.output.dir, ec), ec);
+  if (ec) dir = fs::absolute(c.output.dir).lexically_normal();
+  std::string resolved = dir.string();
+  while (resolved.size() > 1 && resolved.back() == '/') resolved.pop_back();
+  const std::string key = c.path + ": output.dir = \"" + c.output.dir + "\"";
+  const std::string advice = ": give the results a folder of their own (the default is \"out\", in the current directory)";
+  if (resolved == "/") throw InputError(key + " is the root of the file system" + advice);
+  for (const char* tree : kSystemTrees) {
+    const std::string t = tree;
+    if (resolved == t || resolved.rfind(t + "/", 0) == 0)
+      throw InputError(key + " is " + (resolved == c.output.dir ? "" : resolved + ", ") + "in the system directory " + t + advice);
+  }
+  for (const char* folder : kSystemFolders)
+    if (resolved == folder) throw InputError(key + " is the system directory " + resolved + advice);
+  const std::string& name = c.output.name;
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
+      std::any_of(name.begin(), name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20; }))
+    throw InputError(c.path + ": output.name = \"" + name +
+                     "\" is not a file name (no '/', no control characters, not . or ..): the output files go into "
+                     "output.dir and nowhere else");
+}
+
+// OutputError when `dir` can neither be written (it exists) nor made (the nearest folder
+// above it that exists cannot be written): what `fdem run` would meet, found before
+// anything is computed, by `fdem check` as well.
+void check_output_dir(const std::string& dir) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(dir, ec);
+  // The folder itself, or the nearest folder above it that exists, which it is made in.
+  fs::path existing = absolute;
+  while (!fs::exists(existing, ec) && existing.has_relative_path()) existing = existing.parent_path();
+  if (!fs::is_directory(existing, ec))
+    throw OutputError("cannot create output directory '" + dir + "': '" + existing.string() + "' is not a directory");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0) {
+    const std::string why = std::strerror(errno);
+    throw OutputError(existing == absolute ? "cannot write in output directory '" + dir + "': " + why
+                                           : "cannot create output directory '" + dir + "' in '" + existing.string() +
+                                                 "': " + why);
+  }
+}
+
+void make_output_dir(const std::string& dir) {
+  check_output_dir(dir);
+  try {
+    fs::create_directories(dir);
+  } catch (const fs::filesystem_error& e) {
+    throw OutputError("cannot create output directory '" + dir + "': " + e.what());
+  }
+}
+
 }  // namespace
+
+void check_output(const PreparedCase& p) {
+  check_output_dir(p.config.output.dir);
+  std::error_code ec;
+  // A file the run would write, taken by something else (a folder, a FIFO, a device).
+  std::vector<std::string> files = {p.exodus_path, p.history_path, checkpoint_path(p)};
+  if (!p.model.ce4.empty()) files.insert(files.end(), {p.fragments_path, p.events_path});
+  for (const auto& file : files) {
+    const auto status = fs::status(file, ec);
+    if (!ec && fs::exists(status) && !fs::is_regular_file(status))
+      throw OutputError("output file '" + file + "' exists and is not a regular file: move it away or choose another "
+                        "output.dir or output.name");
+  }
+}
 
 std::string checkpoint_path(const PreparedCase& p) {
   return (fs::path(p.config.output.dir) / (p.config.output.name + ".ckpt")).string();
@@ -208,14 +328,11 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
   p.config = io::read_case(case_path, overrides);
   auto& c = p.config;
   if (c.output.name.empty()) c.output.name = fs::path(case_path).stem().string();
+  check_output_place(c);
 
   std::string mesh_path = c.mesh.file;
   if (!c.mesh.geo.empty()) {
-    try {
-      fs::create_directories(c.output.dir);
-    } catch (const fs::filesystem_error& e) {
-      throw OutputError("cannot create output directory '" + c.output.dir + "': " + e.what());
-    }
+    make_output_dir(c.output.dir);
     // Meshes made from .geo files are cached in FDEM_MESH_CACHE when set (shared across
     // runs and machines), else next to the output.
     const char* cache = std::getenv("FDEM_MESH_CACHE");
@@ -242,6 +359,12 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
     }
   }
   p.steps = c.time.steps > 0 ? c.time.steps : std::max(1L, static_cast<long>(std::ceil(c.time.end / p.dt - 1e-9)));
+  // A checkpoint is written after a step: a shorter interval cannot be kept, and the
+  // schedule is reckoned in steps of dt.
+  if (c.output.checkpoint_every > 0 && c.output.checkpoint_every < p.dt)
+    throw InputError(c.path + ": output.checkpoint_every = " + format_number(c.output.checkpoint_every) +
+                     " s is shorter than the time step dt = " + format_number(p.dt) +
+                     " s (a checkpoint is written after a step): give at least dt, or 0 for one at the end of the run only");
   p.exodus_path = (fs::path(c.output.dir) / (c.output.name + ".exo")).string();
   p.history_path = (fs::path(c.output.dir) / (c.output.name + "_history.nc")).string();
   p.fragments_path = (fs::path(c.output.dir) / (c.output.name + "_fragments.nc")).string();
@@ -253,12 +376,10 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
                     const RunOptions& options) {
   const Model& model = p.model;
   const auto& config = p.config;
-  auto make_output_dir = [&] {
-    try {
-      fs::create_directories(config.output.dir);
-    } catch (const fs::filesystem_error& e) {
-      throw OutputError("cannot create output directory '" + config.output.dir + "': " + e.what());
-    }
+  // Before anything is computed: the folder and the file names the run will write.
+  auto make_output = [&] {
+    check_output(p);
+    make_output_dir(config.output.dir);
   };
 
   // A split run (mpirun -np N, N > 1): this rank's share of the model, its Solver, the
@@ -269,7 +390,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   if (transport) {
     std::exception_ptr failure;
     try {
-      make_output_dir();
+      make_output();
       split = std::make_unique<SplitRun>(model, *transport, options.partition, options.contact_travel);
       solver_holder = std::make_unique<Solver>(cl, split->local_model(), p.dt);
       split->attach(cl, *solver_holder);
@@ -278,13 +399,16 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     }
     agree(*transport, failure);
   } else {
-    make_output_dir();
+    make_output();
     solver_holder = std::make_unique<Solver>(cl, model, p.dt);
   }
   Solver& solver = *solver_holder;
   const bool root = !split || split->root();
   RunSummary summary;
   const bool resumed = !options.restart.empty();
+  // A resumed run: the digests of the records each file held at the checkpoint, by the
+  // checkpoint's attribute (io/output_resume.hpp).
+  std::map<std::string, std::vector<std::uint64_t>> earlier_records;
   if (resumed) {
     // Every rank of a split run reads the (whole-model) checkpoint and takes its share;
     // they find the same problems with it, or agree on the first.
@@ -293,6 +417,17 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     try {
       data = io::read_checkpoint_file(options.restart);
       check_fits(data, p, options.restart);
+      std::vector<const char*> keys = {kExodusDigests, kHistoryDigests};
+      if (!model.ce4.empty()) keys.push_back(kFragmentDigests);
+      for (const char* key : keys) {
+        const auto it = data.text.find(key);
+        try {
+          if (it == data.text.end()) throw std::invalid_argument("missing");
+          earlier_records[key] = io::parse_digests(it->second);
+        } catch (const std::invalid_argument&) {
+          throw InputError("checkpoint '" + options.restart + "' has no readable '" + key + "' attribute");
+        }
+      }
       const io::CheckpointData local = split ? split->local_state(data) : io::CheckpointData();
       StateReader in(cl, split ? local : data, options.restart);
       solver.load_state(in);
@@ -324,10 +459,13 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     for (const auto& c : model.ce4) block.connectivity.insert(block.connectivity.end(), c.begin(), c.end());
     blocks.push_back(std::move(block));
   }
-  // A resumed run writes new files beside the old ones, copies what the old ones hold up
-  // to the checkpoint's time, and puts them in place: the files at the final paths are
-  // whole at every moment.
-  const std::string suffix = resumed ? ".resume" : "";
+  // A run writes its files under temporary names beside the earlier run's (a resumed run
+  // first copies what those hold up to the checkpoint) and puts them in place at its
+  // first frame or checkpoint: the files at the final paths are whole at every moment,
+  // and a run that fails before (a device or output error) leaves the earlier ones as
+  // they were (PendingOutputs).
+  PendingOutputs pending;
+  const std::string suffix = PendingOutputs::kSuffix;
   // The files: rank 0 of a split run writes them all (the others hold none).
   const PointProbes points(p.probes);
   const std::vector<real2> masses = split ? split->gather(ItemKind::Node, solver.masses()) : solver.masses();
@@ -340,6 +478,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     std::exception_ptr failure;
     try {
       if (root) {
+        pending.add(p.exodus_path);
+        pending.add(p.history_path);
+        if (!model.ce4.empty()) pending.add(p.fragments_path), pending.add(p.events_path);
         exodus_file = std::make_unique<io::ExodusWriter>(p.exodus_path + suffix, config.title, model.x, model.y, blocks,
                                                          nodal_names(model), element_names(model),
                                                          io::ExodusOptions{config.output.float_frames, config.output.compress});
@@ -392,29 +533,67 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   const long history_stride =
       config.output.history_every > 0 ? std::max(1L, std::lround(config.output.history_every / p.dt))
                                       : std::max(1L, p.steps / 1000);
-  if (resumed && root) {
+  // Renames the files into place, once (rank 0 of a split run; the others hold none).
+  auto place_outputs = [&] {
+    if (!root || pending.placed()) return;
+    pending.put_in_place();
+    exodus_file->moved_to(p.exodus_path);
+    history_file->moved_to(p.history_path);
+    if (fragments) fragments->moved_to(p.fragments_path);
+    if (events) events->moved_to(p.events_path);
+  };
+  if (resumed) {
     // What the earlier run wrote up to the checkpoint, as far as this run's schedule has
     // it: the row and frame a run writes at its own last step are not on the schedule of
     // the longer run that continues it, so a chain of runs gives the same files as one.
+    // Each record is checked against the checkpoint first; an earlier file that is not
+    // there is started anew at the checkpoint's step (the way on from a damaged one).
     auto step_of = [&](double t) { return std::lround(t / p.dt); };
-    io::copy_exodus_frames(p.exodus_path, *exodus_file, solver.time(), [&](double t) {
-      return std::binary_search(frames.begin(), frames.end(), step_of(t));
-    });
-    io::copy_history_rows(p.history_path, *history_file, solver.time(),
-                          [&](double t) { return step_of(t) % history_stride == 0; });
-    if (fragments)
-      io::copy_fragment_frames(p.fragments_path, *fragments, solver.time(), [&](double t) {
-        return std::binary_search(frames.begin(), frames.end(), step_of(t));
-      });
-    std::error_code ec;
-    fs::rename(p.exodus_path + suffix, p.exodus_path, ec);
-    if (!ec) fs::rename(p.history_path + suffix, p.history_path, ec);
-    if (!ec && fragments) fs::rename(p.fragments_path + suffix, p.fragments_path, ec);
-    if (!ec && events) {
-      fs::rename(p.events_path + suffix, p.events_path, ec);
-      events->moved_to(p.events_path);
+    auto on_frames = [&](double t) { return std::binary_search(frames.begin(), frames.end(), step_of(t)); };
+    auto on_rows = [&](double t) { return step_of(t) % history_stride == 0; };
+    // A signal while a long copy goes: stop with the checkpoint as it is (one process;
+    // the ranks of a split run stop together in the steps that follow).
+    auto stopped = [&] { return !split && options.stop && *options.stop != 0; };
+    bool interrupted = false;
+    std::exception_ptr failure;
+    try {
+      auto resume = [&](const std::string& path, const char* key, auto copy_file) {
+        if (interrupted) return;
+        if (!fs::exists(path)) {
+          (options.info ? *options.info : log)
+              << "note: there is no earlier " << path << ": the new one starts at the checkpoint's step "
+              << solver.steps_done() << " (t = " << format_number(solver.time()) << " s)\n";
+          return;
+        }
+        const io::ResumeCopy copy{earlier_records.at(key), key == kHistoryDigests ? std::function<bool(double)>(on_rows)
+                                                                                   : std::function<bool(double)>(on_frames),
+                                  stopped};
+        interrupted = copy_file(path, copy) < 0;
+      };
+      if (root) {
+        resume(p.exodus_path, kExodusDigests,
+               [&](const std::string& path, const io::ResumeCopy& c) { return io::copy_exodus_frames(path, *exodus_file, c); });
+        resume(p.history_path, kHistoryDigests,
+               [&](const std::string& path, const io::ResumeCopy& c) { return io::copy_history_rows(path, *history_file, c); });
+        if (fragments)
+          resume(p.fragments_path, kFragmentDigests, [&](const std::string& path, const io::ResumeCopy& c) {
+            return io::copy_fragment_frames(path, *fragments, c);
+          });
+      }
+    } catch (...) {
+      failure = std::current_exception();
     }
-    if (ec) throw OutputError("cannot put the continued output in place of " + p.exodus_path + ": " + ec.message());
+    if (transport) agree(*transport, failure);
+    else if (failure) std::rethrow_exception(failure);
+    if (interrupted) {
+      // The earlier files and the checkpoint are as they were: the same command resumes.
+      const int signal = static_cast<int>(*options.stop);
+      summary.interrupted = true;
+      summary.stop_reason = signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : signal == SIGUSR1 ? "SIGUSR1" : "a signal";
+      summary.checkpoint = options.restart;
+      summary.simulated_time = solver.time();
+      return summary;
+    }
   }
   const long check_stride = 200;
   const long first = solver.steps_done();
@@ -425,6 +604,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     last_frame_step = solver.steps_done();
     const FrameData frame = read_frame(model, solver, split.get(), stress_current);
     if (root) write_frame(*exodus_file, fragments.get(), model, frame, solver.time(), cl);
+    place_outputs();
   };
 
   const std::string ckpt_path = checkpoint_path(p);
@@ -448,12 +628,25 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     data.integers["broken_ce4"] = !solver.cohesive() ? 0
                                   : split          ? static_cast<std::int64_t>(split_catalogue.size())
                                                    : static_cast<std::int64_t>(solver.cohesive()->count_broken());
-    if (root) io::write_checkpoint_file(ckpt_path, data);
+    if (root) {
+      // The files this checkpoint continues are in place, and it lists what they hold.
+      place_outputs();
+      data.text[kExodusDigests] = io::digests_text(exodus_file->frame_digests());
+      data.text[kHistoryDigests] = io::digests_text(history_file->row_digests());
+      if (fragments) data.text[kFragmentDigests] = io::digests_text(fragments->frame_digests());
+      io::write_checkpoint_file(ckpt_path, data);
+    }
     summary.checkpoint = ckpt_path;
     summary.checkpoint_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   };
   const double checkpoint_every = config.output.checkpoint_every;
-  double next_checkpoint = checkpoint_every > 0 ? (std::floor(solver.time() / checkpoint_every + 1e-9) + 1) * checkpoint_every : 0;
+  // The first multiple of checkpoint_every after time t, reckoned (never a loop of
+  // additions, which makes no progress once the interval is below the resolution of t).
+  auto checkpoint_after = [&](double t) {
+    const double next = (std::floor(t / checkpoint_every + 1e-9) + 1) * checkpoint_every;
+    return next > t ? next : std::nextafter(t, HUGE_VAL);
+  };
+  double next_checkpoint = checkpoint_every > 0 ? checkpoint_after(solver.time()) : 0;
 
   std::vector<double> last_row;
   size_t next_frame = 0;
@@ -586,7 +779,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       cl.collect_profile();
       if (checkpoint_due) {
         write_checkpoint();
-        while (next_checkpoint <= solver.time() + 1e-6 * p.dt) next_checkpoint += checkpoint_every;
+        next_checkpoint = checkpoint_after(solver.time() + 1e-6 * p.dt);
       }
       if (stopping) {
         summary.interrupted = true;

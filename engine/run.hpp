@@ -30,7 +30,9 @@ struct PreparedCase {
 
 // Reads the case (with --set overrides), meshes a .geo if needed, builds the model and
 // resolves Δt and the step count. Throws InputError for anything wrong, including a Δt
-// above the stable estimate (unless mass scaling makes any Δt stable).
+// above the stable estimate (unless mass scaling makes any Δt stable), an
+// output.checkpoint_every shorter than Δt, and an output.dir that is the root of the file
+// system or a system directory (/etc, /usr, ...).
 PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides);
 
 struct RunSummary {
@@ -69,12 +71,20 @@ struct RunOptions {
 // OUT/NAME.ckpt: where a case's checkpoints go.
 std::string checkpoint_path(const PreparedCase& prepared);
 
+// Throws OutputError, with the message run_case would give, when the output folder can
+// neither be written nor made, or one of the run's file names is taken by something other
+// than a file. run_case checks it before anything is computed; `fdem check` too.
+void check_output(const PreparedCase& prepared);
+
 // Runs the prepared case on `cl`. Progress goes to `log` (a live status line when
 // `status_line`, else periodic lines). Throws NumericalError after writing the last
 // good frame when a NaN or an inverted element appears; OutputError when writing fails.
 // With options.restart it continues from that checkpoint (InputError when the checkpoint
 // does not fit the case: another mesh, precision or setting other than time.end and
-// output.*), keeping the frames and rows written up to its time. Checkpoints are written
+// output.*), keeping the frames and rows written up to its time (InputError when the
+// earlier files do not hold what the checkpoint lists: io/output_resume.hpp). The files
+// are written as PATH.partial until the first frame or checkpoint; a run that fails before
+// leaves an earlier run's files as they were. Checkpoints are written
 // every output.checkpoint_every, at the end, and when stopped (options.stop, max_wall).
 RunSummary run_case(const PreparedCase& prepared, ClContext& cl, std::ostream& log, bool status_line,
                     const RunOptions& options = {});

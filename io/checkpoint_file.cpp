@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "base/errors.hpp"
@@ -51,17 +52,67 @@ struct Handle {
   }
 };
 
-// FNV-1a over every array's name and bytes: a damaged or truncated file fails it.
-std::uint64_t checksum(const std::vector<CheckpointArray>& arrays) {
+// The integrity check: a digest (FNV-1a) of every global attribute and every array, kind,
+// name, type and value, listed in the text attribute `checksums` ("<16 hex digits> att
+// NAME" / "<16 hex digits> var NAME" lines). The reader recomputes each one and refuses the
+// file naming the first attribute or array that is missing, added or different: a header
+// edited by a netCDF tool (an attribute such as `step` changed, or a `history` attribute
+// added) is refused like damaged data.
+constexpr const char* kChecksums = "checksums";
+
+std::uint64_t text_digest(const std::string& name, const std::string& value) {
   Fnv1a h;
-  std::vector<const CheckpointArray*> sorted;  // by name: the order they are stored in does not matter
-  for (const auto& a : arrays) sorted.push_back(&a);
-  std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->name < b->name; });
-  for (const auto* a : sorted) {
-    h.add(a->name);
-    h.add(a->bytes.data(), a->bytes.size());
-  }
+  h.add("text " + name + '\0');
+  h.add(value);
   return h.value();
+}
+
+std::uint64_t number_digest(const std::string& name, double value) {
+  Fnv1a h;
+  h.add("number " + name + '\0');
+  h.add(&value, sizeof value);
+  return h.value();
+}
+
+std::uint64_t integer_digest(const std::string& name, std::int64_t value) {
+  Fnv1a h;
+  h.add("integer " + name + '\0');
+  h.add(&value, sizeof value);
+  return h.value();
+}
+
+std::uint64_t array_digest(const CheckpointArray& a) {
+  Fnv1a h;
+  h.add("array " + a.name + '\0');
+  const std::uint64_t shape[3] = {static_cast<std::uint64_t>(a.type), a.width, a.items()};
+  h.add(shape, sizeof shape);
+  h.add(a.bytes.data(), a.bytes.size());
+  return h.value();
+}
+
+std::string hex(std::uint64_t value) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+  return text;
+}
+
+// Every item the reader takes from the file, by the name it has there ("att NAME" for a
+// global attribute, an empty array's "empty NAME" attribute included; "var NAME" for an
+// array), with its digest.
+std::map<std::string, std::uint64_t> digests(const CheckpointData& data) {
+  std::map<std::string, std::uint64_t> out;
+  for (const auto& [k, v] : data.text)
+    if (k != kChecksums) out["att " + k] = text_digest(k, v);
+  for (const auto& [k, v] : data.numbers) out["att " + k] = number_digest(k, v);
+  for (const auto& [k, v] : data.integers) out["att " + k] = integer_digest(k, v);
+  for (const auto& a : data.arrays) out[(a.items() == 0 ? "att empty " : "var ") + a.name] = array_digest(a);
+  return out;
+}
+
+std::string checksums_text(const CheckpointData& data) {
+  std::string out;
+  for (const auto& [item, digest] : digests(data)) out += hex(digest) + " " + item + "\n";
+  return out;
 }
 
 }  // namespace
@@ -98,9 +149,11 @@ void write_checkpoint_file(const std::string& path, const CheckpointData& data) 
     auto text = [&](const std::string& name, const std::string& value) {
       fail(nc_put_att_text(nc.id, NC_GLOBAL, name.c_str(), value.size(), value.c_str()), "attribute " + name);
     };
-    text("format", kMagic);
-    text("checksum", std::to_string(checksum(data.arrays)));
-    for (const auto& [k, v] : data.text) text(k, v);
+    CheckpointData stamped = data;
+    stamped.text["format"] = kMagic;
+    stamped.text.erase(kChecksums);
+    text(kChecksums, checksums_text(stamped));
+    for (const auto& [k, v] : stamped.text) text(k, v);
     for (const auto& [k, v] : data.numbers)
       fail(nc_put_att_double(nc.id, NC_GLOBAL, k.c_str(), NC_DOUBLE, 1, &v), "attribute " + k);
     for (const auto& [k, v] : data.integers) {
@@ -154,33 +207,44 @@ CheckpointData read_checkpoint_file(const std::string& path) {
   CheckpointData data;
   int natts = 0, nvars = 0;
   if (nc_inq_natts(nc.id, &natts) != NC_NOERR || nc_inq_nvars(nc.id, &nvars) != NC_NOERR) throw bad("unreadable header");
+  // Every attribute is one the writer makes (text, one double, one 64-bit integer, an
+  // empty array's shape): anything else was added by another tool, and refused below as
+  // not covered by the checksums.
+  std::vector<std::string> foreign;
   for (int k = 0; k < natts; ++k) {
     char name[NC_MAX_NAME + 1];
     nc_type type;
     size_t len = 0;
     if (nc_inq_attname(nc.id, NC_GLOBAL, k, name) != NC_NOERR || nc_inq_att(nc.id, NC_GLOBAL, name, &type, &len) != NC_NOERR)
       throw bad("unreadable attribute");
+    const auto unreadable = [&] { return bad(std::string("attribute '") + name + "' cannot be read; the file is damaged"); };
     if (type == NC_CHAR) {
       std::string value(len, '\0');
-      if (len && nc_get_att_text(nc.id, NC_GLOBAL, name, value.data()) != NC_NOERR) throw bad(std::string("attribute ") + name);
+      if (len && nc_get_att_text(nc.id, NC_GLOBAL, name, value.data()) != NC_NOERR) throw unreadable();
       data.text[name] = value;
     } else if (type == NC_DOUBLE && len == 1) {
-      nc_get_att_double(nc.id, NC_GLOBAL, name, &data.numbers[name]);
+      if (nc_get_att_double(nc.id, NC_GLOBAL, name, &data.numbers[name]) != NC_NOERR) throw unreadable();
     } else if (type == NC_INT64 && len == 2 && std::string(name).rfind("empty ", 0) == 0) {
       long long shape[2] = {0, 0};
-      nc_get_att_longlong(nc.id, NC_GLOBAL, name, shape);
+      if (nc_get_att_longlong(nc.id, NC_GLOBAL, name, shape) != NC_NOERR) throw unreadable();
       CheckpointArray a;
       a.name = std::string(name).substr(6);
       a.width = static_cast<size_t>(shape[0]);
-      a.type = static_cast<ArrayType>(shape[1]);
+      if (!array_type_of(nc_type_of(static_cast<ArrayType>(shape[1])), a.type) || shape[0] < 0)
+        throw bad(std::string("attribute '") + name + "' does not describe an empty array");
       data.arrays.push_back(std::move(a));
     } else if (type == NC_INT64 && len == 1) {
       long long value = 0;
-      nc_get_att_longlong(nc.id, NC_GLOBAL, name, &value);
+      if (nc_get_att_longlong(nc.id, NC_GLOBAL, name, &value) != NC_NOERR) throw unreadable();
       data.integers[name] = value;
+    } else {
+      foreign.push_back(name);
     }
   }
   if (data.text["format"] != kMagic) throw bad("not an fdem-cl checkpoint (no 'format = " + std::string(kMagic) + "')");
+  if (!data.text.count(kChecksums))
+    throw bad("it has no 'checksums' attribute: written by an fdem before 2026-12-03 (format version 6 or older), "
+              "whose checksum left the attributes out; continue that run with the fdem that wrote it, or start it again");
   for (int v = 0; v < nvars; ++v) {
     char name[NC_MAX_NAME + 1];
     nc_type type;
@@ -199,8 +263,37 @@ CheckpointData read_checkpoint_file(const std::string& path) {
         throw bad(std::string("cannot read ") + name + " (" + nc_strerror(s) + "); the file is truncated or damaged");
     data.arrays.push_back(std::move(a));
   }
-  if (data.text["checksum"] != std::to_string(checksum(data.arrays)))
-    throw bad("its contents do not match their checksum: the file is damaged or was cut short");
+  // The digests written with the file against those of what was read, item by item.
+  std::map<std::string, std::uint64_t> written;
+  {
+    const std::string& list = data.text[kChecksums];
+    size_t at = 0;
+    while (at < list.size()) {
+      const size_t end = std::min(list.find('\n', at), list.size());
+      const std::string line = list.substr(at, end - at);
+      at = end + 1;
+      char* stop = nullptr;
+      const unsigned long long digest = line.size() > 17 ? std::strtoull(line.c_str(), &stop, 16) : 0;
+      if (line.size() <= 17 || stop != line.c_str() + 16 || line[16] != ' ')
+        throw bad("its 'checksums' attribute is damaged (line '" + line + "')");
+      written[line.substr(17)] = digest;
+    }
+  }
+  auto what = [](const std::string& item) {
+    return item.rfind("var ", 0) == 0 ? "array '" + item.substr(4) + "'" : "attribute '" + item.substr(4) + "'";
+  };
+  for (const auto& name : foreign)
+    throw bad("attribute '" + name + "' is not one fdem writes and not covered by the checksums: the file was edited");
+  const auto read = digests(data);
+  for (const auto& [item, digest] : read) {
+    const auto it = written.find(item);
+    if (it == written.end())
+      throw bad(what(item) + " is not covered by the checksums: it was added after the file was written");
+    if (it->second != digest)
+      throw bad(what(item) + " does not match its checksum: the file was edited, damaged or cut short");
+  }
+  for (const auto& [item, digest] : written)
+    if (!read.count(item)) throw bad(what(item) + " is missing: the file was edited, damaged or cut short");
   return data;
 }
 

@@ -54,7 +54,7 @@ class EventsWriter {
   size_t breaks_written() const { return written_; }
   // The open file was renamed to `path` (a resumed run puts it in place): finish() writes
   // beside and over the new name.
-  void moved_to(const std::string& path) { path_ = path; }
+  void moved_to(const std::string& path) { path_ = path, file_.moved_to(path); }
   const std::string& path() const { return path_; }
   void close() { file_.close(); }
 

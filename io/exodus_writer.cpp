@@ -58,6 +58,7 @@ ExodusWriter::ExodusWriter(const std::string& path, const std::string& title,
                            const std::vector<std::string>& elem_var_names, const ExodusOptions& options)
     : file_("Exodus output", path),
       num_nodes_(x.size()),
+      float_values_(options.float_values),
       nodal_var_names_(nodal_var_names),
       elem_var_names_(elem_var_names) {
   // Validate everything before touching the file so that bad input never clobbers an
@@ -292,6 +293,21 @@ void ExodusWriter::write_frame(double time, const std::vector<std::vector<double
   // The record count on disk only grows here, so a killed run leaves whole frames.
   check(nc_sync(nc), "sync");
   ++frames_;
+  digests_.push_back(frame_digest(time, nodal, elem, float_values_));
+}
+
+std::uint64_t frame_digest(double time, const std::vector<std::vector<double>>& nodal,
+                           const std::vector<std::vector<std::vector<double>>>& elem, bool as_float) {
+  RecordDigest d;
+  d.add(time);
+  auto add = [&](const std::vector<double>& v) {
+    if (as_float) d.add_as_float(v.data(), v.size());
+    else d.add(v.data(), v.size());
+  };
+  for (const auto& v : nodal) add(v);
+  for (const auto& var : elem)
+    for (const auto& block : var) add(block);
+  return d.value();
 }
 
 }  // namespace fdem::io

@@ -1,6 +1,7 @@
 // Exodus II output written with plain netCDF-C (classic 64-bit-offset format, synced
 // after every frame so that a killed run leaves every finished frame readable).
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,16 +42,21 @@ class ExodusWriter {
                    const std::vector<std::vector<std::vector<double>>>& elem);
 
   int frames_written() const { return frames_; }
+  // The digest of every frame written (io::frame_digest of what the file holds).
+  const std::vector<std::uint64_t>& frame_digests() const { return digests_; }
   size_t node_count() const { return num_nodes_; }
   const std::vector<size_t>& block_sizes() const { return block_sizes_; }
   size_t nodal_variable_count() const { return nodal_var_names_.size(); }
   size_t element_variable_count() const { return elem_var_names_.size(); }
   const std::string& path() const { return file_.path(); }
   void close() { file_.close(); }  // idempotent; the destructor closes and never throws
+  void moved_to(const std::string& path) { file_.moved_to(path); }
 
  private:
   NetcdfFile file_;
   int frames_ = 0;
+  bool float_values_ = false;
+  std::vector<std::uint64_t> digests_;
   size_t num_nodes_ = 0;
   std::vector<size_t> block_sizes_;
   int time_var_ = -1;
@@ -59,5 +65,11 @@ class ExodusWriter {
   std::vector<std::string> nodal_var_names_;  // for error messages
   std::vector<std::string> elem_var_names_;
 };
+
+// The digest of a frame as an Exodus file holds it: its time, then the nodal variables,
+// then the element variables block by block (RecordDigest). `as_float`: the values are
+// stored as NC_FLOAT ([output] precision = "float"); values read back are already so.
+std::uint64_t frame_digest(double time, const std::vector<std::vector<double>>& nodal,
+                           const std::vector<std::vector<std::vector<double>>>& elem, bool as_float = false);
 
 }  // namespace fdem::io

@@ -80,6 +80,17 @@ void FragmentWriter::write_frame(double time, const std::vector<FragmentRecord>&
   file_.check(nc_sync(nc), where + "sync");
   records_ += n;
   ++frames_;
+  digests_.push_back(fragment_frame_digest(time, fragments));
+}
+
+std::uint64_t fragment_frame_digest(double time, const std::vector<FragmentRecord>& fragments) {
+  RecordDigest d;
+  d.add(time);
+  for (const auto& f : fragments) {
+    const double values[7] = {double(f.id), double(f.triangles), f.area, f.mass, f.x, f.y, f.diameter};
+    d.add(values, 7);
+  }
+  return d.value();
 }
 
 FragmentFrames read_fragment_file(const std::string& path) {

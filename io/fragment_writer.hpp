@@ -4,6 +4,7 @@
 // unlimited dimension, so the frame of each record is a variable of the record).
 // Layout in docs/case-format.md ("Fragments file").
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -31,12 +32,16 @@ class FragmentWriter {
   void write_frame(double time, const std::vector<FragmentRecord>& fragments);
   int frames_written() const { return frames_; }
   size_t records_written() const { return records_; }
+  // The digest of every frame written (io::fragment_frame_digest).
+  const std::vector<std::uint64_t>& frame_digests() const { return digests_; }
   const std::string& path() const { return file_.path(); }
   void close() { file_.close(); }  // idempotent; the destructor closes and never throws
+  void moved_to(const std::string& path) { file_.moved_to(path); }
 
  private:
   NetcdfFile file_;
   int frames_ = 0;
+  std::vector<std::uint64_t> digests_;
   size_t records_ = 0;
   int frame_var_ = -1, time_var_ = -1, id_var_ = -1, count_var_ = -1;
   int area_var_ = -1, mass_var_ = -1, x_var_ = -1, y_var_ = -1, diameter_var_ = -1;
@@ -50,5 +55,9 @@ struct FragmentFrames {
 };
 // Reads `path` (OutputError when missing or not a fragments file).
 FragmentFrames read_fragment_file(const std::string& path);
+
+// The digest of one frame's records as the file holds them: the time, then each record's
+// id, triangles, area, mass, x, y and diameter.
+std::uint64_t fragment_frame_digest(double time, const std::vector<FragmentRecord>& fragments);
 
 }  // namespace fdem::io

@@ -69,6 +69,7 @@ void HistoryWriter::append(double time, const std::vector<double>& values) {
     check(nc_put_var1_double(nc, var_ids_[k], &rec, &values[k]), var_ids_[k]);
   check(nc_put_var1_double(nc, time_var_, &rec, &time), time_var_);
   ++rows_;
+  digests_.push_back(row_digest(time, values));
   unsynced_ = true;
   if (sync_interval_ <= 0 ||
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_sync_).count() >= sync_interval_)
@@ -80,6 +81,13 @@ void HistoryWriter::sync() {
   file_.check(nc_sync(file_.id()), "row " + std::to_string(rows_ - 1) + ", sync");
   unsynced_ = false;
   last_sync_ = std::chrono::steady_clock::now();
+}
+
+std::uint64_t row_digest(double time, const std::vector<double>& values) {
+  RecordDigest d;
+  d.add(time);
+  d.add(values.data(), values.size());
+  return d.value();
 }
 
 }  // namespace fdem::io

@@ -2,6 +2,7 @@
 // at most every sync_interval seconds of wall time when one is set).
 #pragma once
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,13 +37,17 @@ class HistoryWriter {
   void set_sync_interval(double seconds) { sync_interval_ = seconds; }
   void sync();
   int rows_written() const { return rows_; }
+  // The digest of every row written (io::row_digest).
+  const std::vector<std::uint64_t>& row_digests() const { return digests_; }
   const std::vector<std::string>& variable_names() const { return var_names_; }
   const std::string& path() const { return file_.path(); }
   void close() { file_.close(); }  // idempotent; the destructor closes and never throws
+  void moved_to(const std::string& path) { file_.moved_to(path); }
 
  private:
   NetcdfFile file_;
   int rows_ = 0;
+  std::vector<std::uint64_t> digests_;
   double sync_interval_ = 0;
   bool unsynced_ = false;
   std::chrono::steady_clock::time_point last_sync_ = std::chrono::steady_clock::now();
@@ -50,5 +55,8 @@ class HistoryWriter {
   std::vector<int> var_ids_;
   std::vector<std::string> var_names_;
 };
+
+// The digest of a history row: its time, then its values in the order of the variables.
+std::uint64_t row_digest(double time, const std::vector<double>& values);
 
 }  // namespace fdem::io

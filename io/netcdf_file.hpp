@@ -3,7 +3,10 @@
 // no pre-filling, closed exactly once. Every failure is an OutputError worded
 // "<kind> '<path>': <netCDF's message> (<what was being done>)".
 #pragma once
+#include <cstdint>
+#include <cstring>
 #include <string>
+#include <utility>
 
 namespace fdem::io {
 
@@ -29,6 +32,9 @@ class NetcdfFile {
   void close();
 
   bool is_open() const { return id_ >= 0; }
+  // The file was renamed (a run's files are written under temporary names until its
+  // first frame): messages name the new path.
+  void moved_to(std::string path) { path_ = std::move(path); }
   int id() const { return id_; }  // the netCDF id; -1 before create() and after close()
   const std::string& path() const { return path_; }
 
@@ -41,6 +47,31 @@ class NetcdfFile {
  private:
   std::string kind_, path_;
   int id_ = -1;
+};
+
+// The digest of one record (a frame, a history row) as it is stored: its time and its
+// values in file order, each value as the double that reading it back gives (FNV-1a over
+// 64-bit words). The writers keep one per record; a checkpoint lists those written up to
+// it, and a restart compares them with the records it reads back (io/output_resume.hpp),
+// so a damaged or cut-short earlier output is refused instead of copied. Not cryptographic.
+class RecordDigest {
+ public:
+  void add(double value) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    hash_ = (hash_ ^ bits) * 1099511628211ull;
+  }
+  void add(const double* values, std::size_t count) {
+    for (std::size_t k = 0; k < count; ++k) add(values[k]);
+  }
+  // Values stored as NC_FLOAT: what reading them back as doubles gives.
+  void add_as_float(const double* values, std::size_t count) {
+    for (std::size_t k = 0; k < count; ++k) add(static_cast<double>(static_cast<float>(values[k])));
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 1469598103934665603ull;
 };
 
 }  // namespace fdem::io

@@ -1,6 +1,7 @@
 // The fdem command line: exit codes and messages, run as a user would.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -123,7 +124,7 @@ TEST_CASE("a numerical failure exits 3; a missing device exits 4") {
   CHECK(r.code == 3);
   CHECK(has(r, "inverted"));
   const auto d = run_fdem("check " + tiny_case(dir) + " --device 7:7");
-  CHECK(d.code == 0);  // check reports the device problem but the case itself is fine
+  CHECK(d.code == 4);  // as run (issue 28, row 12)
   CHECK(has(d, "no OpenCL device 7:7"));
   const auto run = run_fdem("run " + tiny_case(dir) + " --device 7:7");
   CHECK(run.code == 4);
@@ -139,6 +140,79 @@ TEST_CASE("bench prints a Table 2 row and its CSV") {
   CHECK(has(r, "contact_forces"));
   CHECK(std::filesystem::exists(dir.str() + "/bench.csv"));
   CHECK(run_fdem("bench --sizes abc").code == 2);
+}
+
+// Issue 28, rows 6, 11 and 12: what `check` accepted and `run` refused (or ran into).
+namespace {
+
+// The line of `r`'s output that starts with `prefix` ("" when none).
+std::string line_of(const Result& r, const std::string& prefix) {
+  const size_t at = r.output.find(prefix);
+  return at == std::string::npos ? std::string() : r.output.substr(at, r.output.find('\n', at) - at);
+}
+
+}  // namespace
+
+TEST_CASE("check refuses what run refuses: the device, the output folder, the output place, the checkpoint interval") {
+  fdem::test::TempDir dir;
+  const std::string path = tiny_case(dir);
+  // A device that is not there: the same message and exit code.
+  const auto check_device = run_fdem("check " + path + " --device 9:9");
+  const auto run_device = run_fdem("run " + path + " --device 9:9");
+  INFO(check_device.output);
+  CHECK(check_device.code == 4);
+  CHECK(run_device.code == 4);
+  CHECK(!line_of(check_device, "device error: ").empty());
+  CHECK(line_of(check_device, "device error: ") == line_of(run_device, "device error: "));
+  // An output folder that cannot be made (a file stands where a folder would be).
+  dir.write("plain_file", "not a folder\n");
+  const std::string blocked = " --set output.dir=" + dir.str() + "/plain_file/out";
+  const auto check_dir = run_fdem("check " + path + blocked);
+  const auto run_dir = run_fdem("run " + path + blocked);
+  INFO(check_dir.output);
+  CHECK(check_dir.code == 5);
+  CHECK(run_dir.code == 5);
+  CHECK(has(check_dir, "output error: cannot create output directory '" + dir.str() + "/plain_file/out'"));
+  CHECK(line_of(check_dir, "output error: ") == line_of(run_dir, "output error: "));
+  // An output folder that exists and cannot be written (root writes anywhere).
+  if (geteuid() != 0) {
+    std::filesystem::create_directories(dir.str() + "/locked");
+    std::filesystem::permissions(dir.str() + "/locked", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    const auto check_locked = run_fdem("check " + path + " --set output.dir=" + dir.str() + "/locked");
+    const auto run_locked = run_fdem("run " + path + " --set output.dir=" + dir.str() + "/locked");
+    CHECK(check_locked.code == 5);
+    CHECK(has(check_locked, "cannot write in output directory"));
+    CHECK(line_of(check_locked, "output error: ") == line_of(run_locked, "output error: "));
+    std::filesystem::permissions(dir.str() + "/locked", std::filesystem::perms::owner_all);
+  }
+  // An output file name taken by a folder: refused before the run computes anything.
+  std::filesystem::create_directories(dir.str() + "/out/tiny_history.nc");
+  const auto check_taken = run_fdem("check " + path);
+  const auto run_taken = run_fdem("run " + path);
+  CHECK(check_taken.code == 5);
+  CHECK(run_taken.code == 5);
+  CHECK(has(check_taken, "tiny_history.nc' exists and is not a regular file"));
+  CHECK_FALSE(std::filesystem::exists(dir.str() + "/out/tiny.exo"));
+  std::filesystem::remove(dir.str() + "/out/tiny_history.nc");
+  // The root of the file system or a system directory as output.dir (the mesh cache kept
+  // out of them, should the check not hold).
+  const std::string cache = "FDEM_MESH_CACHE=" + dir.str() + " ";
+  for (const std::string place : {"/", "/etc", "/usr/share"}) {
+    const auto r = run_fdem("check " + path + " --set output.dir=" + place, cache);
+    INFO(r.output);
+    CHECK(r.code == 2);
+    CHECK(has(r, "output.dir = \"" + place + "\""));
+  }
+  CHECK(run_fdem("check " + path + " --set output.name=../escaped", cache).code == 2);
+  // The chosen folder is reported.
+  const auto fine = run_fdem("check " + path);
+  CHECK(fine.code == 0);
+  CHECK(has(fine, "output    " + dir.str() + "/out/ (tiny.exo, tiny_history.nc, tiny.ckpt)"));
+  // A checkpoint interval below dt (row 6: the run looped for ever on it).
+  const auto tiny_interval = run_fdem("check " + path + " --set output.checkpoint_every=1e-14");
+  INFO(tiny_interval.output);
+  CHECK(tiny_interval.code == 2);
+  CHECK(has(tiny_interval, "output.checkpoint_every = 1e-14 s is shorter than the time step"));
 }
 
 }  // TEST_SUITE

@@ -16,6 +16,7 @@
 #include "engine/run.hpp"
 #include "fixture.hpp"
 #include "io/checkpoint_file.hpp"
+#include <netcdf.h>
 
 using namespace fdem;
 namespace fs = std::filesystem;
@@ -103,6 +104,41 @@ std::string refusal(const std::string& path, const std::string& restart, const s
     return e.what();
   }
   return "(accepted)";
+}
+
+// The bar of tests/data/cases/bar.geo on a 0.1 m mesh under gravity (36 nodes, a few ms a
+// run): a frame every 4 steps and a history row every step, `steps` steps.
+std::string bar_case(const test::TempDir& dir, const std::string& out, int steps) {
+  test::BarCase c;
+  c.title = "bar";
+  c.mesh = "size = 0.1\n";
+  c.time = "dt = \"auto\"\nsteps = " + std::to_string(steps) + "\n";
+  c.output = "dir = \"" + out + "\"\nevery = 4.9e-5\nhistory_every = 1.2e-5\n";
+  c.rest = "[gravity]\ng = [0.0, -9.81]\n[[boundary]]\nregion = \"left\"\nfix = [\"x\", \"y\"]\n";
+  return dir.write("bar.toml", c.text());
+}
+
+// Overwrites `count` bytes of `path` from `at` with zeros.
+void zero_bytes(const std::string& path, size_t at, size_t count) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(at));
+  const std::string zeros(count, '\0');
+  f.write(zeros.data(), static_cast<std::streamsize>(zeros.size()));
+}
+
+std::string any_refusal(const std::string& path, const std::string& restart, const std::vector<std::string>& set = {}) {
+  try {
+    test::run(path, set, test::restart_from(restart));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+bool has_partial_files(const std::string& dir) {
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".partial") return true;
+  return false;
 }
 
 }  // namespace
@@ -218,6 +254,154 @@ TEST_CASE("checkpoints that do not fit are refused, naming the culprit (exit 2)"
   const pid_t pid = start_fdem({"run", path, "--restart", junk, "--set", "time.end=1e-4"}, dir.str() + "/junk.log");
   CHECK(wait_exit(pid) == 2);
   CHECK(text_of(dir.str() + "/junk.log").find("error: checkpoint '" + junk + "'") != std::string::npos);
+}
+
+// Issue 28, row 4: a restart copied what it could not read as frames and rows at t = 0.
+TEST_CASE("a restart refuses an earlier Exodus file cut short or a history file zeroed in part, naming the record") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = bar_case(dir, out, 20);
+  test::run(path);
+  const std::string exo = out + "/bar.exo", history = out + "/bar_history.nc", ckpt = out + "/bar.ckpt";
+  const std::string kept = dir.str() + "/kept";
+  fs::copy(out, kept);
+  const std::vector<std::string> longer = {"time.steps=40"};
+
+  // The Exodus file cut to 60 %.
+  fs::resize_file(exo, fs::file_size(exo) * 6 / 10);
+  const std::string cut = text_of(exo);
+  const auto truncated = any_refusal(path, ckpt, longer);
+  INFO(truncated);
+  CHECK(truncated.find("cannot continue '" + exo + "': frame ") != std::string::npos);
+  CHECK(truncated.find("move it away") != std::string::npos);
+  CHECK(text_of(exo) == cut);  // the earlier files are left as they were
+  CHECK_FALSE(has_partial_files(out));
+  const pid_t pid = start_fdem({"run", path, "--restart", "--set", "time.steps=40"}, dir.str() + "/cut.log");
+  CHECK(wait_exit(pid) == 2);
+  CHECK(text_of(dir.str() + "/cut.log").find("error: cannot continue '" + exo + "': frame ") != std::string::npos);
+
+  // The history file with its last 30 % zeroed (rows: its header, the variables'
+  // names and units, is the first half), the Exodus file whole again.
+  fs::copy_file(kept + "/bar.exo", exo, fs::copy_options::overwrite_existing);
+  const size_t size = fs::file_size(history);
+  zero_bytes(history, size * 7 / 10, size - size * 7 / 10);
+  const auto zeroed = any_refusal(path, ckpt, longer);
+  INFO(zeroed);
+  CHECK(zeroed.find("cannot continue '" + history + "': row ") != std::string::npos);
+  CHECK(zeroed.find("is not the one the run wrote before its checkpoint") != std::string::npos);
+  CHECK_FALSE(has_partial_files(out));
+
+  // The way on: the damaged file moved away, the restart starts a new one at the
+  // checkpoint's step and continues the Exodus file.
+  fs::rename(history, dir.str() + "/damaged_history.nc");
+  std::ostringstream said;
+  RunOptions options = test::restart_from(ckpt);
+  options.info = &said;
+  const auto rest = test::run(prepare_case(path, longer), options);
+  CHECK(rest.first_step == 20);
+  CHECK(said.str().find("note: there is no earlier " + history + ": the new one starts at the checkpoint's step 20") !=
+        std::string::npos);
+  const auto times = test::read_variable(history, "time");
+  const double dt = io::read_checkpoint_file(ckpt).numbers.at("dt");
+  REQUIRE(!times.empty());
+  CHECK(times.front() > 20.5 * dt);
+  CHECK(test::read_variable(exo, "time_whole").size() == 11);  // frames at steps 0, 4, ..., 40
+}
+
+// Issue 28, row 5: the checkpoint's attributes were outside its checksum.
+TEST_CASE("a checkpoint whose attributes were edited is refused, naming the attribute (exit 2)") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = bar_case(dir, out, 20);
+  test::run(path);
+  const std::string ckpt = out + "/bar.ckpt";
+  const std::string edited = dir.str() + "/edited.ckpt", added = dir.str() + "/added.ckpt";
+  fs::copy_file(ckpt, edited);
+  fs::copy_file(ckpt, added);
+  {
+    int nc = -1;
+    REQUIRE(nc_open(edited.c_str(), NC_WRITE, &nc) == NC_NOERR);
+    const long long step = 5;
+    REQUIRE(nc_redef(nc) == NC_NOERR);
+    REQUIRE(nc_put_att_longlong(nc, NC_GLOBAL, "step", NC_INT64, 1, &step) == NC_NOERR);
+    REQUIRE(nc_close(nc) == NC_NOERR);
+    REQUIRE(nc_open(added.c_str(), NC_WRITE, &nc) == NC_NOERR);
+    REQUIRE(nc_redef(nc) == NC_NOERR);
+    const std::string note = "ncatted -a ... (a tool's note)";
+    REQUIRE(nc_put_att_text(nc, NC_GLOBAL, "history", note.size(), note.c_str()) == NC_NOERR);
+    REQUIRE(nc_close(nc) == NC_NOERR);
+  }
+  const auto step = refusal(path, edited, {"time.steps=40"});
+  INFO(step);
+  CHECK(step.find("checkpoint '" + edited + "': attribute 'step' does not match its checksum") != std::string::npos);
+  const auto history = refusal(path, added, {"time.steps=40"});
+  INFO(history);
+  CHECK(history.find("checkpoint '" + added + "': attribute 'history'") != std::string::npos);
+  const pid_t run = start_fdem({"run", path, "--restart", edited, "--set", "time.steps=40"}, dir.str() + "/run.log");
+  CHECK(wait_exit(run) == 2);
+  const pid_t check = start_fdem({"check", edited}, dir.str() + "/check.log");
+  CHECK(wait_exit(check) == 2);
+  CHECK(text_of(dir.str() + "/check.log").find("attribute 'step'") != std::string::npos);
+  // The file as written passes; `check` says what the output files held at it, and takes
+  // the one kept before it too.
+  CHECK(io::read_checkpoint_file(ckpt).integers.at("step") == 20);
+  fs::copy_file(ckpt, dir.str() + "/bar.ckpt.prev");
+  const pid_t good = start_fdem({"check", dir.str() + "/bar.ckpt.prev"}, dir.str() + "/good.log");
+  CHECK(wait_exit(good) == 0);
+  CHECK(text_of(dir.str() + "/good.log").find("output     6 frames, 20 history rows") != std::string::npos);
+}
+
+// Issue 28, row 12: a run that failed before its first frame left empty files over the
+// earlier run's.
+TEST_CASE("a run that fails before its first frame leaves the earlier run's files as they were") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = bar_case(dir, out, 20);
+  test::run(path);
+  const std::string exo = out + "/bar.exo", history = out + "/bar_history.nc";
+  const std::string exo_bytes = text_of(exo), history_bytes = text_of(history);
+  // The history file's temporary name taken by a device: the history file cannot be
+  // made after the Exodus file was.
+  fs::create_symlink("/dev/full", history + ".partial");
+  std::string why;
+  try {
+    test::run(path);
+  } catch (const OutputError& e) {
+    why = e.what();
+  }
+  INFO(why);
+  CHECK(why.find("exists and is not a regular file") != std::string::npos);
+  CHECK(text_of(exo) == exo_bytes);
+  CHECK(text_of(history) == history_bytes);
+  CHECK_FALSE(fs::exists(exo + ".partial"));
+  fs::remove(history + ".partial");
+  // A run that goes through puts its files in place.
+  test::run(path, {"time.steps=24"});
+  CHECK(test::read_variable(exo, "time_whole").size() == 7);
+  CHECK_FALSE(has_partial_files(out));
+}
+
+// Issue 28, row 6: signals are honoured in every loop that can run long, the restart's
+// copy of the earlier files included.
+TEST_CASE("a signal while a restart copies the earlier files stops it, the files and checkpoint as they were") {
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = bar_case(dir, out, 20);
+  test::run(path);
+  const std::string exo = out + "/bar.exo", history = out + "/bar_history.nc", ckpt = out + "/bar.ckpt";
+  const std::string exo_bytes = text_of(exo), history_bytes = text_of(history), ckpt_bytes = text_of(ckpt);
+  volatile std::sig_atomic_t stop = SIGTERM;  // arrived before the copy's first record
+  RunOptions options = test::restart_from(ckpt);
+  options.stop = &stop;
+  const auto s = test::run(prepare_case(path, {"time.steps=40"}), options);
+  CHECK(s.interrupted);
+  CHECK(s.stop_reason == "SIGTERM");
+  CHECK(s.steps == 0);
+  CHECK(s.checkpoint == ckpt);
+  CHECK(text_of(exo) == exo_bytes);
+  CHECK(text_of(history) == history_bytes);
+  CHECK(text_of(ckpt) == ckpt_bytes);
+  CHECK_FALSE(has_partial_files(out));
 }
 
 }  // TEST_SUITE
