@@ -296,7 +296,7 @@ GmshRun run_gmsh(const std::vector<std::string>& args, const std::string& geo_pa
   auto next_progress = start + std::chrono::duration<double>(options.progress_every);
   GmshRun run;
   std::string pending_line, last_info;
-  bool open = true;
+  bool open = true, exited = false;
   while (open) {
     if (g_meshing_signal) {
       const int signal = g_meshing_signal;
@@ -317,6 +317,10 @@ GmshRun run_gmsh(const std::vector<std::string>& args, const std::string& geo_pa
     }
     struct pollfd p {fds[0], POLLIN, 0};
     const int ready = ::poll(&p, 1, 200);
+    // gmsh gone but the pipe still open: a program it started in the background holds
+    // it (NonBlockingSystemCall, allowed by --allow-geo-programs); stop reading.
+    if (ready == 0 && !exited && ::waitpid(pid, &run.status, WNOHANG) == pid) exited = true;
+    if (ready == 0 && exited) break;
     if (ready > 0) {
       char buf[4096];
       const ssize_t got = ::read(fds[0], buf, sizeof buf);
@@ -351,7 +355,7 @@ GmshRun run_gmsh(const std::vector<std::string>& args, const std::string& geo_pa
   }
   ::close(fds[0]);
   if (!pending_line.empty()) run.output += pending_line;
-  while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
+  while (!exited && ::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
     if (g_meshing_signal) ::kill(-pid, SIGKILL);
   }
   if (g_meshing_signal) {
@@ -361,6 +365,16 @@ GmshRun run_gmsh(const std::vector<std::string>& args, const std::string& geo_pa
                                                "; gmsh was stopped and nothing was written");
   }
   return run;
+}
+
+// FDEM_MESH_RECORD=FILE (a developer's aid, tools/gpu-suite --refresh-meshes): one line
+// per mesh returned, "NAME<TAB>SIZE<TAB>GEO", so that a run of the test suite lists the
+// meshes it needs and what they were made from.
+void record_mesh(const std::string& cache_name, const std::string& size_text, const std::string& geo_path) {
+  const char* record = std::getenv("FDEM_MESH_RECORD");
+  if (!record || !*record) return;
+  std::error_code ec;
+  std::ofstream(record, std::ios::app) << cache_name << "\t" << size_text << "\t" << fs::absolute(geo_path, ec).string() << "\n";
 }
 
 }  // namespace
@@ -401,13 +415,19 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   const std::string cache_name = fs::path(geo_path).stem().string() + "-" + hash + ".msh";
   const fs::path final_path = fs::path(cache_dir) / cache_name;
   std::error_code ec;
-  if (fs::is_regular_file(final_path, ec)) return final_path.string();
+  if (fs::is_regular_file(final_path, ec)) {
+    record_mesh(cache_name, size_text, geo_path);
+    return final_path.string();
+  }
   // Read-only caches (the committed test meshes): looked up, never written.
   if (const char* readonly = std::getenv("FDEM_MESH_CACHE_RO")) {
     std::stringstream dirs(readonly);
     std::string dir;
     while (std::getline(dirs, dir, ':'))
-      if (!dir.empty() && fs::is_regular_file(fs::path(dir) / cache_name, ec)) return (fs::path(dir) / cache_name).string();
+      if (!dir.empty() && fs::is_regular_file(fs::path(dir) / cache_name, ec)) {
+        record_mesh(cache_name, size_text, geo_path);
+        return (fs::path(dir) / cache_name).string();
+      }
   }
 
   const std::string gmsh = find_on_path("gmsh");
@@ -482,6 +502,7 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
     fs::remove(temp_path, ec);
     throw InputError(geo_path + ": cannot write mesh cache file " + final_path.string() + ": " + ec.message());
   }
+  record_mesh(cache_name, size_text, geo_path);
   return final_path.string();
 }
 

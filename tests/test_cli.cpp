@@ -199,7 +199,8 @@ TEST_CASE("a directory, a FIFO or a device given as the case is named as what it
   CHECK(has(restart, "is a directory, not a checkpoint"));
 }
 
-TEST_CASE("meshing: a request for 10^12 triangles is refused at once; a limit can be raised") {
+TEST_CASE("meshing: a request for 10^12 triangles is refused at once; a limit can be raised" *
+          doctest::skip(fdem::io::find_on_path("gmsh").empty())) {
   fdem::test::TempDir dir;
   const std::string geostatic = fdem::test::source_path("cases/geostatic/case.toml") + " --set output.dir=" + dir.str();
   const auto huge = run_fdem("check " + geostatic + " --set mesh.size=1e-4");
