@@ -46,7 +46,8 @@ struct MeshingStopped : std::runtime_error {
 // The cached file name includes a hash of the .geo text and the size, so an unchanged
 // input reuses the mesh; the folders of $FDEM_MESH_CACHE_RO (colon-separated) are
 // searched for that name too, and never written (the committed test meshes,
-// tests/data/meshes). Before meshing, the same gmsh process meshes the .geo with every
+// tests/data/meshes; FDEM_MESH_RECORD=FILE appends "NAME<TAB>SIZE<TAB>GEO" for every mesh
+// returned, which is how tools/gpu-suite --refresh-meshes lists them). Before meshing, the same gmsh process meshes the .geo with every
 // size scaled up (Mesh.MeshSizeFactor 1e12, 1e12/3, … until a mesh has 2,000 triangles)
 // and extrapolates the count to the asked size (N × factor²); above
 // options.max_triangles it stops there and mesh_geo throws. Returns the .msh path. Throws

@@ -58,6 +58,7 @@ TEST_CASE("every committed mesh is listed in the MANIFEST and still matches its 
     ++entries;
     listed.insert(name);
     CHECK(fs::is_regular_file(dir / name));
+    if (geo == "(written by a test)") continue;  // its text is in the test's source
     const fs::path geo_path = fdem::test::source_path(geo);
     REQUIRE(fs::is_regular_file(geo_path));
     // The name io::mesh_geo gives this .geo at this size today: a different hash means

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -401,8 +402,14 @@ TEST_CASE("mesh_geo estimates the triangle count before meshing and refuses abov
   TempDir dir("limit");
   const std::string cache = (dir.path / "cache").string();
   fdem::io::GeoMeshing options;
+  // Progress every 50 ms here (5 s by default): gmsh's start alone takes longer.
+  std::ostringstream progress;
+  options.progress = &progress;
+  options.progress_every = 0.05;
   const size_t actual = fdem::io::read_gmsh(fdem::io::mesh_geo(fixture("sq.geo"), 0.02, cache, options)).triangles.size();
   CHECK(actual > 4000);
+  CHECK(progress.str().rfind("meshing " + fixture("sq.geo") + " with gmsh, ", 0) == 0);
+  options.progress = nullptr;
   // Just below the count: refused, with the estimate, and nothing written to the cache
   // besides the mesh above.
   options.max_triangles = static_cast<long>(actual) / 2;
