@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <csignal>
 #include <filesystem>
 
@@ -30,6 +31,7 @@
 #include "engine/scale_out.hpp"
 #include "engine/transport.hpp"
 #include "io/checkpoint_file.hpp"
+#include "io/gmsh_reader.hpp"
 
 namespace {
 
@@ -45,7 +47,94 @@ const char* kUsage =
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
     "             [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
+    "  fdem COMMAND --help   (that command's options)\n"
     "The device defaults to $FDEM_DEVICE, else auto (first GPU with fp64, else a CPU device).\n";
+
+// Every option of every command: its spelling, the value it takes ("" for a switch) and
+// what it does. Each command lists the options it accepts (kCommands); any other option
+// is refused, naming the command, rather than ignored.
+struct OptionSpec {
+  const char* name;
+  const char* value;
+  const char* help;
+};
+
+const OptionSpec kOptions[] = {
+    {"--device", "auto|gpu|cpu|P:D", "the OpenCL device (P:D as `fdem devices` lists them); default $FDEM_DEVICE, else auto"},
+    {"--set", "KEY=VALUE", "override a case key, e.g. --set time.end=0.01 (repeatable)"},
+    {"--quiet", "", "no progress lines (the header, warnings, errors and the summary stay); also -q"},
+    {"--profile", "", "device time per kernel at the end"},
+    {"--restart", "[CHECKPOINT]", "continue from a checkpoint (default OUT/NAME.ckpt)"},
+    {"--max-wall", "SECONDS", "stop with a checkpoint once this wall time has passed (exit 75)"},
+    {"--ranks", "N", "print how the model would be split over N ranks"},
+    {"--partition", "metis|bisection", "how the model is split over ranks (default metis where built with it)"},
+    {"--contact-travel", "METRES", "how far a node may move between contact ghost updates of a split run"},
+    {"--memory", "", "the device memory plan, array by array"},
+    {"--max-triangles", "N", "refuse a .geo mesh whose estimated triangle count is above N (default 5000000)"},
+    {"--allow-geo-programs", "", "let a .geo file run programs (SystemCall, OnelabRun, ...): only for .geo files you trust"},
+    {"--sizes", "H,H,...", "element sizes h_ave in mm (default 0.6,0.5,0.4,0.3,0.2,0.15)"},
+    {"--steps", "N", "timed steps per row (default 200)"},
+    {"--refine-rows", "K", "add rows of the smallest size refined 1..K times by mesh.refine (0-3)"},
+    {"--csv", "FILE", "also write the rows as CSV"},
+    {"--case", "CASE.toml", "the case to mesh at each size (default cases/ucs/case.toml)"},
+};
+
+struct CommandSpec {
+  const char* name;
+  const char* synopsis;
+  const char* about;
+  std::vector<std::string> options;
+};
+
+const std::vector<CommandSpec>& commands() {
+  static const std::vector<CommandSpec> list = {
+      {"run",
+       "fdem run CASE.toml [OPTION]...\n       mpirun -np N fdem run CASE.toml [OPTION]...   (one model split over N ranks)",
+       "Meshes and runs a case; writes OUT/NAME.exo, OUT/NAME_history.nc and a checkpoint OUT/NAME.ckpt.\n"
+       "SIGTERM, SIGINT or SIGUSR1 stop it at the next step with a checkpoint (exit 75).",
+       {"--device", "--set", "--quiet", "--profile", "--restart", "--max-wall", "--partition", "--contact-travel",
+        "--max-triangles", "--allow-geo-programs"}},
+      {"check", "fdem check CASE.toml [OPTION]...\n       fdem check CHECKPOINT.ckpt",
+       "Reads and meshes a case without running it: counts, stable dt, steps, device memory; or\n"
+       "describes a checkpoint. Refuses what `fdem run` would refuse, with the same message.",
+       {"--device", "--set", "--quiet", "--ranks", "--partition", "--contact-travel", "--memory", "--max-triangles",
+        "--allow-geo-programs"}},
+      {"devices", "fdem devices", "Lists the OpenCL devices, as --device P:D names them.", {}},
+      {"bench", "fdem bench [OPTION]...",
+       "The seed paper's Table 2: the UCS specimen at several element sizes, ms/step and device memory.",
+       {"--device", "--sizes", "--steps", "--refine-rows", "--csv", "--case", "--max-triangles", "--allow-geo-programs"}},
+  };
+  return list;
+}
+
+const CommandSpec* find_command(const std::string& name) {
+  for (const auto& c : commands())
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
+const OptionSpec* find_option(const std::string& name) {
+  for (const auto& o : kOptions)
+    if (name == o.name) return &o;
+  return nullptr;
+}
+
+std::string command_help(const CommandSpec& c) {
+  std::ostringstream out;
+  out << "usage: " << c.synopsis << "\n" << c.about << "\n";
+  if (c.options.empty()) {
+    out << "It takes no options.\n";
+    return out.str();
+  }
+  out << "options:\n";
+  for (const auto& name : c.options) {
+    const OptionSpec& o = *find_option(name);
+    const std::string head = std::string(o.name) + (*o.value ? std::string(" ") + o.value : std::string());
+    out << "  " << std::left << std::setw(34) << head << " " << o.help << "\n";
+  }
+  out << "  " << std::left << std::setw(34) << "--help" << " this text\n";
+  return out.str();
+}
 
 struct Arguments {
   std::string command, case_path, device;
@@ -59,6 +148,9 @@ struct Arguments {
   std::string partition;          // "metis" or "bisection"; empty: metis when built with it
   double contact_travel = 0;      // mpirun ... --contact-travel D: how far a node may move (split runs with contact)
   bool memory = false;            // fdem check --memory: the device memory plan, array by array
+  long max_triangles = 0;         // --max-triangles N: the .geo meshing limit; 0: io::GeoMeshing's default
+  bool allow_geo_programs = false;  // --allow-geo-programs: .geo files may run programs
+  bool help = false;              // fdem COMMAND --help
   fdem::BenchOptions bench;
 };
 
@@ -66,26 +158,52 @@ Arguments parse(int argc, char** argv) {
   Arguments a;
   if (argc < 2) throw fdem::InputError(std::string("no command given\n") + kUsage);
   a.command = argv[1];
+  const CommandSpec* command = find_command(a.command);
+  if (!command) throw fdem::InputError("unknown command '" + a.command + "'\n" + kUsage);
+  for (int i = 2; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      a.help = true;
+      return a;
+    }
   for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
+    std::string arg = argv[i];
+    // --name=value is --name value.
+    std::string inline_value;
+    bool has_inline = false;
+    if (arg.rfind("--", 0) == 0 && arg.find('=') != std::string::npos) {
+      inline_value = arg.substr(arg.find('=') + 1);
+      arg = arg.substr(0, arg.find('='));
+      has_inline = true;
+    }
+    if (arg == "-q") arg = "--quiet";
+    if (!arg.empty() && arg[0] == '-') {
+      const OptionSpec* spec = find_option(arg);
+      const std::string usage_hint = " (fdem " + a.command + " --help lists its options)";
+      if (!spec) throw fdem::InputError("fdem " + a.command + ": unknown option '" + arg + "'" + usage_hint);
+      if (std::find(command->options.begin(), command->options.end(), arg) == command->options.end()) {
+        std::string owners;
+        for (const auto& c : commands())
+          if (std::find(c.options.begin(), c.options.end(), arg) != c.options.end())
+            owners += std::string(owners.empty() ? "" : " and ") + "fdem " + c.name;
+        throw fdem::InputError("fdem " + a.command + " does not take " + arg + " (it belongs to " + owners + ")" + usage_hint);
+      }
+      if (has_inline && !*spec->value) throw fdem::InputError(arg + " takes no value, not '" + inline_value + "'");
+    }
     auto value = [&](const std::string& flag) {
+      if (has_inline) return inline_value;
       if (i + 1 >= argc) throw fdem::InputError(flag + " needs a value");
       return std::string(argv[++i]);
     };
     if (arg == "--device") a.device = value(arg);
-    else if (arg.rfind("--device=", 0) == 0) a.device = arg.substr(9);
     else if (arg == "--set") a.overrides.push_back(value(arg));
-    else if (arg.rfind("--set=", 0) == 0) a.overrides.push_back(arg.substr(6));
-    else if (arg == "--quiet" || arg == "-q") a.quiet = true;
+    else if (arg == "--quiet") a.quiet = true;
     else if (arg == "--restart") {
       a.restart = true;
       // An optional file: the next word unless it is an option or the case file still to come.
-      if (i + 1 < argc && argv[i + 1][0] != '-' && !(a.case_path.empty() && std::string(argv[i + 1]).size() > 5 &&
-                                                     std::string(argv[i + 1]).substr(std::string(argv[i + 1]).size() - 5) == ".toml"))
+      if (has_inline) a.restart_file = inline_value;
+      else if (i + 1 < argc && argv[i + 1][0] != '-' && !(a.case_path.empty() && std::string(argv[i + 1]).size() > 5 &&
+                                                          std::string(argv[i + 1]).substr(std::string(argv[i + 1]).size() - 5) == ".toml"))
         a.restart_file = argv[++i];
-    } else if (arg.rfind("--restart=", 0) == 0) {
-      a.restart = true;
-      a.restart_file = arg.substr(10);
     } else if (arg == "--max-wall") {
       const std::string v = value(arg);
       try {
@@ -98,6 +216,18 @@ Arguments parse(int argc, char** argv) {
     }
     else if (arg == "--profile") a.profile = true;
     else if (arg == "--memory") a.memory = true;
+    else if (arg == "--allow-geo-programs") a.allow_geo_programs = true;
+    else if (arg == "--max-triangles") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        const double n = std::stod(v, &used);  // 2e7 as well as 20000000
+        if (used != v.size() || !(n >= 1) || n > 9.2e18 || n != std::floor(n)) throw std::invalid_argument(v);
+        a.max_triangles = static_cast<long>(n);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--max-triangles needs a whole number of triangles, 1 or more, not '" + v + "'");
+      }
+    }
     else if (arg == "--ranks") {
       const std::string v = value(arg);
       try {
@@ -132,10 +262,13 @@ Arguments parse(int argc, char** argv) {
           throw fdem::InputError("--sizes: '" + item + "' is not a number (h_ave in mm, e.g. 0.6,0.3)");
         }
     } else if (arg == "--steps") {
+      const std::string v = value(arg);
       try {
-        a.bench.steps = std::stol(value(arg));
+        size_t used = 0;
+        a.bench.steps = std::stol(v, &used);
+        if (used != v.size() || a.bench.steps < 1) throw std::invalid_argument(v);
       } catch (const std::exception&) {
-        throw fdem::InputError("--steps needs a whole number");
+        throw fdem::InputError("--steps needs a whole number of steps, 1 or more, not '" + v + "'");
       }
     } else if (arg == "--refine-rows") {
       const std::string v = value(arg);
@@ -145,10 +278,30 @@ Arguments parse(int argc, char** argv) {
     } else if (arg == "--csv") a.bench.csv = value(arg);
     else if (arg == "--case") a.bench.case_path = value(arg);
     else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);
+    else if (a.command != "run" && a.command != "check")
+      throw fdem::InputError("fdem " + a.command + " takes no file argument, not '" + arg + "' (fdem " + a.command +
+                             " --help lists its options)");
     else if (a.case_path.empty()) a.case_path = arg;
     else throw fdem::InputError("unexpected argument '" + arg + "'\n" + kUsage);
   }
   return a;
+}
+
+// The case or checkpoint named on the command line: something other than a regular file
+// (a directory, a FIFO, /dev/zero) is named as what it is, not read.
+void check_input_file(const std::string& path, const char* what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(path, ec);
+  if (!fs::exists(st)) return;  // the reader says "not found", naming the file
+  if (fs::is_directory(st)) throw fdem::InputError(path + ": is a directory, not a " + what);
+  if (!fs::is_regular_file(st))
+    throw fdem::InputError(path + ": is not a regular file (" +
+                           (fs::is_fifo(st) ? std::string("a FIFO") : fs::is_character_file(st) ? std::string("a character device")
+                                              : fs::is_block_file(st) ? std::string("a block device")
+                                              : fs::is_socket(st)     ? std::string("a socket")
+                                                                      : std::string("a special file")) +
+                           "), not a " + what);
 }
 
 std::string mib(size_t bytes) {
@@ -397,6 +550,7 @@ std::string rank_device(const std::string& asked, int local_rank) {
 }
 
 volatile std::sig_atomic_t g_stop = 0;
+int g_stop_signal = 0;  // a signal that stopped fdem before run_case (main re-raises it)
 extern "C" void request_stop(int signal) { g_stop = signal; }
 
 // The command line that continues a stopped run from `checkpoint`.
@@ -412,6 +566,44 @@ fdem::PartitionMethod partition_method(const Arguments& a) {
              ? fdem::PartitionMethod::Bisection
              : fdem::PartitionMethod::Metis;
 }
+
+// --quiet: the run's log less its progress lines ("  40%  step 400/1000 ...", which
+// engine/run.cpp writes when stderr is not a terminal); warnings pass through, in order
+// with the rest of stdout.
+class ProgressFilter : public std::streambuf {
+ public:
+  explicit ProgressFilter(std::ostream& out) : out_(out) {}
+  ~ProgressFilter() override { flush_line(); }
+  ProgressFilter(const ProgressFilter&) = delete;
+  ProgressFilter& operator=(const ProgressFilter&) = delete;
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    line_ += static_cast<char>(c);
+    if (c == '\n') flush_line();
+    return c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    for (std::streamsize k = 0; k < n; ++k) overflow(static_cast<unsigned char>(s[k]));
+    return n;
+  }
+
+ private:
+  static bool is_progress(const std::string& line) {
+    size_t i = 0;
+    while (i < line.size() && line[i] == ' ') ++i;
+    const size_t digits = i;
+    while (i < line.size() && std::isdigit(static_cast<unsigned char>(line[i]))) ++i;
+    return digits == 2 && i > digits && line.compare(i, 7, "%  step") == 0;
+  }
+  void flush_line() {
+    if (!line_.empty() && !is_progress(line_)) out_ << line_ << std::flush;
+    line_.clear();
+  }
+  std::ostream& out_;
+  std::string line_;
+};
 
 // `mpirun -np N fdem run CASE`: every rank reads the case and runs its share
 // (engine/scale_out.*); rank 0 prints and writes the files.
@@ -451,7 +643,9 @@ int split_run_command(const Arguments& a) {
   options.contact_travel = a.contact_travel;
   options.stop = &g_stop;  // mpirun passes SIGTERM and SIGINT on to the ranks
   for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
-  const auto s = fdem::run_case(*p, *cl, out, false, options);
+  ProgressFilter quiet_filter(out);
+  std::ostream quiet_log(&quiet_filter);
+  const auto s = fdem::run_case(*p, *cl, a.quiet ? quiet_log : out, false, options);
   if (s.interrupted) {
     out << "stopped by " << s.stop_reason << " at step " << s.first_step + s.steps << ", t = " << s.simulated_time
         << " s (" << s.steps << " steps run); checkpoint " << s.checkpoint << "\n"
@@ -516,7 +710,9 @@ int run_command(const Arguments& a) {
   // SIGTERM (batch systems, kill), SIGINT (Ctrl-C), SIGUSR1 (a scheduler's warning):
   // finish the step, write a checkpoint, close the files, exit 75.
   for (int signal : {SIGTERM, SIGINT, SIGUSR1}) std::signal(signal, request_stop);
-  const auto s = fdem::run_case(p, cl, status_line ? std::cerr : std::cout, status_line, options);
+  ProgressFilter quiet_filter(std::cout);
+  std::ostream quiet_log(&quiet_filter);
+  const auto s = fdem::run_case(p, cl, status_line ? std::cerr : a.quiet ? quiet_log : std::cout, status_line, options);
   if (s.interrupted) {
     std::cout << "stopped by " << s.stop_reason << " at step " << s.first_step + s.steps << ", t = " << s.simulated_time
               << " s (" << s.steps << " steps run); checkpoint " << s.checkpoint << "\n"
@@ -580,6 +776,13 @@ int main(int argc, char** argv) {
 #endif
   code = guarded_main(argc, argv);
   g_transport.reset();
+  // Stopped by a signal before the run could write a checkpoint (while gmsh meshed): end
+  // as that signal ends a process, so that a shell or batch system sees the signal.
+  if (g_stop_signal && !mpi.active()) {
+    std::cout.flush();
+    std::signal(g_stop_signal, SIG_DFL);
+    std::raise(g_stop_signal);
+  }
   return code;
 }
 
@@ -591,11 +794,28 @@ int guarded_main(int argc, char** argv) {
       std::cout << "fdem " << FDEM_VERSION << " (" << (fdem::kDoublePrecision ? "double" : "float") << " precision)\n";
       return 0;
     }
-    if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" || std::string(argv[1]) == "help")) {
+      if (argc >= 3 && std::string(argv[1]) == "help") {
+        const CommandSpec* c = find_command(argv[2]);
+        if (!c) throw fdem::InputError(std::string("unknown command '") + argv[2] + "'\n" + kUsage);
+        std::cout << command_help(*c);
+        return 0;
+      }
       std::cout << kUsage;
       return 0;
     }
     const Arguments a = parse(argc, argv);
+    if (a.help) {
+      std::cout << command_help(*find_command(a.command));
+      return 0;
+    }
+    // How .geo files are meshed (io/gmsh_reader.hpp): the limit, programs, progress.
+    auto& meshing = fdem::io::geo_meshing();
+    if (a.max_triangles > 0) meshing.max_triangles = a.max_triangles;
+    meshing.allow_programs = a.allow_geo_programs;
+    if (a.quiet) meshing.progress = nullptr;
+    if (!a.case_path.empty()) check_input_file(a.case_path, a.case_path.size() > 5 && a.case_path.substr(a.case_path.size() - 5) == ".ckpt" ? "checkpoint" : "case file");
+    if (!a.restart_file.empty()) check_input_file(a.restart_file, "checkpoint");
     if (a.command != "run" && a.command != "check") refuse_parallel_launch(a.command, false);
     if (a.command == "devices") return list_devices_command();
     if (a.command == "bench") {
@@ -608,6 +828,9 @@ int guarded_main(int argc, char** argv) {
       return a.command == "run" ? run_command(a) : check_command(a);
     }
     throw fdem::InputError("unknown command '" + a.command + "'\n" + kUsage);
+  } catch (const fdem::io::MeshingStopped& e) {
+    g_stop_signal = e.signal;
+    return fail(128 + e.signal, std::string("stopped: ") + e.what());
   } catch (const fdem::InputError& e) {
     return fail(2, std::string("error: ") + e.what());
   } catch (const fdem::NumericalError& e) {

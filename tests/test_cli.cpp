@@ -1,13 +1,23 @@
 // The fdem command line: exit codes and messages, run as a user would.
 #include <doctest/doctest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <cerrno>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <vector>
 
 #include "case_files.hpp"
+#include "io/gmsh_reader.hpp"
 
 namespace {
 
@@ -115,6 +125,186 @@ TEST_CASE("bad input exits 2 naming the file and the key") {
   const auto set = run_fdem("check " + tiny_case(dir) + " --set time.dtt=1");
   CHECK(set.code == 2);
   CHECK(has(set, "did you mean 'dt'"));
+}
+
+TEST_CASE("each command has its own --help and refuses the options of the others") {
+  for (const char* command : {"run", "check", "devices", "bench"}) {
+    CAPTURE(command);
+    const auto h = run_fdem(std::string(command) + " --help");
+    CHECK(h.code == 0);
+    CHECK(has(h, std::string("usage: fdem ") + command));
+  }
+  const auto run = run_fdem("run --help");
+  CHECK(has(run, "--restart"));
+  CHECK(has(run, "--max-triangles"));
+  CHECK_FALSE(has(run, "--sizes"));
+  CHECK_FALSE(has(run, "--memory"));
+  CHECK(has(run_fdem("check -h"), "--memory"));
+  CHECK(has(run_fdem("bench --help"), "--refine-rows"));
+  const auto help_run = run_fdem("help run");
+  CHECK(help_run.code == 0);
+  CHECK(help_run.output == run.output);
+
+  fdem::test::TempDir dir;
+  const std::string path = tiny_case(dir);
+  // Another command's option is refused, naming the option and the command, and nothing runs.
+  const auto steps = run_fdem("run " + path + " --steps 5");
+  CHECK(steps.code == 2);
+  CHECK(has(steps, "fdem run does not take --steps (it belongs to fdem bench)"));
+  CHECK_FALSE(std::filesystem::exists(dir.str() + "/out/tiny.exo"));
+  const auto restart = run_fdem("check " + path + " --restart");
+  CHECK(restart.code == 2);
+  CHECK(has(restart, "fdem check does not take --restart (it belongs to fdem run)"));
+  const auto memory = run_fdem("bench --memory");
+  CHECK(memory.code == 2);
+  CHECK(has(memory, "fdem bench does not take --memory (it belongs to fdem check)"));
+  const auto devices = run_fdem("devices --device cpu");
+  CHECK(devices.code == 2);
+  CHECK(has(devices, "fdem devices does not take --device"));
+  CHECK(run_fdem("devices extra").code == 2);
+  const auto unknown = run_fdem("check " + path + " --frobnicate");
+  CHECK(unknown.code == 2);
+  CHECK(has(unknown, "fdem check: unknown option '--frobnicate'"));
+  CHECK(run_fdem("run " + path + " --quiet=yes").code == 2);  // a switch takes no value
+  CHECK(run_fdem("check " + path + " --set=time.steps=3").code == 0);  // --name=value is --name value
+}
+
+TEST_CASE("--quiet silences the progress lines of a run, not its summary") {
+  fdem::test::TempDir dir;
+  const std::string path = tiny_case(dir);
+  const auto loud = run_fdem("run " + path);  // stderr is a pipe here: decile lines on stdout
+  REQUIRE(loud.code == 0);
+  CHECK(has(loud, "%  step"));
+  const auto quiet = run_fdem("run " + path + " --quiet");
+  INFO(quiet.output);
+  REQUIRE(quiet.code == 0);
+  CHECK_FALSE(has(quiet, "%  step"));
+  CHECK(has(quiet, "done: 50 steps"));
+}
+
+TEST_CASE("a directory, a FIFO or a device given as the case is named as what it is") {
+  fdem::test::TempDir dir;
+  const auto directory = run_fdem("check " + dir.str());
+  CHECK(directory.code == 2);
+  CHECK(has(directory, dir.str() + ": is a directory, not a case file"));
+  const auto zero = run_fdem("run /dev/zero");
+  CHECK(zero.code == 2);
+  CHECK(has(zero, "/dev/zero: is not a regular file (a character device), not a case file"));
+  const std::string fifo = dir.str() + "/case.toml";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const auto pipe = run_fdem("check " + fifo);  // would block in a reader that opened it
+  CHECK(pipe.code == 2);
+  CHECK(has(pipe, "is not a regular file (a FIFO)"));
+  const auto restart = run_fdem("run " + tiny_case(dir) + " --restart " + dir.str());
+  CHECK(restart.code == 2);
+  CHECK(has(restart, "is a directory, not a checkpoint"));
+}
+
+TEST_CASE("meshing: a request for 10^12 triangles is refused at once; a limit can be raised" *
+          doctest::skip(fdem::io::find_on_path("gmsh").empty())) {
+  fdem::test::TempDir dir;
+  const std::string geostatic = fdem::test::source_path("cases/geostatic/case.toml") + " --set output.dir=" + dir.str();
+  const auto huge = run_fdem("check " + geostatic + " --set mesh.size=1e-4");
+  INFO(huge.output);
+  CHECK(huge.code == 2);
+  CHECK(has(huge, "column.geo at size 0.0001: gmsh would make about 1.2e+12 triangles"));
+  CHECK(has(huge, "raise the limit with --max-triangles N"));
+  const auto lowered = run_fdem("check " + tiny_case(dir) + " --max-triangles 100");  // the bar at 0.1: ~50
+  CHECK(lowered.code == 0);
+  const auto refused = run_fdem("check " + tiny_case(dir, "") + " --set mesh.size=0.02 --max-triangles 100");
+  CHECK(refused.code == 2);
+  CHECK(has(refused, "above the limit of 100"));
+  CHECK(run_fdem("check " + tiny_case(dir) + " --max-triangles 0").code == 2);
+  CHECK(run_fdem("check " + tiny_case(dir) + " --max-triangles 1e6").code == 0);
+}
+
+TEST_CASE("a .geo file that runs programs is refused unless --allow-geo-programs") {
+  fdem::test::TempDir dir;
+  const std::string marker = dir.str() + "/marker";
+  std::ifstream bar(fdem::test::source_path("tests/data/cases/bar.geo"));
+  dir.write("bar_call.geo", std::string(std::istreambuf_iterator<char>(bar), {}) + "SystemCall \"touch " + marker + "\";\n");
+  fdem::test::BarCase c;
+  c.mesh = "size = 0.1\n";
+  c.time = "steps = 5\ndt = \"auto\"\n";
+  c.output = "dir = \"" + dir.str() + "/out\"\n";
+  std::string text = c.text();
+  text.replace(text.find(fdem::test::source_path("tests/data/cases/bar.geo")),
+               fdem::test::source_path("tests/data/cases/bar.geo").size(), dir.str() + "/bar_call.geo");
+  const std::string path = dir.write("call.toml", text);
+  const auto refused = run_fdem("check " + path);
+  INFO(refused.output);
+  CHECK(refused.code == 2);
+  CHECK(has(refused, "bar_call.geo: this .geo file would make gmsh run other programs"));
+  CHECK(has(refused, "bar_call.geo:18: SystemCall"));
+  CHECK_FALSE(std::filesystem::exists(marker));
+  if (fdem::io::find_on_path("gmsh").empty()) return;
+  CHECK(run_fdem("check " + path + " --allow-geo-programs").code == 0);
+  CHECK(std::filesystem::exists(marker));
+}
+
+// The process ids whose parent is `parent` (from /proc).
+std::vector<pid_t> children_of(pid_t parent) {
+  std::vector<pid_t> out;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string text((std::istreambuf_iterator<char>(stat)), {});
+    const size_t close = text.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream rest(text.substr(close + 2));
+    char state = 0;
+    long ppid = 0;
+    rest >> state >> ppid;
+    if (ppid == parent) out.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return out;
+}
+
+TEST_CASE("SIGTERM while gmsh meshes stops gmsh too, removes its files and ends fdem by the signal" *
+          doctest::skip(fdem::io::find_on_path("gmsh").empty())) {
+  fdem::test::TempDir dir;
+  // The bar at 0.4 mm: about 1.4M triangles, tens of seconds of gmsh.
+  const std::string path = tiny_case(dir);
+  const std::string binary = [] {
+    const char* env = std::getenv("FDEM_BINARY");
+    return std::string(env && *env ? env : FDEM_BINARY);
+  }();
+  const std::string log = dir.str() + "/log.txt";
+  const pid_t fdem_pid = ::fork();
+  REQUIRE(fdem_pid >= 0);
+  if (fdem_pid == 0) {
+    fdem::test::restore_child_environment();
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execl(binary.c_str(), binary.c_str(), "check", path.c_str(), "--set", "mesh.size=4e-4", "--max-triangles", "1e9",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::vector<pid_t> gmsh;
+  for (int k = 0; k < 100 && gmsh.empty(); ++k) {  // up to 10 s for fdem to start gmsh
+    ::usleep(100'000);
+    gmsh = children_of(fdem_pid);
+  }
+  REQUIRE(gmsh.size() == 1);
+  ::usleep(300'000);  // into the meshing
+  REQUIRE(::kill(fdem_pid, SIGTERM) == 0);
+  int status = 0;
+  REQUIRE(::waitpid(fdem_pid, &status, 0) == fdem_pid);
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), {});
+  INFO(output);
+  CHECK(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGTERM);
+  CHECK(output.find("meshing stopped by SIGTERM; gmsh was stopped and nothing was written") != std::string::npos);
+  // gmsh is gone: no such process (it was waited for by fdem, not left to init).
+  CHECK(::kill(gmsh[0], 0) == -1);
+  CHECK(errno == ESRCH);
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir.path)) {
+    CAPTURE(entry.path().string());
+    CHECK(entry.path().string().find(".part") == std::string::npos);
+  }
 }
 
 TEST_CASE("a numerical failure exits 3; a missing device exits 4") {

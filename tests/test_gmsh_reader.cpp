@@ -2,6 +2,7 @@
 // case, triangle orientation and .geo meshing with its cache.
 #include <doctest/doctest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -292,6 +294,62 @@ TEST_CASE("orient_triangles leaves the fixture mesh counter-clockwise") {
   }
 }
 
+TEST_CASE("read_gmsh names a directory, a FIFO and a device instead of reading them") {
+  using doctest::Contains;
+  TempDir dir("special");
+  const fs::path fifo = dir.path / "pipe.msh";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH_AS(fdem::io::read_gmsh(fifo.string()), Contains("pipe.msh: is not a regular file"), InputError);
+  CHECK_THROWS_WITH_AS(fdem::io::read_gmsh("/dev/zero"), Contains("/dev/zero: is not a regular file"), InputError);
+  CHECK_THROWS_WITH_AS(fdem::io::mesh_geo("/dev/zero", 0, dir.path.string()), Contains("/dev/zero: is not a regular file"), InputError);
+}
+
+TEST_CASE("geo_program_commands lists what would run a program, outside comments and strings") {
+  TempDir dir("programs");
+  write_bytes(dir.path / "inner.geo", "x = 1;\nNonBlockingSystemCall \"sleep 1\";\n");
+  write_bytes(dir.path / "outer.geo",
+              "// SystemCall \"in a comment\";\n"
+              "/* OnelabRun(\"in a block comment\"); */\n"
+              "Printf(\"SystemCall in a string\");\n"
+              "SystemCall \"touch marker\";\n"
+              "Include \"inner.geo\";\n"
+              "Merge \"mesh.msh\";\n"
+              "Merge \"tool.py\";\n"
+              "Include Sprintf(\"part%g.geo\", 1);\n"
+              "System \"ls\"; OnelabRun(\"x\", \"y\");\n");
+  const auto found = fdem::io::geo_program_commands((dir.path / "outer.geo").string());
+  const std::string outer = (dir.path / "outer.geo").string(), inner = (dir.path / "inner.geo").string();
+  CHECK(found == std::vector<std::string>{
+                     outer + ":4: SystemCall (runs a program)",
+                     inner + ":2: NonBlockingSystemCall (runs a program)",
+                     outer + ":7: Merge \"tool.py\" (gmsh runs .py files and other programs it merges)",
+                     outer + ":8: Include of a file whose name is computed (it cannot be checked)",
+                     outer + ":9: System (runs a program)",
+                     outer + ":9: OnelabRun (runs a program)"});
+  for (const char* name : {"sq.geo", "bad_syntax.geo", "multi.geo"}) CHECK(fdem::io::geo_program_commands(fixture(name)).empty());
+  for (const char* rel : {"cases/geostatic/column.geo", "cases/blasting/blasting.geo", "cases/wave-bar/bar.geo", "cases/stack/stack.geo"})
+    CHECK(fdem::io::geo_program_commands(std::string(FDEM_SOURCE_DIR) + "/" + rel).empty());
+}
+
+TEST_CASE("mesh_geo refuses a .geo that runs programs unless allowed") {
+  using doctest::Contains;
+  TempDir dir("systemcall");
+  const fs::path marker = dir.path / "marker";
+  const fs::path geo = dir.path / "sq_call.geo";
+  write_bytes(geo, read_bytes(fixture("sq.geo")) + "SystemCall \"touch " + marker.string() + "\";\n");
+  const std::string cache = (dir.path / "cache").string();
+  fdem::io::GeoMeshing options;
+  const std::string expected = "sq_call.geo: this .geo file would make gmsh run other programs:\n  " + geo.string() + ":29: SystemCall";
+  CHECK_THROWS_WITH_AS(fdem::io::mesh_geo(geo.string(), 0, cache, options), Contains(expected.c_str()), InputError);
+  CHECK_THROWS_WITH_AS(fdem::io::mesh_geo(geo.string(), 0, cache, options), Contains("--allow-geo-programs"), InputError);
+  CHECK_FALSE(fs::exists(marker));
+  CHECK_FALSE(fs::exists(cache));  // refused before anything was written
+  if (fdem::io::find_on_path("gmsh").empty()) return;  // the rest runs gmsh
+  options.allow_programs = true;
+  CHECK(fdem::io::read_gmsh(fdem::io::mesh_geo(geo.string(), 0, cache, options)).triangles.size() == 28);
+  CHECK(fs::exists(marker));
+}
+
 // The two tests below need the gmsh program; where it is missing (the GPU machine) they
 // are skipped. `make test` installs gmsh, so they run on CI.
 TEST_CASE("mesh_geo meshes a .geo once and reuses the cached mesh" * doctest::skip(fdem::io::find_on_path("gmsh").empty())) {
@@ -337,6 +395,42 @@ TEST_CASE("mesh_geo reports gmsh errors, a missing .geo and a missing gmsh" * do
   ::setenv("PATH", dir.path.c_str(), 1);
   CHECK_THROWS_WITH_AS(fdem::io::mesh_geo(fixture("sq.geo"), 0, cache), Contains("sq.geo: cannot mesh: the gmsh program is not on PATH; install it (Debian/Ubuntu package 'gmsh'"), InputError);
   ::setenv("PATH", saved.c_str(), 1);
+}
+
+TEST_CASE("mesh_geo estimates the triangle count before meshing and refuses above the limit" * doctest::skip(fdem::io::find_on_path("gmsh").empty())) {
+  using doctest::Contains;
+  TempDir dir("limit");
+  const std::string cache = (dir.path / "cache").string();
+  fdem::io::GeoMeshing options;
+  // Progress every 50 ms here (5 s by default): gmsh's start alone takes longer.
+  std::ostringstream progress;
+  options.progress = &progress;
+  options.progress_every = 0.05;
+  const size_t actual = fdem::io::read_gmsh(fdem::io::mesh_geo(fixture("sq.geo"), 0.02, cache, options)).triangles.size();
+  CHECK(actual > 4000);
+  CHECK(progress.str().rfind("meshing " + fixture("sq.geo") + " with gmsh, ", 0) == 0);
+  options.progress = nullptr;
+  // Just below the count: refused, with the estimate, and nothing written to the cache
+  // besides the mesh above.
+  options.max_triangles = static_cast<long>(actual) / 2;
+  std::string message;
+  try {
+    fdem::io::mesh_geo(fixture("sq.geo"), 0.019, cache, options);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  INFO(message);
+  CHECK(message.find("sq.geo at size 0.019: gmsh would make about ") != std::string::npos);
+  CHECK(message.find("triangles (estimated from coarser meshes of the same .geo), above the limit of " +
+                     std::to_string(options.max_triangles) + "; give a larger size (mesh.size), or raise the limit with --max-triangles N") != std::string::npos);
+  CHECK(std::distance(fs::directory_iterator(cache), fs::directory_iterator()) == 1);
+  // The estimate within 10% of the count gmsh makes (size 0.019: about 1.1 x the 0.02 mesh).
+  const double estimate = std::stod(message.substr(message.find("about ") + 6));
+  options.max_triangles = 5'000'000;
+  const double made = static_cast<double>(fdem::io::read_gmsh(fdem::io::mesh_geo(fixture("sq.geo"), 0.019, cache, options)).triangles.size());
+  CHECK(estimate == doctest::Approx(made).epsilon(0.10));
+  // A request for ~10^12 triangles is refused in the time of a few coarse meshes.
+  CHECK_THROWS_WITH_AS(fdem::io::mesh_geo(fixture("sq.geo"), 1e-6, cache, options), Contains("sq.geo at size 1e-06: gmsh would make about 2.5e+12 triangles"), InputError);
 }
 
 }  // TEST_SUITE
