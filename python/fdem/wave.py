@@ -21,7 +21,9 @@ sample must precede the wave. A point has a front only when A is at least --thre
 anywhere in the file over the whole record, --until aside (Exodus: over every TRI3
 element; history: over every probe), and at least --min-amplitude (default 0, in the
 variable's units): the dispersive precursor and round-off ahead of a front that has
-not arrived yet (tens of Pa against MPa) are no front. Nor is noise: A must also be at
+not arrived yet (tens of Pa against MPa) are no front. For the same reason A must be
+at least a tenth of the point's own largest compressive change over the whole record:
+a window (--until) that ends before the front holds only its precursor. Nor is noise: A must also be at
 least --snr (default 10) times the record's noise, sigma = median |s(i+1) - s(i)| / 0.954
 (the standard deviation of white noise; a front's few steep samples do not move the
 median). A point without a front is listed as "no front" and left
@@ -255,6 +257,11 @@ def arrival(series, level, until, threshold=1e-3, min_amplitude=0.0, snr=10.0):
                       f"the record's largest change")
     # The whole record, --until aside: a window that ends before the front holds only
     # its precursor, whose peak is no measure of the signal.
+    own = float(np.max(series.values[0] - series.values))
+    if until is not None and amplitude < 0.1 * own:
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} up to --until {until:g} s "
+                      f"is below a tenth of the point's own peak {own:.4g} later in the record: "
+                      f"the front arrives after --until")
     signal = float(np.max(series.peak_change))
     if amplitude < threshold * signal:
         raise NoFront(f"{where}: peak compressive change {amplitude:.3g} is below --threshold "
@@ -320,12 +327,12 @@ def command_arrival(args):
             missed.append((s, exc))
             continue
         rows.append((s, float(np.hypot(s.x - cx, s.y - cy)), t_arr, amplitude, t_peak))
-    for s, exc in missed:
-        print(f"fdem-wave: note: no front at {exc}; left out", file=sys.stderr)
     if not rows:
         raise WaveError(f"no front found: none of the {len(series)} points has a compressive "
                         f"front (" + "; ".join(str(e) for _, e in missed[:3]) +
                         ("; ..." if len(missed) > 3 else "") + ")")
+    for s, exc in missed:
+        print(f"fdem-wave: note: no front at {exc}; left out", file=sys.stderr)
 
     print(f"first compressive front of {args.var.upper() if kind == 'exodus' else '*_' + args.var.lower()} "
           f"in {args.file} ({kind}, {len(series[0].times)} samples): arrival = first time the "
