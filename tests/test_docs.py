@@ -26,7 +26,10 @@
      OUT_history.nc, a_history.nc ...); the other fdem-plot and every fdem-wave command
      (they need fracture, platen or probe output) go through the tool's own argument
      parser only;
-   - `make TARGET`: the Makefile must have the target.
+   - `make TARGET`: the Makefile must have the target;
+   - the commands of cases/*/README.md too, more cheaply: every `fdem run` there (GPU or
+     not) is `fdem check` of its case and --sets, the tools' arguments are parsed, and
+     shell loops (a line with a `$variable`) are left out.
 2. Figures. A number in README.md, docs/*.md or cases/*/README.md followed by
    `<!-- figure: KEY -->` must be the value of KEY in tests/data/doc_figures.json, and
    every key there must be quoted somewhere. A key with a `check` entry is recomputed:
@@ -36,7 +39,8 @@
 
 Meshes made from .geo files are cached in $FDEM_DOCS_MESH_CACHE (ctest: the build
 tree's docs-mesh-cache), so only the first run meshes (blasting and brazilian: about a
-minute on 2 cores); after that the whole test takes 20-40 s.
+minute on 2 cores, the other cases a minute more); after that the whole test takes
+30-50 s.
 """
 
 import json
@@ -118,11 +122,17 @@ def without_optional(tokens):
     return out
 
 
-def doc_commands():
-    """(doc, line, text, tokens) of every command that calls one of PROGRAMS."""
+CASE_DOCS = [d for d in FIGURE_DOCS if d.startswith("cases")]
+
+
+def doc_commands(docs=None):
+    """(doc, line, text, tokens) of every command that calls one of PROGRAMS (shell
+    loops, whose lines hold a `$variable`, are left out)."""
     found = []
-    for doc in COMMAND_DOCS:
+    for doc in docs or COMMAND_DOCS:
         for number, text in code_lines(doc):
+            if "$" in text:
+                continue
             try:
                 tokens = shlex.split(text, comments=True)
             except ValueError:
@@ -223,8 +233,9 @@ class Commands(unittest.TestCase):
                if a.startswith("--") and a.split("=")[0] not in known]
         return f"options not in `fdem --help` for {command}: {', '.join(bad)}" if bad else None
 
-    def fdem_command(self, tokens):
-        """None when the command is fine, else why not."""
+    def fdem_command(self, tokens, check_only=False):
+        """None when the command is fine, else why not. `check_only`: a run is `fdem
+        check` of its case and --sets whatever its device (the case READMEs)."""
         mpi = os.path.basename(tokens[0]) == "mpirun"
         if mpi:
             at = next((i for i, t in enumerate(tokens)
@@ -245,6 +256,8 @@ class Commands(unittest.TestCase):
             return problem
         gpu = "gpu" in args[args.index("--device") + 1:args.index("--device") + 2] \
             if "--device" in args else False
+        if check_only and command == "run" and not mpi:
+            gpu = False
         if mpi or gpu or command == "bench":
             self.action = "options checked (GPU, ranks or bench)"
             return None  # options only: no GPU or ranks here
@@ -258,7 +271,7 @@ class Commands(unittest.TestCase):
         case = args[0] if args and not args[0].startswith("--") else None
         if case is None:
             return "no case file"
-        if command == "check" or case != self.case:
+        if command == "check" or case != self.case or check_only:
             # check as written (its own options kept), or a run's case and --sets checked
             keep = args[1:] if command == "check" else sets
             if not case.endswith(".ckpt"):
@@ -283,7 +296,7 @@ class Commands(unittest.TestCase):
         return None if proc.returncode == 0 else \
             f"exit {proc.returncode}: {(proc.stdout + proc.stderr)[-600:]}"
 
-    def tool_command(self, tokens):
+    def tool_command(self, tokens, check_only=False):
         tool = os.path.basename(tokens[0])
         args = [self.substitute(t) for t in tokens[1:]]
         module = __import__("fdem.plot" if tool == "fdem-plot" else "fdem.wave",
@@ -293,8 +306,8 @@ class Commands(unittest.TestCase):
         except SystemExit as exc:
             return f"{tool} refuses its arguments (exit {exc.code})"
         self.action = "arguments parsed"
-        if tool == "fdem-plot" and args and (args[0] in ("history", "compare") or
-                                             (args[0] == "field" and "--cracks" not in args)):
+        if tool == "fdem-plot" and args and not check_only and (
+                args[0] in ("history", "compare") or (args[0] == "field" and "--cracks" not in args)):
             proc = subprocess.run([sys.executable, os.path.join(REPO, "tools", tool)] + args,
                                   capture_output=True, text=True, cwd=self.work, timeout=120)
             self.action = "run on the small run's output"
@@ -303,10 +316,18 @@ class Commands(unittest.TestCase):
         return None
 
     def test_every_command_runs(self):
+        self.commands_of(None, 20)
+
+    def test_case_readme_commands(self):
+        """The commands of cases/*/README.md: every `fdem run` (GPU or not) is `fdem
+        check` of its case and --sets; the Python tools' arguments are parsed."""
+        self.commands_of(CASE_DOCS, 30, check_only=True)
+
+    def commands_of(self, docs, at_least, check_only=False):
         if not self.binary:
             self.skipTest("no fdem binary (FDEM_BINARY or build/fdem)")
-        commands = doc_commands()
-        self.assertGreater(len(commands), 20, "the extraction finds the docs' commands")
+        commands = doc_commands(docs)
+        self.assertGreater(len(commands), at_least, "the extraction finds the docs' commands")
         failures, log = [], []
         for doc, number, text, tokens in commands:
             program = os.path.basename(tokens[0])
@@ -318,9 +339,9 @@ class Commands(unittest.TestCase):
                 problem = f"no target {', '.join(missing)} in the Makefile" if missing else None
                 self.action = "Makefile target found"
             elif program in ("fdem-plot", "fdem-wave"):
-                problem = self.tool_command(tokens)
+                problem = self.tool_command(tokens, check_only)
             else:
-                problem = self.fdem_command(tokens)
+                problem = self.fdem_command(tokens, check_only)
             log.append(f"{doc}:{number}: {self.action}: {' '.join(tokens)[:90]}")
             if problem:
                 failures.append(f"{doc}:{number}: {text}\n    {problem}")
