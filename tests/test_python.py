@@ -10,7 +10,13 @@
   here with netCDF4 in the layouts of docs/case-format.md) and on a real run of
   tests/data/cases/blast_small.toml by the fdem binary named in $FDEM_BINARY (ctest sets
   it; without it those tests are skipped);
-- the new `fdem-plot events` and `fdem-plot fragments` commands through tools/fdem-plot.
+- the new `fdem-plot events` and `fdem-plot fragments` commands through tools/fdem-plot;
+- issue 28, row 15 (analytics on bad input), each on synthetic data of known answer:
+  the fragment statistics leave the steel platens out (a synthetic Exodus file tells
+  the materials), a Swebrec fit on the bound of its x_max search warns and says which,
+  `fdem-wave arrival` finds no front in precursor noise (exit 2, "no front found")
+  and leaves such points out of the speed fit, `b_value` of one event says why there
+  is no b instead of raising.
 """
 
 import os
@@ -19,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 import unittest
+import warnings
 
 import numpy as np
 
@@ -31,6 +38,7 @@ import fdem  # noqa: E402
 from fdem import analytics, fragments  # noqa: E402
 
 PLOT = os.path.join(REPO, "tools", "fdem-plot")
+WAVE = os.path.join(REPO, "tools", "fdem-wave")
 LN10 = np.log(10.0)
 
 
@@ -103,6 +111,49 @@ def write_fragments(path, frames, with_frame=True, with_diameter=True, with_mass
                 data[name].append(np.asarray(row[name]))
         for name, (kind, units) in cols.items():
             var(name, kind, units)[:] = np.concatenate(data[name])
+
+
+def write_exodus(path, x, y, blocks):
+    """A minimal Exodus file as the engine writes one (mesh only, no frames): blocks is a
+    list of (name, elem_type, 0-based connectivity rows)."""
+    with netCDF4.Dataset(path, "w", format="NETCDF3_64BIT_OFFSET") as ds:
+        ds.title = "synthetic mesh"
+        ds.createDimension("len_name", 33)
+        ds.createDimension("time_step", None)
+        ds.createDimension("num_dim", 2)
+        ds.createDimension("num_nodes", len(x))
+        ds.createDimension("num_elem", sum(len(b[2]) for b in blocks))
+        ds.createDimension("num_el_blk", len(blocks))
+        ds.createVariable("time_whole", "f8", ("time_step",))
+        ds.createVariable("coordx", "f8", ("num_nodes",))[:] = x
+        ds.createVariable("coordy", "f8", ("num_nodes",))[:] = y
+        names = ds.createVariable("eb_names", "S1", ("num_el_blk", "len_name"))
+        names[:] = netCDF4.stringtochar(np.array([b[0] for b in blocks], dtype="S33"))
+        ds.createVariable("eb_prop1", "i4", ("num_el_blk",))[:] = np.arange(1, len(blocks) + 1)
+        for k, (name, kind, conn) in enumerate(blocks, start=1):
+            conn = np.asarray(conn)
+            ds.createDimension(f"num_el_in_blk{k}", conn.shape[0])
+            ds.createDimension(f"num_nod_per_el{k}", conn.shape[1])
+            var = ds.createVariable(f"connect{k}", "i4", (f"num_el_in_blk{k}", f"num_nod_per_el{k}"))
+            var.elem_type = kind
+            var[:] = conn + 1
+
+
+def write_probes(path, times, probes, var="ps1"):
+    """A history file with [[probe]] variables NAME_<var> (Pa) and their attributes:
+    probes is a list of (name, (x, y), values)."""
+    with netCDF4.Dataset(path, "w", format="NETCDF3_64BIT_OFFSET") as ds:
+        ds.title = "synthetic probes"
+        ds.createDimension("time", None)
+        t = ds.createVariable("time", "f8", ("time",))
+        t.units = "s"
+        t[:] = times
+        for k, (name, point, values) in enumerate(probes):
+            v = ds.createVariable(f"{name}_{var}", "f8", ("time",))
+            v.units = "Pa"
+            v.probe_point = np.asarray(point, dtype=float)
+            v.probe_element = np.int32(k + 1)
+            v[:] = values
 
 
 def run_plot(*args):
@@ -184,10 +235,26 @@ class BValue(unittest.TestCase):
         self.assertTrue(np.all(np.isnan(m[2:])))
 
     def test_too_few_events(self):
-        with self.assertRaisesRegex(ValueError, "too few events"):
-            analytics.b_value([0.1, 0.2, 2.0], mc=1.0)
-        with self.assertRaisesRegex(ValueError, "every event sits at Mc"):
-            analytics.b_value([1.0, 1.0, 1.0], mc=1.0)
+        # Issue 28 row 15: a catalogue of one event raised ValueError from inside the
+        # estimator; now every short catalogue gives a result that says why b is NaN.
+        one = analytics.b_value([1.3])
+        self.assertFalse(one.ok)
+        self.assertEqual((one.n, one.mc), (1, 1.3))
+        self.assertTrue(np.isnan(one.b) and np.isnan(one.b_error) and np.isnan(one.a))
+        self.assertIn("too few events at or above Mc = 1.3 (1; a b-value needs 2 or more)",
+                      one.note)
+        fit = analytics.b_value([0.1, 0.2, 2.0], mc=1.0)
+        self.assertEqual((fit.ok, fit.n), (False, 1))
+        self.assertIn("too few events", fit.note)
+        fit = analytics.b_value([1.0, 1.0, 1.0], mc=1.0)
+        self.assertEqual((fit.ok, fit.n), (False, 3))
+        self.assertIn("every event sits at Mc = 1", fit.note)
+        none = analytics.b_value([])
+        self.assertEqual((none.ok, none.n, none.note), (False, 0, "no events: no b-value"))
+        self.assertTrue(analytics.b_value([1.0, 1.5], mc=1.0).ok)
+        # Bad arguments are still errors.
+        with self.assertRaisesRegex(ValueError, "dm must be >= 0"):
+            analytics.b_value([1.0, 2.0], dm=-0.1)
 
 
 class FragmentSizes(unittest.TestCase):
@@ -246,7 +313,10 @@ class FragmentSizes(unittest.TestCase):
         xmax, x50, b = 1.0, 0.2, 2.0
         u = rng.random(20000)
         sizes = xmax * np.exp(-np.log(xmax / x50) * (1 / u - 1) ** (1 / b))
-        fit = analytics.swebrec_fit(sizes)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", analytics.FitWarning)  # inside its range: no warning
+            fit = analytics.swebrec_fit(sizes)
+        self.assertEqual(fit.bound, "")
         self.assertLess(abs(fit.x50 / x50 - 1), 0.03, fit)
         self.assertLess(abs(fit.b / b - 1), 0.05, fit)
         self.assertLess(abs(fit.xmax / xmax - 1), 0.1, fit)
@@ -260,6 +330,32 @@ class FragmentSizes(unittest.TestCase):
         self.assertAlmostEqual(fixed.size(0.5), fixed.x50, places=12)
         with self.assertRaisesRegex(ValueError, "must exceed the largest fragment"):
             analytics.swebrec_fit(sizes, xmax=0.5)
+
+    def test_swebrec_on_its_bound_warns(self):
+        # A lognormal sample has no largest size: the best x_max runs to the upper end of
+        # the search (ten times the largest fragment).
+        rng = np.random.default_rng(1)
+        sizes = np.exp(rng.normal(0.0, 1.0, 2000))
+        with self.assertWarnsRegex(analytics.FitWarning, "sits on the upper bound of its "
+                                   "search, ten times the largest fragment"):
+            fit = analytics.swebrec_fit(sizes)
+        self.assertEqual(fit.bound, "upper")
+        self.assertAlmostEqual(fit.xmax / sizes.max(), 10.0, places=6)
+        # A Swebrec sample of b = 0.7 whose largest fragments come within 1e-5 of x_max:
+        # the best x_max is the lower end, the largest fragment itself.
+        u = rng.random(5000)
+        sizes = np.exp(-np.log(1 / 0.2) * (1 / u - 1) ** (1 / 0.7))
+        with self.assertWarnsRegex(analytics.FitWarning, "sits on the lower bound of its "
+                                   "search, the largest fragment"):
+            fit = analytics.swebrec_fit(sizes)
+        self.assertEqual(fit.bound, "lower")
+        self.assertLess(fit.xmax / sizes.max() - 1, 2e-4)
+        # size_distribution passes the warning on; a fixed x_max is no search.
+        with self.assertWarns(analytics.FitWarning):
+            self.assertEqual(analytics.size_distribution(sizes).swebrec.bound, "lower")
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", analytics.FitWarning)
+            self.assertEqual(analytics.swebrec_fit(sizes, xmax=1.0).bound, "")
 
     def test_one_fragment(self):
         dist = analytics.size_distribution([0.3], [2.0])
@@ -447,6 +543,166 @@ class OpenSynthetic(TempDirCase):
         rc, text = run_plot("events", self.dir, "--bin-width", "0")
         self.assertEqual(rc, 2, text)
         self.assertIn("--bin-width must be > 0", text)
+
+
+class PlatensAreNoFragments(TempDirCase):
+    """A Brazilian test in miniature: a rock block of four fracturable triangles (each
+    with its own nodes, joined by CE4s) between two steel platens of two triangles each
+    (shared nodes, no CE4s). Frame 0: the rock whole (one piece, 1 kg) and the platens
+    (4 kg each, larger); frame 1: the rock in two pieces of 0.25 and 0.75 kg. Issue 28
+    row 15: the platens were counted as fragments, so P50 was a platen's size."""
+
+    ROCK_SIZES = (0.1, 0.05, 0.08)  # frame 0: the whole rock; frame 1: its two pieces
+
+    def make_run(self, with_exodus=True):
+        # Nodes: rock triangles 0-3 own nodes 0-11; platen triangles share 12-15, 16-19.
+        x = np.arange(20.0)
+        y = np.zeros(20)
+        rock = [[0, 1, 2], [3, 4, 5], [6, 7, 8], [9, 10, 11]]
+        top = [[12, 13, 14], [13, 15, 14]]
+        bottom = [[16, 17, 18], [17, 19, 18]]
+        ce4 = [[1, 2, 4, 3], [4, 5, 7, 6], [7, 8, 10, 9]]
+        if with_exodus:
+            write_exodus(os.path.join(self.dir, "disc.exo"), x, y,
+                         [("rock", "TRI3", rock), ("steel", "TRI3", top + bottom),
+                          ("cohesive", "QUAD4", ce4)])
+        # Element numbers: rock 1-4, steel 5-8 (top 5-6, bottom 7-8), cohesive 9-11.
+        d_rock, d_a, d_b = self.ROCK_SIZES
+        d_platen = 0.3
+        area = lambda d: np.pi * d * d / 4  # noqa: E731
+        frames = [(0.0, [1, 5, 7], [d_rock, d_platen, d_platen], [1.0, 4.0, 4.0]),
+                  (1e-4, [1, 3, 5, 7], [d_a, d_b, d_platen, d_platen], [0.25, 0.75, 4.0, 4.0])]
+        with netCDF4.Dataset(os.path.join(self.dir, "disc_fragments.nc"), "w",
+                             format="NETCDF3_64BIT_OFFSET") as ds:
+            ds.createDimension("fragment_record", None)
+            cols = {"fragment_frame": "i4", "fragment_time": "f8", "fragment_id": "i4",
+                    "fragment_area": "f8", "fragment_mass": "f8", "fragment_diameter": "f8"}
+            data = {c: [] for c in cols}
+            for k, (t, ids, d, m) in enumerate(frames):
+                data["fragment_frame"] += [k] * len(ids)
+                data["fragment_time"] += [t] * len(ids)
+                data["fragment_id"] += ids
+                data["fragment_area"] += [area(v) for v in d]
+                data["fragment_mass"] += m
+                data["fragment_diameter"] += d
+            for c, kind in cols.items():
+                ds.createVariable(c, kind, ("fragment_record",))[:] = np.asarray(data[c])
+        write_history(os.path.join(self.dir, "disc_history.nc"), [0.0, 1e-4], {})
+
+    def test_statistics_leave_the_platens_out(self):
+        self.make_run()
+        frag = fdem.open(self.dir).fragments
+        self.assertTrue(fragments.is_labelled(frag))
+        self.assertEqual(frag["fragment_material"].values.tolist(),
+                         ["rock", "steel", "steel", "rock", "rock", "steel", "steel"])
+        self.assertEqual(frag["fragment_fracturable"].values.tolist(), [1, 0, 0, 1, 1, 0, 0])
+        self.assertEqual(fragments.left_out(frag), ["steel"])
+        d_rock, d_a, d_b = self.ROCK_SIZES
+        size, mass = fragments.sizes_and_masses(fragments.at_frame(frag, 1))
+        self.assertEqual((size.tolist(), mass.tolist()), ([d_a, d_b], [0.25, 0.75]))
+        table = fragments.summary(frag)
+        self.assertEqual(table["fragments"].values.tolist(), [1, 2])
+        # P50 by mass: the rock itself, then its 0.75 kg piece (not the 0.3 m platens).
+        self.assertEqual(table["p50"].values.tolist(), [d_rock, d_b])
+        # With every body: the platens hold 8 of 9 kg and are the P50 of every frame.
+        everything = fragments.summary(frag, include_unfracturable=True)
+        self.assertEqual(everything["fragments"].values.tolist(), [3, 4])
+        self.assertEqual(everything["p50"].values.tolist(), [0.3, 0.3])
+        size, _ = fragments.sizes_and_masses(fragments.at_frame(frag, 1), True)
+        self.assertEqual(len(size), 4)
+        # The same through fdem-plot, with and without the option.
+        out = os.path.join(self.dir, "f.png")
+        rc, text = run_plot("fragments", self.dir, "-o", out)
+        self.assertEqual(rc, 0, text)
+        self.assertIn(f"frame 1, t = 0.0001 s: 2 fragments of fracturable material (steel "
+                      f"left out: not fracturable; --include-unfracturable counts them), "
+                      f"P50 = {d_b:.6g} m", text)
+        rc, text = run_plot("fragments", self.dir, "--include-unfracturable", "-o", out)
+        self.assertEqual(rc, 0, text)
+        self.assertIn("4 fragments (all bodies, non-fracturable ones included), P50 = 0.3 m",
+                      text)
+
+    def test_unlabelled_and_mismatched_files(self):
+        # Without the Exodus file the pieces cannot be told apart: all count, with a note.
+        self.make_run(with_exodus=False)
+        frag = fdem.open(self.dir).fragments
+        self.assertFalse(fragments.is_labelled(frag))
+        self.assertEqual(fragments.summary(frag)["fragments"].values.tolist(), [3, 4])
+        rc, text = run_plot("fragments", self.dir, "-o", os.path.join(self.dir, "f.png"))
+        self.assertEqual(rc, 0, text)
+        self.assertIn("note: no disc.exo beside disc_fragments.nc: rock cannot be told from "
+                      "other bodies", text)
+        # An Exodus file of another mesh (too few triangles for the ids): refused.
+        write_exodus(os.path.join(self.dir, "disc.exo"), np.arange(3.0), np.zeros(3),
+                     [("rock", "TRI3", [[0, 1, 2]])])
+        with self.assertRaisesRegex(ValueError, "fragment id 5 is no triangle of the Exodus "
+                                    "file \\(TRI3 elements 1 to 1\\)"):
+            fdem.open(self.dir).fragments
+        rc, text = run_plot("fragments", self.dir, "-o", os.path.join(self.dir, "f.png"))
+        self.assertEqual(rc, 2, text)
+        self.assertIn("not of the same run", text)
+
+
+class WaveArrival(TempDirCase):
+    """fdem-wave arrival on synthetic probe records: a compressive step of 6 MPa that
+    travels at 3000 m/s from x = 0 (arrival at x / c, a linear rise over 20 us), and
+    points the front never reaches within the record, where only +-44 Pa of precursor
+    and round-off are seen. Issue 28 row 15: such points gave arrivals of their own and
+    a speed of 17,147 m/s instead of "no front found"."""
+
+    C = 3000.0
+
+    def records(self, reached, unreached, seed=4):
+        rng = np.random.default_rng(seed)
+        t = np.linspace(0.0, 1e-3, 501)
+        probes = []
+        for x in reached:
+            rise = np.clip((t - x / self.C) / 2e-5, 0.0, 1.0)
+            probes.append((f"x{x:g}", (x, 0.0), -6e6 * rise + rng.normal(0.0, 15.0, len(t))))
+        for x in unreached:
+            probes.append((f"x{x:g}", (x, 0.0), rng.uniform(-44.0, 44.0, len(t))))
+        path = os.path.join(self.dir, "w_history.nc")
+        write_probes(path, t, probes)
+        return path
+
+    def wave(self, *args):
+        proc = subprocess.run([sys.executable, WAVE, *args], capture_output=True, text=True)
+        return proc.returncode, proc.stdout + proc.stderr
+
+    def test_noise_is_no_front(self):
+        path = self.records([0.3, 0.6, 0.9, 1.2], [4.0, 5.0])
+        rc, text = self.wave("arrival", path, "--centre", "0", "0")
+        self.assertEqual(rc, 0, text)
+        v = float(text.split("apparent P-wave speed V = ")[1].split()[0])
+        # The half-peak crossing is 10 us after the start of the rise at every point.
+        self.assertAlmostEqual(v / self.C, 1.0, delta=1e-3)
+        self.assertIn("over 4 points", text)
+        self.assertIn("note: no front at x4 (element 5): peak compressive change", text)
+        self.assertIn("is below --threshold 0.001 x the signal's peak", text)
+        self.assertRegex(text, r"x5 +5 +0 +5 +element 6 +no front")
+
+    def test_no_front_found(self):
+        # Only noise at every probe (the record ends before the front): exit 2.
+        path = self.records([], [2.0, 3.0, 4.0])
+        rc, text = self.wave("arrival", path, "--centre", "0", "0")
+        self.assertEqual(rc, 2, text)
+        self.assertIn("fdem-wave: error: no front found: none of the 3 points has a "
+                      "compressive front", text)
+        self.assertNotIn("apparent P-wave speed V", text)
+        # A window that ends before the front: its precursor is measured against the
+        # whole record's peak, so it is no front either.
+        path = self.records([0.9, 1.2], [])
+        rc, text = self.wave("arrival", path, "--centre", "0", "0", "--until", "2e-4")
+        self.assertEqual(rc, 2, text)
+        self.assertIn("no front found", text)
+        # An absolute floor: 6 MPa fronts are below a 1e7 Pa minimum.
+        path = self.records([0.3, 0.6], [])
+        rc, text = self.wave("arrival", path, "--centre", "0", "0", "--min-amplitude", "1e7")
+        self.assertEqual(rc, 2, text)
+        self.assertIn("below --min-amplitude 1e+07", text)
+        rc, text = self.wave("arrival", path, "--centre", "0", "0", "--threshold", "1.5")
+        self.assertEqual(rc, 2, text)
+        self.assertIn("--threshold must be in [0, 1)", text)
 
 
 @unittest.skipUnless(os.environ.get("FDEM_BINARY"), "FDEM_BINARY (the fdem binary) not set")

@@ -14,6 +14,10 @@ b-value (magnitude-frequency of events)
     2.3 b^2 sqrt(sum (M - mean)^2 / (n (n - 1))), and a = log10 n + b Mc so that
     10^(a - b M) counts the events of magnitude M or more above Mc. `completeness_magnitude`
     gives Mc by maximum curvature: the lower edge of the most populated bin.
+    Too few events for an estimate (fewer than 2 at or above Mc, or all of them at Mc,
+    or none at all) is not an error: `b_value` then returns b = a = b_error = NaN with
+    the reason in `note` (and `ok` False), so a catalogue of one event gives an answer
+    that says so rather than an exception in the middle of a script.
 
 Fragment size distribution (mass passing)
     P(x) is the mass fraction of fragments of size x or finer (the "passing" curve of a
@@ -32,19 +36,29 @@ Fragment size distribution (mass passing)
                      between the largest fragment and ten times it (on a grid of
                      ln ln(x_max/x_largest), refined by golden section): the Swebrec
                      x_max is a largest size, not a free shape parameter.
+                     When the best x_max is an end of that range (the largest fragment
+                     itself, or ten times it) the curve has no Swebrec-shaped best
+                     within it: the fit says which end in `bound` ("lower", "upper")
+                     and warns (FitWarning); give `xmax` to fix it instead.
 """
 
+import warnings
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["BValue", "b_value", "completeness_magnitude", "magnitude_from_energy",
+__all__ = ["BValue", "FitWarning", "b_value", "completeness_magnitude", "magnitude_from_energy",
            "magnitude_frequency",
            "passing", "percentile_size", "RosinRammler", "Swebrec", "rosin_rammler_fit",
            "swebrec_fit", "SizeDistribution", "size_distribution", "equivalent_diameter"]
 
 LOG10_E = float(np.log10(np.e))
+
+
+class FitWarning(UserWarning):
+    """A fit was made but is not to be trusted as it stands (e.g. a Swebrec x_max on the
+    bound of its search)."""
 
 
 # ---------------------------------------------------------------------------------------
@@ -58,6 +72,12 @@ class BValue:
     mc: float        # magnitude of completeness used
     dm: float        # bin width used (0: continuous magnitudes)
     n: int           # events at or above Mc
+    note: str = ""   # why b is NaN (too few events); empty when b was estimated
+
+    @property
+    def ok(self) -> bool:
+        """Whether b was estimated (False: too few events, see `note`)."""
+        return not self.note
 
     def count_at_least(self, m):
         """Events of magnitude m or more on the fitted line, 10^(a - b m)."""
@@ -88,21 +108,32 @@ def b_value(magnitudes, mc: Optional[float] = None, dm: float = 0.0,
     """Aki's maximum-likelihood b over the magnitudes >= Mc (module docstring).
     mc: magnitude of completeness; None: completeness_magnitude(magnitudes, bin_width).
     dm: width of the bins the magnitudes are rounded to (0 for continuous ones); with
-    dm > 0 the events of the bins from Mc up are used (M >= Mc - dm/2)."""
+    dm > 0 the events of the bins from Mc up are used (M >= Mc - dm/2).
+    With too few events (none, one, or all at Mc) the result has b, b_error and a NaN
+    and says why in `note` (`ok` is False); bad arguments raise ValueError."""
     m = _finite(magnitudes)
     if dm < 0:
         raise ValueError(f"dm must be >= 0 (got {dm})")
+    if not bin_width > 0:
+        raise ValueError(f"bin width must be > 0 (got {bin_width})")
+    nan = float("nan")
     if mc is None:
+        if len(m) == 0:
+            return BValue(b=nan, b_error=nan, a=nan, mc=nan, dm=float(dm), n=0,
+                          note="no events: no b-value")
         mc = completeness_magnitude(m, dm if dm > 0 else bin_width)
     lower = mc - dm / 2.0
     tolerance = 1e-9 * max(1.0, abs(lower)) if dm > 0 else 0.0
     above = m[m >= lower - tolerance]
     n = len(above)
     if n < 2:
-        raise ValueError(f"too few events at or above Mc = {mc:g} ({n}) for a b-value")
+        return BValue(b=nan, b_error=nan, a=nan, mc=float(mc), dm=float(dm), n=n,
+                      note=f"too few events at or above Mc = {mc:g} ({n}; a b-value "
+                           f"needs 2 or more): no b-value")
     mean = float(np.mean(above))
     if not mean > lower:
-        raise ValueError(f"every event sits at Mc = {mc:g}: no b-value")
+        return BValue(b=nan, b_error=nan, a=nan, mc=float(mc), dm=float(dm), n=n,
+                      note=f"every event sits at Mc = {mc:g}: no b-value")
     b = LOG10_E / (mean - lower)
     b_error = 2.3 * b * b * float(np.sqrt(np.sum((above - mean) ** 2) / (n * (n - 1))))
     return BValue(b=b, b_error=b_error, a=float(np.log10(n) + b * mc), mc=float(mc),
@@ -196,12 +227,13 @@ class Swebrec:
     x50: float   # median size
     b: float     # curve undulation exponent
     rms: float   # root mean square miss of P over the fitted points
+    bound: str = ""  # "lower"/"upper": the searched x_max is that end of its range
 
     def cdf(self, x):
         x = np.asarray(x, dtype=float)
         out = np.ones_like(x)
         inside = (x > 0) & (x < self.xmax)
-        ratio = np.log(self.xmax / x[inside]) / np.log(self.xmax / self.x50)
+        ratio = (np.log(self.xmax) - np.log(x[inside])) / np.log(self.xmax / self.x50)
         out[inside] = 1.0 / (1.0 + ratio ** self.b)
         out[x <= 0] = 0.0
         return out
@@ -233,8 +265,12 @@ def rosin_rammler_fit(sizes, masses=None) -> RosinRammler:
 
 def _swebrec_for(x, p, xmax):
     """Swebrec with this x_max, its x50 and b from the straight line; None if none."""
-    u = np.log(np.log(xmax / x))
+    # ln x_max - ln x, not ln(x_max / x): the ratio overflows for a size near the
+    # smallest double, its logarithm does not.
+    u = np.log(np.log(xmax) - np.log(x))
     v = np.log(1.0 / p - 1.0)
+    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(v))):
+        return None
     slope, intercept = _line(u, v)
     if not slope > 0:
         return None
@@ -281,8 +317,23 @@ def swebrec_fit(sizes, masses=None, xmax: Optional[float] = None) -> Swebrec:
             lo, c, fc = c, d, fd
             d = lo + golden * (hi - lo)
             fd = miss(d)[0]
-    best = min((miss(t) for t in (lo, hi, 0.5 * (lo + hi), grid[k])), key=lambda r: r[0])
-    return best[1]
+    candidates = [(t,) + miss(t) for t in (lo, hi, 0.5 * (lo + hi), grid[k])]
+    t_best, _, fit = min(candidates, key=lambda r: r[1])
+    # On an end of the range the least miss may lie beyond it: say so (module docstring).
+    span = grid[-1] - grid[0]
+    if t_best - grid[0] < 1e-6 * span:
+        fit.bound = "lower"
+        warnings.warn(f"Swebrec fit: x_max = {fit.xmax:.4g} m sits on the lower bound of its "
+                      f"search, the largest fragment ({largest:.4g} m): the least miss lies at "
+                      f"or below the largest piece, where a Swebrec curve cannot go; x50 and "
+                      f"b are those of that x_max", FitWarning, stacklevel=2)
+    elif grid[-1] - t_best < 1e-6 * span:
+        fit.bound = "upper"
+        warnings.warn(f"Swebrec fit: x_max = {fit.xmax:.4g} m sits on the upper bound of its "
+                      f"search, ten times the largest fragment ({largest:.4g} m): the passing "
+                      f"curve has no Swebrec best inside the range; read x50 and b with care, "
+                      f"or fix x_max (swebrec_fit(..., xmax=))", FitWarning, stacklevel=2)
+    return fit
 
 
 @dataclass

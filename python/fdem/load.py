@@ -28,7 +28,7 @@ except ImportError as exc:  # pragma: no cover - depends on the interpreter
         "fdem_load needs the netCDF4 module; on Debian install python3-netcdf4 and "
         "run with /usr/bin/python3") from exc
 
-__all__ = ["Block", "ExodusData", "HistoryData", "load_exodus", "load_history",
+__all__ = ["Block", "ExodusData", "HistoryData", "load_exodus", "load_blocks", "load_history",
            "to_xarray", "exodus_units"]
 
 # Exodus files carry no units: those of fdem-cl's variable names (SI, as the engine
@@ -133,6 +133,38 @@ def _text_attr(obj, name: str, default: str = "") -> str:
     return str(value)
 
 
+def _blocks(ds) -> List[Block]:
+    """The element blocks of an open Exodus dataset (raw mode), in file order."""
+    num_blocks = _dim(ds, "num_el_blk")
+    block_names = _names(ds, "eb_names")
+    ids = (np.asarray(ds.variables["eb_prop1"][:]).tolist()
+           if "eb_prop1" in ds.variables else list(range(1, num_blocks + 1)))
+    blocks = []
+    for b in range(num_blocks):
+        n = b + 1
+        var = ds.variables.get(f"connect{n}")
+        if var is None:  # a block with no elements has no connectivity variable
+            conn = np.zeros((0, max(_dim(ds, f"num_nod_per_el{n}"), 1)), dtype=np.int64)
+            elem_type = ""
+        else:
+            conn = np.asarray(var[:], dtype=np.int64).reshape(
+                _dim(ds, f"num_el_in_blk{n}"), -1) - 1
+            elem_type = _text_attr(var, "elem_type")
+        name = block_names[b] if b < len(block_names) and block_names[b] else f"block_{ids[b]}"
+        blocks.append(Block(name=name, id=int(ids[b]), elem_type=elem_type.upper(),
+                            connectivity=conn))
+    return blocks
+
+
+def load_blocks(path: str) -> List[Block]:
+    """The element blocks of an Exodus file (names, types, connectivity) without its
+    frames: cheap on a large file."""
+    with netCDF4.Dataset(path, "r") as ds:
+        ds.set_auto_mask(False)
+        ds.set_auto_chartostring(False)
+        return _blocks(ds)
+
+
 def load_exodus(path: str) -> ExodusData:
     """Reads a whole Exodus II file (every frame) into an ExodusData."""
     with netCDF4.Dataset(path, "r") as ds:
@@ -142,24 +174,7 @@ def load_exodus(path: str) -> ExodusData:
         x = np.asarray(ds.variables["coordx"][:], dtype=float)
         y = (np.asarray(ds.variables["coordy"][:], dtype=float)
              if "coordy" in ds.variables else np.zeros_like(x))
-        num_blocks = _dim(ds, "num_el_blk")
-        block_names = _names(ds, "eb_names")
-        ids = (np.asarray(ds.variables["eb_prop1"][:]).tolist()
-               if "eb_prop1" in ds.variables else list(range(1, num_blocks + 1)))
-        blocks = []
-        for b in range(num_blocks):
-            n = b + 1
-            var = ds.variables.get(f"connect{n}")
-            if var is None:  # a block with no elements has no connectivity variable
-                conn = np.zeros((0, max(_dim(ds, f"num_nod_per_el{n}"), 1)), dtype=np.int64)
-                elem_type = ""
-            else:
-                conn = np.asarray(var[:], dtype=np.int64).reshape(
-                    _dim(ds, f"num_el_in_blk{n}"), -1) - 1
-                elem_type = _text_attr(var, "elem_type")
-            name = block_names[b] if b < len(block_names) and block_names[b] else f"block_{ids[b]}"
-            blocks.append(Block(name=name, id=int(ids[b]), elem_type=elem_type.upper(),
-                                connectivity=conn))
+        blocks = _blocks(ds)
 
         times = (np.asarray(ds.variables["time_whole"][:], dtype=float)
                  if "time_whole" in ds.variables else np.zeros(0))

@@ -108,7 +108,11 @@ class Run:
                break_y, break_length, break_mode, break_energy...; dimension `event`:
                event_start, event_end, event_x, event_y, event_breaks, event_energy,
                event_magnitude), or None when the run wrote no events file
-    fragments  xarray.Dataset of NAME_fragments.nc, or None when absent
+    fragments  xarray.Dataset of NAME_fragments.nc, or None when absent; with the
+               run's NAME.exo beside it, each record also carries fragment_material
+               and fragment_fracturable (fdem.fragments.label_materials), so that the
+               fragment statistics leave the platens and other non-fracturable
+               bodies out
     """
 
     def __init__(self, path, name: Optional[str] = None):
@@ -197,7 +201,8 @@ class Run:
     def fragments(self):
         if not self.has("fragments"):
             return None
-        return self._cached("fragments", lambda: read_fragments(self.files["fragments"]))
+        return self._cached("fragments", lambda: read_fragments(
+            self.files["fragments"], self.files["frames"] if self.has("frames") else None))
 
 
 def open(path, name: Optional[str] = None) -> Run:  # noqa: A001 - fdem.open reads well
@@ -233,7 +238,19 @@ def read_events(path: str):
     return ds
 
 
-def read_fragments(path: str):
-    """NAME_fragments.nc as an xarray.Dataset (fdem.fragments reads sizes out of it)."""
-    return open_netcdf(path)
+def read_fragments(path: str, exodus: Optional[str] = None):
+    """NAME_fragments.nc as an xarray.Dataset (fdem.fragments reads sizes out of it),
+    labelled with the materials of the run's Exodus file `exodus` when given
+    (fdem.fragments.label_materials)."""
+    ds = open_netcdf(path)
+    if exodus is not None and ds.sizes.get("fragment_record", 0) and "fragment_id" in ds:
+        from . import fragments
+        try:
+            ds = fragments.label_materials(ds, exodus)
+        except (OSError, KeyError) as exc:
+            raise ValueError(f"cannot read the element blocks of {exodus} to tell rock "
+                             f"from other bodies ({exc})") from exc
+        except ValueError as exc:
+            raise ValueError(f"{path} and {exodus}: {exc}") from exc
+    return ds
 

@@ -10,7 +10,8 @@
   fdem-plot compare VAR A_history.nc[:LABEL] B_history.nc[:LABEL] [--normalize] [--ms] -o c.png
   fdem-plot bench BENCH.csv[:LABEL] ... -o bench.png
   fdem-plot events OUT [--breaks] [--mc MC] [--dm DM] [--bin-width 0.1] [-o OUT/NAME_events.png]
-  fdem-plot fragments OUT [--frame -1] [--without-largest] [-o OUT/NAME_fragments.png]
+  fdem-plot fragments OUT [--frame -1] [--without-largest] [--include-unfracturable]
+            [-o OUT/NAME_fragments.png]
 
 OUT is a run's output folder, OUT/NAME when it holds several runs, or one of its files.
 
@@ -22,6 +23,7 @@ import argparse
 import os
 import re
 import sys
+import warnings
 
 import numpy as np  # noqa: E402
 import matplotlib  # noqa: E402
@@ -609,10 +611,10 @@ def plot_events(args):
         ax.semilogy(edges, cumulative, "o", color="tab:blue", ms=4, label="N(≥ M)")
         ax.bar(edges + 0.5 * args.bin_width, counts, width=args.bin_width * 0.9,
                color="tab:gray", alpha=0.5, label=f"{what} per {args.bin_width:g} bin")
-        try:
-            fit = analytics.b_value(mags, mc=args.mc, dm=args.dm, bin_width=args.bin_width)
-        except ValueError as exc:
-            line += f"; no b-value: {exc}"
+        fit = analytics.b_value(mags, mc=args.mc, dm=args.dm, bin_width=args.bin_width)
+        if not fit.ok:  # too few events: the reason instead of a line
+            line += f"; {fit.note}"
+            fit = None
         if fit is not None:
             m = np.linspace(fit.mc, float(np.max(mags)), 50)
             ax.semilogy(m, fit.count_at_least(m), "-", color="tab:red",
@@ -651,14 +653,30 @@ def plot_fragments(args):
         raise PlotError(f"{run.files['fragments']}: no such file (the run wrote no "
                         f"fragments: a case without fracture, or a build before the "
                         f"fragments file)")
+    include = args.include_unfracturable
     try:
         records = fragments.at_frame(ds, args.frame)
-        size, mass = fragments.sizes_and_masses(records)
-        table = fragments.summary(ds)
+        size, mass = fragments.sizes_and_masses(records, include)
+        table = fragments.summary(ds, include_unfracturable=include)
     except ValueError as exc:
         raise PlotError(f"{run.files['fragments']}: {exc}")
     frame = int(fragments.frame_of_records(records)[0])
     t = float(records["fragment_time"].values[0]) if "fragment_time" in records else np.nan
+    # Which pieces count: the platens and other non-fracturable bodies are no fragments.
+    if not fragments.is_labelled(ds):
+        print(f"fdem-plot: note: no {os.path.basename(run.files['frames'])} beside "
+              f"{os.path.basename(run.files['fragments'])}: rock cannot be told from other "
+              f"bodies (platens), every piece counts", file=sys.stderr)
+        bodies = ""
+    elif include:
+        bodies = " (all bodies, non-fracturable ones included)"
+    else:
+        skipped = fragments.left_out(records)
+        bodies = (f" of fracturable material ({', '.join(skipped)} left out: not "
+                  f"fracturable; --include-unfracturable counts them)" if skipped else "")
+    if len(size) == 0:
+        raise PlotError(f"frame {frame} has no piece of a fracturable material "
+                        f"(--include-unfracturable counts the others)")
     left_out = ""
     if args.without_largest:
         if len(size) < 2:
@@ -668,8 +686,12 @@ def plot_fragments(args):
         left_out = (f" (the largest, {size[largest]:.4g} m and "
                     f"{100 * mass[largest] / np.sum(mass):.3g}% of the mass, left out)")
         size, mass = np.delete(size, largest), np.delete(mass, largest)
-        table = fragments.summary(ds, without_largest=True)
-    dist = analytics.size_distribution(size, mass)
+        table = fragments.summary(ds, without_largest=True, include_unfracturable=include)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", analytics.FitWarning)
+        dist = analytics.size_distribution(size, mass)
+    for w in caught:
+        print(f"fdem-plot: warning: {w.message}", file=sys.stderr)
     x, p = analytics.passing(size, mass)
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5), gridspec_kw={"width_ratios": [3, 2]})
@@ -687,7 +709,8 @@ def plot_fragments(args):
         ax.plot(grid, 100 * sw.cdf(grid), "-.", color="tab:green",
                 label=f"Swebrec x_max = {sw.xmax:.3g} m, x50 = {sw.x50:.3g} m, b = {sw.b:.3g}")
         notes.append(f"Swebrec x_max = {sw.xmax:.4g} m, x50 = {sw.x50:.4g} m, b = {sw.b:.4g} "
-                     f"(rms {sw.rms:.2g})")
+                     f"(rms {sw.rms:.2g}" + (f"; x_max on the {sw.bound} bound of its search"
+                                             if sw.bound else "") + ")")
     if not notes:
         notes.append("no fit (fragments of one size)")
     for value, name, color in ((dist.p50, "P50", "tab:red"), (dist.p80, "P80", "tab:orange")):
@@ -723,7 +746,7 @@ def plot_fragments(args):
     output = default_output(run, args, f"fragments_frame{frame}" if args.frame != -1
                             else "fragments")
     save(fig, output)
-    print(f"frame {frame}, t = {t:.6g} s: {dist.n} fragments{left_out}, P50 = {dist.p50:.6g} m, "
+    print(f"frame {frame}, t = {t:.6g} s: {dist.n} fragments{bodies}{left_out}, P50 = {dist.p50:.6g} m, "
           f"P80 = {dist.p80:.6g} m; {'; '.join(notes)}")
     print(f"wrote {output}")
 
@@ -849,6 +872,9 @@ def parse_args(argv):
     frag.add_argument("--without-largest", action="store_true",
                       help="leave the largest piece (by mass) out of each frame: the "
                            "body the fragments broke off")
+    frag.add_argument("--include-unfracturable", action="store_true",
+                      help="count the pieces of non-fracturable materials (platens, "
+                           "blocks) too; by default only the rock's pieces count")
     frag.add_argument("--title", default="", help="plot title")
     frag.add_argument("-o", "--output", default=None,
                       help="image file to write (default OUT/NAME_fragments.png, "

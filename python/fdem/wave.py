@@ -2,7 +2,8 @@
 reflected amplitudes.
 
   fdem-wave arrival FILE --centre X Y [--radii R ...] [--angles DEG ...] [--point X Y]...
-            [--probes NAME ...] [--var PS1] [--level 0.5] [--until T] [--csv F] [--png F]
+            [--probes NAME ...] [--var PS1] [--level 0.5] [--threshold 1e-3]
+            [--snr 10] [--min-amplitude A] [--until T] [--csv F] [--png F]
   fdem-wave reflection FILE (--probe NAME | --point X Y) (--split T | --boundary-distance D
             --speed V) [--var PS1] [--level 0.5] [--until T] [--csv F] [--png F]
 
@@ -15,9 +16,20 @@ d(t) = s(t0) - s(t) its compressive change since the first sample (tension is po
 A = max d over the samples up to --until (default: all) is the peak compressive
 amplitude, and the arrival time is the first time d reaches --level x A (default one
 half), interpolated linearly between the two samples around the crossing. The first
-sample must precede the wave; a change below 0.1% of the largest change of the whole
-record is taken for round-off, not a front. The apparent speed V is the least-squares fit of
-radius = V t + c over the points (radius: distance from --centre).
+sample must precede the wave. A point has a front only when A is at least --threshold
+(default 1e-3) times the signal's peak, the largest compressive change of the variable
+anywhere in the file over the whole record, --until aside (Exodus: over every TRI3
+element; history: over every probe), and at least --min-amplitude (default 0, in the
+variable's units): the dispersive precursor and round-off ahead of a front that has
+not arrived yet (tens of Pa against MPa) are no front. For the same reason A must be
+at least a tenth of the point's own largest compressive change over the whole record:
+a window (--until) that ends before the front holds only its precursor. Nor is noise: A must also be at
+least --snr (default 10) times the record's noise, sigma = median |s(i+1) - s(i)| / 0.954
+(the standard deviation of white noise; a front's few steep samples do not move the
+median). A point without a front is listed as "no front" and left
+out of the fit; when no point has one the command stops with "no front found" and
+exit 2. The apparent speed V is the least-squares fit of radius = V t + c over the
+points with a front (radius: distance from --centre).
 
 Reflection at a point near a boundary: the samples are split at --split T, or at
 arrival + D/V given the distance D from the point to the boundary and the wave speed V
@@ -54,9 +66,29 @@ class WaveError(Exception):
 # Series at points: (label, x, y, times, values, where) per point.
 
 class Series:
-    def __init__(self, label, x, y, times, values, where):
+    """A variable over time at one point. `peak_change` (over `times`) is the largest
+    compressive change from the first sample of the same variable anywhere in the file
+    at each sample (`peak_where` says over what): the signal the point's front is
+    measured against."""
+
+    def __init__(self, label, x, y, times, values, where, peak_change=None, peak_where=""):
         self.label, self.x, self.y = label, float(x), float(y)
         self.times, self.values, self.where = times, values, where
+        self.peak_change = (np.maximum(values[0] - values, 0.0) if peak_change is None
+                            else peak_change)
+        self.peak_where = peak_where or "this point"
+
+
+class NoFront(WaveError):
+    """No compressive front at a point (a point of several is skipped; none is an error)."""
+
+
+def largest_compression(values):
+    """(samples,) largest compressive change from the first sample over the columns of
+    a (samples, columns) array."""
+    if values.size == 0:
+        return np.zeros(values.shape[0])
+    return np.max(np.maximum(values[:1] - values, 0.0), axis=1)
 
 
 def file_kind(path):
@@ -123,6 +155,8 @@ def exodus_series(path, var, points):
         raise WaveError(f"{path} has {exo.num_frames} frame(s): a time series needs at least 2")
     tris, index = triangle_elements(exo)
     values = np.concatenate(exo.element[name], axis=1)  # (frames, elements)
+    peak = largest_compression(values[:, index])
+    peak_where = f"{name} over the {len(index)} TRI3 elements"
     out = []
     for label, x, y in points:
         e = containing_element(exo, tris, index, x, y)
@@ -130,7 +164,8 @@ def exodus_series(path, var, points):
             print(f"fdem-wave: note: point {label} ({x:g}, {y:g}) is outside the mesh; skipped",
                   file=sys.stderr)
             continue
-        out.append(Series(label, x, y, exo.times, values[:, e], f"element {e + 1}"))
+        out.append(Series(label, x, y, exo.times, values[:, e], f"element {e + 1}", peak,
+                          peak_where))
     if not out:
         raise WaveError(f"none of the points lies in the mesh of {path}")
     return out
@@ -163,11 +198,14 @@ def history_probes(path, var, names=None):
         chosen = sorted(found, key=lambda n: list(hist.values).index(n + suffix))
     if len(hist.times) < 2:
         raise WaveError(f"{path} has {len(hist.times)} row(s): a time series needs at least 2")
+    peak = largest_compression(np.column_stack([hist.values[n + suffix] for n in found]))
+    peak_where = f"*{suffix} over the {len(found)} probes"
     out = []
     for n in chosen:
         point, element = found[n]
         where = f"element {int(element)}" if element is not None else "probe"
-        out.append(Series(n, point[0], point[1], hist.times, hist.values[n + suffix], where))
+        out.append(Series(n, point[0], point[1], hist.times, hist.values[n + suffix], where,
+                          peak, peak_where))
     return out
 
 
@@ -193,19 +231,49 @@ def crossing_time(t, d, level):
     return float(t[i - 1] + (level - d[i - 1]) / (d[i] - d[i - 1]) * (t[i] - t[i - 1]))
 
 
-def arrival(series, level, until):
+def noise_level(values):
+    """Standard deviation of the record's noise from its sample-to-sample changes: the
+    median |change| is 0.954 sigma for white noise (the median of |N(0, 2 sigma^2)|)."""
+    if len(values) < 2:
+        return 0.0
+    return float(np.median(np.abs(np.diff(values)))) / 0.954
+
+
+def arrival(series, level, until, threshold=1e-3, min_amplitude=0.0, snr=10.0):
     """(arrival time, peak compressive amplitude A, time of A) of the first compressive
-    front; raises WaveError when there is none."""
+    front; raises NoFront when there is none (module docstring: A below --threshold
+    times the signal's peak or below --min-amplitude)."""
     t, s = window(series, until)
     d = s[0] - s  # compressive change, positive
     k = int(np.argmax(d))
     amplitude = float(d[k])
+    where = f"{series.label} ({series.where})"
+    if not amplitude > 0:
+        raise NoFront(f"{where}: no compressive change after the first sample")
     # Round-off before the wave arrives is not a front: a change below 0.1% of the
     # largest change of the whole record (--until aside) counts as noise.
-    noise = 1e-3 * float(np.max(np.abs(series.values - series.values[0])))
-    if not amplitude > noise:
-        raise WaveError(f"{series.label} ({series.where}): no compressive change after the first "
-                        f"sample (max compressive change {amplitude:g})")
+    if not amplitude > 1e-3 * float(np.max(np.abs(series.values - series.values[0]))):
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} is round-off against "
+                      f"the record's largest change")
+    # The whole record, --until aside: a window that ends before the front holds only
+    # its precursor, whose peak is no measure of the signal.
+    own = float(np.max(series.values[0] - series.values))
+    if until is not None and amplitude < 0.1 * own:
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} up to --until {until:g} s "
+                      f"is below a tenth of the point's own peak {own:.4g} later in the record: "
+                      f"the front arrives after --until")
+    signal = float(np.max(series.peak_change))
+    if amplitude < threshold * signal:
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} is below --threshold "
+                      f"{threshold:g} x the signal's peak {signal:.4g} ({series.peak_where})")
+    noise = noise_level(s)
+    if amplitude < snr * noise:
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} is below --snr {snr:g} "
+                      f"x the record's noise {noise:.3g} (median sample-to-sample change "
+                      f"/ 0.954): noise, not a front")
+    if amplitude < min_amplitude:
+        raise NoFront(f"{where}: peak compressive change {amplitude:.3g} is below "
+                      f"--min-amplitude {min_amplitude:g}")
     return crossing_time(t, d, level * amplitude), amplitude, float(t[k])
 
 
@@ -250,10 +318,21 @@ def load_series(args, points=None):
 def command_arrival(args):
     kind, series = load_series(args)
     cx, cy = args.centre
-    rows = []
+    rows, missed = [], []
     for s in series:
-        t_arr, amplitude, t_peak = arrival(s, args.level, args.until)
+        try:
+            t_arr, amplitude, t_peak = arrival(s, args.level, args.until, args.threshold,
+                                               args.min_amplitude, args.snr)
+        except NoFront as exc:
+            missed.append((s, exc))
+            continue
         rows.append((s, float(np.hypot(s.x - cx, s.y - cy)), t_arr, amplitude, t_peak))
+    if not rows:
+        raise WaveError(f"no front found: none of the {len(series)} points has a compressive "
+                        f"front (" + "; ".join(str(e) for _, e in missed[:3]) +
+                        ("; ..." if len(missed) > 3 else "") + ")")
+    for s, exc in missed:
+        print(f"fdem-wave: note: no front at {exc}; left out", file=sys.stderr)
 
     print(f"first compressive front of {args.var.upper() if kind == 'exodus' else '*_' + args.var.lower()} "
           f"in {args.file} ({kind}, {len(series[0].times)} samples): arrival = first time the "
@@ -263,6 +342,9 @@ def command_arrival(args):
     for s, r, t_arr, amplitude, t_peak in rows:
         print(f"{s.label:>14} {s.x:10.5g} {s.y:10.5g} {r:11.5g} {s.where:>14} {t_arr:13.6g} "
               f"{-amplitude:12.5g} {t_peak:11.5g}")
+    for s, _ in missed:
+        r = float(np.hypot(s.x - cx, s.y - cy))
+        print(f"{s.label:>14} {s.x:10.5g} {s.y:10.5g} {r:11.5g} {s.where:>14} {'no front':>13}")
     radii = np.array([r[1] for r in rows])
     times = np.array([r[2] for r in rows])
     fit = None
@@ -272,7 +354,8 @@ def command_arrival(args):
         print(f"apparent P-wave speed V = {v:.6g} m/s (least squares radius = V t + c over "
               f"{len(rows)} points: c = {c:.5g} m, rms residual {rms:.3g} m)")
     else:
-        print("apparent P-wave speed: needs at least two points with different arrival times")
+        print("apparent P-wave speed: needs at least two points with a front and different "
+              "arrival times")
 
     if args.csv:
         write_csv(args.csv, "point,x_m,y_m,radius_m,where,arrival_s,peak_compression_Pa,peak_time_s",
@@ -293,7 +376,8 @@ def command_reflection(args):
         if kind != "history":
             raise WaveError("--probe names a [[probe]] of a history file; in an Exodus file give --point X Y")
         series = history_probes(args.file, args.var, [args.probe])[0]
-    t_arr, _, _ = arrival(series, args.level, args.until)
+    t_arr, _, _ = arrival(series, args.level, args.until, args.threshold, args.min_amplitude,
+                          args.snr)
     split = args.split if args.split is not None else t_arr + args.boundary_distance / args.speed
     t, s = window(series, args.until)
     before = t < split
@@ -411,6 +495,16 @@ def parse_args(argv):
         p.add_argument("--level", type=float, default=0.5,
                        help="fraction of the peak compressive change that marks the arrival "
                             "(default 0.5)")
+        p.add_argument("--threshold", type=float, default=1e-3,
+                       help="a front's peak compressive change must be at least this fraction "
+                            "of the signal's peak, the largest anywhere in the file "
+                            "(default 1e-3)")
+        p.add_argument("--min-amplitude", type=float, default=0.0,
+                       help="a front's peak compressive change must be at least this, in the "
+                            "variable's units (default 0)")
+        p.add_argument("--snr", type=float, default=10.0,
+                       help="a front's peak compressive change must be at least this many "
+                            "times the record's noise (default 10)")
         p.add_argument("--until", type=float, default=None,
                        help="use samples up to this time [s] only (leave out reflections)")
         p.add_argument("--csv", default=None, help="also write the table as CSV")
@@ -453,6 +547,12 @@ def parse_args(argv):
     args = parser.parse_args(argv)
     if not 0 < args.level < 1:
         parser.error(f"--level must be between 0 and 1 (got {args.level:g})")
+    if not 0 <= args.threshold < 1:
+        parser.error(f"--threshold must be in [0, 1) (got {args.threshold:g})")
+    if not args.snr >= 0:
+        parser.error(f"--snr must be >= 0 (got {args.snr:g})")
+    if not args.min_amplitude >= 0:
+        parser.error(f"--min-amplitude must be >= 0 (got {args.min_amplitude:g})")
     if args.command == "arrival":
         if args.centre is None:
             parser.error("arrival needs --centre X Y (radii are measured from it)")
