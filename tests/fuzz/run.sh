@@ -2,8 +2,8 @@
 # One fuzz target's CI run (ctest label "fuzz", docs/fuzzing.md):
 #   run.sh FUZZER CORPUS_ROOT REGRESSIONS_ROOT
 # 1. replays every recorded input of REGRESSIONS_ROOT/<target>/ (each must now be a clean
-#    refusal), except those named in REGRESSIONS_ROOT/PENDING (crashes whose fix is on
-#    another branch; listed there until it is merged);
+#    refusal), except those named in REGRESSIONS_ROOT/PENDING (inputs whose fix is not
+#    merged yet; each line says where the fix belongs);
 # 2. fuzzes for FDEM_FUZZ_SECONDS (default 20) from a copy of CORPUS_ROOT/<target>/ on
 #    one core. Any crash, sanitizer report, leak, timeout (10 s an input) or use of more
 #    than 2 GB fails the test; the input is kept in fuzz/artifacts/<target>/ of the
@@ -34,7 +34,7 @@ if [ -d "$regressions/$name" ]; then
   for f in "$regressions/$name"/*; do
     [ -f "$f" ] || continue
     if [ -f "$regressions/PENDING" ] && grep -qxF "$name/$(basename "$f")" "$regressions/PENDING"; then
-      echo "skipped (PENDING, fixed on another branch): $name/$(basename "$f")"
+      echo "skipped (listed in PENDING: its fix is not merged yet): $name/$(basename "$f")"
       continue
     fi
     inputs+=("$f")
