@@ -2,7 +2,7 @@
 # after fdem_core is defined: the flags go on fdem_core as PUBLIC options, so fdem,
 # fdem_tests and the fuzz targets that link it are built the same way.
 #
-#   -DFDEM_SANITIZE=ON  AddressSanitizer + UndefinedBehaviorSanitizer (gcc or clang), and
+#   -DFDEM_SANITIZE=ON  AddressSanitizer + UndefinedBehaviorSanitizer (measured with clang), and
 #                       fdem_fast_tests: the reader, case and CLI suites only (what CI runs
 #                       under the sanitizers; the physics suites are too slow there).
 #   -DFDEM_FUZZ=ON      libFuzzer targets of tests/fuzz, one per reader (clang only; Debian
