@@ -20,8 +20,11 @@ inline const std::string& scratch_dir() {
   struct Scratch {
     std::string path;
     Scratch() {
+      // FDEM_FUZZ_SCRATCH (tests/fuzz/run.sh sets it) holds the directories, so that the
+      // ones of crashed processes, which skip this destructor, are removed with it.
+      const char* parent = std::getenv("FDEM_FUZZ_SCRATCH");
       const bool shm = std::filesystem::is_directory("/dev/shm") && ::access("/dev/shm", W_OK) == 0;
-      path = std::string(shm ? "/dev/shm" : "/tmp") + "/fdem-fuzz-XXXXXX";
+      path = std::string(parent && *parent ? parent : shm ? "/dev/shm" : "/tmp") + "/fdem-fuzz-XXXXXX";
       if (!::mkdtemp(path.data())) {
         std::perror("fdem fuzz: mkdtemp");
         std::abort();

@@ -14,8 +14,11 @@ name=$(basename "$fuzzer"); name=${name#fuzz_}
 seconds=${FDEM_FUZZ_SECONDS:-20}
 build_dir=$(dirname "$corpus_root")
 artifacts=$build_dir/artifacts/$name
-work=$(mktemp -d "${TMPDIR:-/tmp}/fdem-fuzz-$name.XXXXXX")
+scratch_root=/tmp
+[ -d /dev/shm ] && [ -w /dev/shm ] && scratch_root=/dev/shm
+work=$(mktemp -d "$scratch_root/fdem-fuzz-$name.XXXXXX")
 trap 'rm -rf "$work"' EXIT
+export FDEM_FUZZ_SCRATCH=$work  # the targets' scratch directories (tests/fuzz/fuzz_common.hpp)
 mkdir -p "$artifacts"
 dict=$(dirname "$0")/$name.dict
 opts=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 "-artifact_prefix=$artifacts/")
