@@ -27,9 +27,10 @@ FRACTURE_PLOTS = if ls $(1)/*_events.nc >/dev/null 2>&1; then $(PLOT) events $(1
 # Debian 12 packages the build, the tests and the tools need.
 DEBS := cmake g++ make pkg-config file ocl-icd-opencl-dev opencl-c-headers pocl-opencl-icd \
         libboost-dev libeigen3-dev libnetcdf-dev libtomlplusplus-dev doctest-dev gmsh libmetis-dev libopenmpi-dev openmpi-bin \
-        python3-netcdf4 python3-matplotlib python3-numpy python3-xarray
+        python3-netcdf4 python3-matplotlib python3-numpy python3-xarray \
+        clang libclang-rt-14-dev
 
-.PHONY: all deps build test validate demo clean
+.PHONY: all deps build test validate demo clean fuzz
 
 all: build
 
@@ -52,6 +53,18 @@ build: deps
 # Suites run one after another: each OpenCL test already uses every core through PoCL.
 test: build
 	cd $(BUILD) && ctest -L unit --output-on-failure
+
+# The sanitizer build and the fuzz targets (docs/fuzzing.md), with clang in $(FUZZ_BUILD):
+# the reader, case and CLI suites under AddressSanitizer + UndefinedBehaviorSanitizer
+# (ctest label "sanitize"), then each fuzz target's recorded crashes replayed and
+# FUZZ_SECONDS of fuzzing from its seeds (label "fuzz"). .ci/run calls it after `make test`.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 20
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Release -DFDEM_FUZZ=ON -DFDEM_MPI=OFF
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fdem fdem_fast_tests fuzz_all
+	cd $(FUZZ_BUILD) && ctest -L sanitize --output-on-failure
+	cd $(FUZZ_BUILD) && FDEM_FUZZ_SECONDS=$(FUZZ_SECONDS) ctest -L fuzz --output-on-failure
 
 # The long validation runs: build/fdem_validate, the table of validation/runs.cpp, through
 # its ctest entry (label "validate"; hours on a CPU). It writes every run under
