@@ -358,7 +358,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
                        "'). Use dt = \"auto\", a dt below the estimate, or [damping] mass_scaling = true for a static run.");
     }
   }
-  p.steps = c.time.steps > 0 ? c.time.steps : std::max(1L, static_cast<long>(std::ceil(c.time.end / p.dt - 1e-9)));
+  p.steps = io::run_steps(c, p.dt);
   // A checkpoint is written after a step: a shorter interval cannot be kept, and the
   // schedule is reckoned in steps of dt.
   if (c.output.checkpoint_every > 0 && c.output.checkpoint_every < p.dt)

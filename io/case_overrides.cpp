@@ -39,7 +39,11 @@ void apply_override(toml::table& root, const std::string& text, Context& ctx) {
     const bool bare_word = !value_text.empty() && value_text.find_first_of("[]{}\"'\n=") == std::string::npos;
     if (!bare_word)
       fail("value '" + value_text + "' is not valid TOML (" + std::string(e.description()) + ")");
-    parsed = toml::parse("v = '" + value_text + "'", source_name);  // a TOML literal string
+    try {
+      parsed = toml::parse("v = '" + value_text + "'", source_name);  // a TOML literal string
+    } catch (const toml::parse_error& literal) {  // e.g. a control character: no TOML string holds it
+      fail("value '" + value_text + "' is neither valid TOML nor a plain word (" + std::string(literal.description()) + ")");
+    }
   }
   if (parsed.size() != 1 || !parsed.contains("v")) fail("the value must be one TOML value");
   ctx.add_override(source_name);
