@@ -1,9 +1,10 @@
 // Contact detection (paper Section 2.2, Figs. 6-7): a uniform grid of square cells,
 // rebuilt every run around where the bodies are now, and a counting sort of the
 // triangles into it (a count per cell, a prefix sum, a scatter). The cell is as large as
-// a "small" triangle's box may be: the largest box side, or twice the mean side when the
-// largest is more than that (graded meshes: a cell as large as the largest element would
-// hold hundreds of the smallest). A small triangle is entered in the cell of its box
+// a "small" triangle's box may be: the geometric mean of the smallest and the largest box
+// side (graded meshes: a cell as large as the largest element would hold hundreds of the
+// smallest, and one work-item scans them all; one as small as the smallest would enter
+// the largest in hundreds of cells). A small triangle is entered in the cell of its box
 // centre, a large one in every cell its box covers. Every triangle then looks through
 // the cells where a partner's entry must be (the 3x3 cells around a small triangle's
 // centre, the cells a large one covers and a ring around them) for the couples (i < j)
@@ -49,11 +50,11 @@ inline bool boxes_overlap(real4 a, real4 b) {
 
 // One work-item per triangle t: its current bounding box grown by half_skin on every
 // side, and the work-group's share of the global reductions (lowest corner, highest
-// corner, largest box side, sum of box sides).
+// corner, largest and smallest box side).
 // Inputs: node positions [m], tri_nodes (3 per triangle), half_skin [m].
 // Outputs: boxes[t] [m]; per work-group g: partial_bounds[g] = (min x, min y, max x,
-// max y) of its boxes [m], partial_side[g] = (its largest box side, the sum of its box
-// sides (the larger of each box's two)) [m].
+// max y) of its boxes [m], partial_side[g] = (its largest box side, minus its smallest)
+// [m] (a box's side: the larger of its two).
 __kernel void triangle_boxes(const uint n_triangles,
                              __global const uint* restrict tri_nodes,
                              __global const real2* restrict position,
@@ -78,26 +79,23 @@ __kernel void triangle_boxes(const uint n_triangles,
   // Lowest corner as the maximum of the negated one.
   const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
   barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
-  const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  const real sum = group_sum4(scratch, (real4)(my_side, 0, 0, 0)).x;
+  const real2 sides = group_max4(scratch, (real4)(my_side, t < n_triangles ? -my_side : -(real)INFINITY, 0, 0)).xy;
   if (lid == 0) {
     partial_bounds[get_group_id(0)] = (real4)(-folded.x, -folded.y, folded.z, folded.w);
-    partial_side[get_group_id(0)] = (real2)(largest, sum);
+    partial_side[get_group_id(0)] = sides;
   }
 }
 
 // Launched as ONE work-group of GROUP_SIZE work-items. Work-item l folds the partials
 // l, l + GROUP_SIZE, ... in order; the group reduces them by a fixed tree; work-item 0
-// then writes the grid: origin = lowest box corner; the largest small side = the largest
-// box side, or twice the mean when that is smaller; cell = that side plus a rounding
+// then writes the grid: origin = lowest box corner; the largest small side = the
+// geometric mean of the smallest and the largest box side; cell = that side plus a rounding
 // margin (so that two overlapping small boxes have centres in the same or adjacent
 // cells); nx, ny so the cells cover the highest box corner. When nx*ny would exceed
 // max_cells the cell grows until it fits (correct for any cell >= the small side).
 // Inputs: n_groups partials from triangle_boxes [m]. Outputs: grid = (x0, y0, cell,
 // largest small side) [m]; dims = (nx, ny, nx*ny, 0).
 __kernel void grid_setup(const uint n_groups,
-                         const uint n_triangles,
                          __global const real4* restrict partial_bounds,
                          __global const real2* restrict partial_side,
                          const uint max_cells,
@@ -106,25 +104,24 @@ __kernel void grid_setup(const uint n_groups,
   __local real4 scratch[GROUP_SIZE];
   const uint lid = get_local_id(0);
   real4 mine = (real4)((real)INFINITY, (real)INFINITY, -(real)INFINITY, -(real)INFINITY);
-  real my_side = 0, my_sum = 0;
+  real2 my_sides = (real2)(0, -(real)INFINITY);
   for (uint g = lid; g < n_groups; g += GROUP_SIZE) {
     const real4 o = partial_bounds[g];
     mine = (real4)(fmin(mine.x, o.x), fmin(mine.y, o.y), fmax(mine.z, o.z), fmax(mine.w, o.w));
-    my_side = fmax(my_side, partial_side[g].x);
-    my_sum += partial_side[g].y;
+    my_sides = fmax(my_sides, partial_side[g]);
   }
   const real4 folded = group_max4(scratch, (real4)(-mine.x, -mine.y, mine.z, mine.w));
   barrier(CLK_LOCAL_MEM_FENCE);  // work-item 0 has read the fold before scratch is reused
-  const real largest = group_max4(scratch, (real4)(my_side, 0, 0, 0)).x;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  const real sum = group_sum4(scratch, (real4)(my_sum, 0, 0, 0)).x;
+  const real2 sides = group_max4(scratch, (real4)(my_sides, 0, 0)).xy;
+  const real largest = sides.x, smallest = -sides.y;
   if (lid != 0) return;
 
   const real4 b = (real4)(-folded.x, -folded.y, folded.z, folded.w);
   const real width = b.z - b.x, height = b.w - b.y;
   const real magnitude = fmax(fmax(fabs(b.x), fabs(b.y)), fmax(fabs(b.z), fabs(b.w)));
-  const real small_side = fmin(largest, (real)2 * sum / (real)max(n_triangles, 1u));
-  real cell = small_side * (real)1.015625 + (real)16 * REAL_EPS * magnitude;
+  real small_side = fmin(largest, sqrt(fmax(smallest, (real)0) * largest));
+  const real margin = (real)16 * REAL_EPS * magnitude;
+  real cell = small_side * (real)1.015625 + margin;
   if (!(cell > (real)0) || !isfinite(cell)) cell = fmax(fmax(width, height), (real)1);
   real nx = floor(width / cell) + (real)1, ny = floor(height / cell) + (real)1;
   if (nx * ny > (real)max_cells) {
@@ -140,6 +137,8 @@ __kernel void grid_setup(const uint n_groups,
   // Non-finite bounds (a NaN or infinite node) leave nx, ny meaningless: one cell then.
   if (!(nx * ny <= (real)max_cells)) nx = ny = (real)1;
   const uint unx = (uint)nx, uny = (uint)ny;
+  // A cell grown to fit the cap takes the boxes up to its own size as small.
+  small_side = fmax(small_side, (cell - margin) / (real)1.015625);
   grid[0] = (real4)(b.x, b.y, cell, isfinite(small_side) ? small_side : cell);
   dims[0] = (uint4)(unx, uny, unx * uny, 0);
 }

@@ -431,7 +431,7 @@ int check_command(const Arguments& a) {
   for (const auto& r : m.regions) std::cout << r.name << " (" << r.nodes.size() << " nodes" << (r.prescribed ? ", prescribed" : "") << ")  ";
   std::cout << "\nloaded edges " << m.loaded_edges.size() << "\n";
   if (!m.ce4.empty()) std::cout << "CE4       " << m.ce4.size() << " cohesive elements\n";
-  for (const auto& warning : fdem::model_warnings(m, p.config)) std::cout << "warning: " << warning << "\n";
+  for (const auto& warning : fdem::model_warnings(m, p.config, p.dt)) std::cout << "warning: " << warning << "\n";
   for (const auto& probe : p.probes)
     std::cout << "probe     " << probe.name << " at (" << probe.point[0] << ", " << probe.point[1] << "): node "
               << m.node_tags[probe.node] << " at (" << m.x[probe.node] << ", " << m.y[probe.node] << "), "

@@ -80,6 +80,7 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
   contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
   contact.skin = c.skin.value_or(0.0);  // a skin rebuild without `skin`: set from the mesh (default_skin)
   contact.skin_from_mesh = contact.rebuild_skin && !c.skin;
+  contact.extend_joins = !c.joins_detect;
   const size_t n = config.materials.size();
   auto row = [&](double pn, double ptan, double mu, const std::optional<io::ContactDampingConfig>& d) {
     const double T = d ? d->transition : std::numeric_limits<double>::infinity();
@@ -636,9 +637,41 @@ StableStep stable_time_step(const Model& model) {
   return best;
 }
 
-std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config) {
+double speed_scale(const Model& model, const io::CaseConfig& config) {
+  double speed = 0, lowest_impedance = 0;
+  for (const auto& m : model.materials) {
+    const double z = std::sqrt(m.density * m.wave_modulus);
+    if (z > 0 && (lowest_impedance == 0 || z < lowest_impedance)) lowest_impedance = z;
+  }
+  auto push = [&](double stress) {  // a stress wave's particle speed, σ / (ρ c)
+    if (lowest_impedance > 0) speed = std::max(speed, std::fabs(stress) / lowest_impedance);
+  };
+  for (const auto& b : config.boundaries) {
+    if (b.velocity) speed = std::max(speed, std::hypot((*b.velocity)[0], (*b.velocity)[1]));
+    if (b.traction) push(std::hypot((*b.traction)[0], (*b.traction)[1]));
+    if (b.pressure) push(*b.pressure);
+    if (b.pressure_table)
+      for (double v : b.pressure_table->values) push(v);
+    if (b.blast) push(b.blast->peak);
+  }
+  for (const auto& i : config.initials) speed = std::max(speed, std::hypot(i.velocity[0], i.velocity[1]));
+  return speed;
+}
+
+std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config, double dt) {
   std::vector<std::string> out;
   auto where = [&](const std::string& key) { return io::origin_of(config, key) + ": "; };
+  // A skin that the loads' speed crosses in a few steps: a detection nearly every step.
+  if (config.contact && config.contact->rebuild == io::ContactRebuild::Skin && config.contact->skin && dt > 0) {
+    const double speed = speed_scale(model, config), skin = *config.contact->skin;
+    const double steps = speed > 0 ? 0.5 * skin / (2 * speed * dt) : 0;
+    if (speed > 0 && steps < 30)
+      out.push_back(where("contact.skin") + "contact.skin = " + format_number(skin) + " m: nodes moving at " +
+                    format_number(speed) + " m/s (the loads' particle speed, σ / (ρ c), or a prescribed speed; " +
+                    "fragments can fly at twice that) cross half of it in about " + format_number(std::ceil(steps)) +
+                    " steps of " + format_number(dt) + " s, so the run detects contact about that often; leave " +
+                    "`skin` out for 0.2 x the mean edge (" + format_number(0.2 * mean_edge_length(model)) + " m)");
+  }
   if (config.contact) {
     const io::ContactConfig& c = *config.contact;
     const double h = mean_edge_length(model);

@@ -83,6 +83,7 @@ struct ContactModel {
   bool rebuild_skin = false;  // rebuild only when a node moved more than skin/2
   double skin = 0.0;          // [m]
   bool skin_from_mesh = false;  // `skin` not given: default_skin(model)
+  bool extend_joins = true;     // [contact] joins = "extend" (ContactDetection::extend_joined)
   std::vector<double> pair_props;
   std::vector<uint32_t> pair_index;
   double max_normal_penalty = 0.0, max_tangential_penalty = 0.0;
@@ -178,7 +179,12 @@ double default_tangential_penalty(double normal_penalty, double mean_edge);
 // paper advises against, each naming its key (`fdem check` prints them): a contact
 // P_tan more than 10× away from 6 P_n / h, and CE4 penalties below 10 E (Section 3.4 of
 // the paper: penalties near E must not be used for dynamic fracture).
-std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config);
+// The speed [m/s] the case's loads give nodes, at the scale of the particle speed of the
+// stress waves they send (σ / (ρ c) at the lowest impedance), or a prescribed or initial
+// speed: the largest. 0 when the case says nothing that moves (gravity alone).
+double speed_scale(const Model& model, const io::CaseConfig& config);
+// With dt > 0 also: a contact skin the nodes cross in fewer than 30 steps at speed_scale.
+std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config, double dt = 0);
 
 // Stable time step estimate over all triangles (the smallest triangle height h over the
 // P-wave speed, reduced by the viscous damping ratio ξ: Δt = h/c (√(1+ξ²) − ξ)), and the

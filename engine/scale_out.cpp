@@ -199,9 +199,15 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
 bool contact_list_array(const std::string& name) {
   return name == "contact_keys" || name == "contact_history" || name == "contact_live";
 }
+// The skin's and the list's host counters: the same on every rank (a split run never
+// extends its list by joins, so contact_extensions stays 0 there).
+bool same_on_every_rank(const std::string& name) {
+  return name == "skin_generations" || name == "skin_slot_steps" || name == "contact_covered_stamp" ||
+         name == "contact_extensions";
+}
 bool contact_other_array(const std::string& name) {
   return name == "contact_energy" || name == "skin_ring" || name == "skin_ring_read" || name == "mesh_node_state" ||
-         name == "skin_generations";
+         same_on_every_rank(name);
 }
 // Per-work-group sums (not read by the account any more; kept for the file's layout): rank 0's.
 bool rank_zero_array(const std::string& name) { return name == "integrate_work" || name == "triangle_energy"; }
@@ -337,7 +343,7 @@ void SplitRun::gather_contact(io::CheckpointData& global, const io::CheckpointDa
   global.integers["contact_couples"] = static_cast<std::int64_t>(out_keys.size());
   for (auto& [name, parts] : others) {
     io::CheckpointArray& a = *array_named(global, name);
-    if (name == "skin_generations") continue;  // rank 0's: the same everywhere
+    if (same_on_every_rank(name)) continue;  // rank 0's: the same everywhere
     if (name == "contact_energy") {
       std::vector<cl_long> sum(a.bytes.size() / sizeof(cl_long), 0);
       for (const auto& b : parts) {

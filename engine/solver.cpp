@@ -193,6 +193,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       ordered_(cl, ordered_items(model)),
       row_reads_(cl),
       ce4_count_(model.ce4.size()) {
+  extend_joins_ = model.contact.extend_joins;
   if (contact_) {
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});

@@ -212,7 +212,7 @@ class Solver {
   size_t ce4_count_ = 0;
   long rebuilds_ = 0;
   long extensions_ = 0;
-  bool extend_joins_ = true;
+  bool extend_joins_ = true;  // [contact] joins = "extend" (the model's), or set_extend_joins
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)

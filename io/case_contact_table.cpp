@@ -60,6 +60,7 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
                                                    {"skin", ContactRebuild::Skin}})
                   .value_or(ContactRebuild::Skin);
   c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative);
+  c.joins_detect = r.choice<bool>("joins", {{"extend", false}, {"detect", true}}).value_or(false);
 
   PairEntries seen;
   c.pairs = read_entries(r, "pair", "", [&](const TableReader& entry) {

@@ -51,7 +51,7 @@ const Schema kContactPairKeys{{{"materials"}, {"normal_penalty"}, {"tangential_p
                                {"friction"}, {"damping", Shape::Table, &kContactDampingKeys}}};
 const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"friction"},
                            {"damping", Shape::Table, &kContactDampingKeys}, {"activation"},
-                           {"regions"}, {"rebuild"}, {"skin"},
+                           {"regions"}, {"rebuild"}, {"skin"}, {"joins"},
                            {"pair", Shape::TableArray, &kContactPairKeys}}};
 const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kRootKeys{{{"title"},

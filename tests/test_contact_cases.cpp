@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -280,6 +281,22 @@ TEST_CASE("joins met by extending the list give the same physics as new detectio
   CHECK(extending.contact_extensions() > 5);
   CHECK(extending.contact_rebuilds() < detecting.contact_rebuilds());
   CHECK(extending.cohesive()->count_broken() > 20);
+}
+
+TEST_CASE("fdem check warns when a case's own skin is crossed in a few steps") {
+  // The blasting case: a 0.1 mm skin, a 1 GPa blast (particle speed ~ 1e9 / (2880 x 5000)
+  // ≈ 69 m/s) and dt ~ 0.1 µs: a few steps. Without its skin key: no warning about it.
+  test::TempDir dir;
+  const std::string blasting = test::source_path("cases/blasting/case.toml");
+  const std::string out = "output.dir=\"" + dir.str() + "\"";
+  const PreparedCase own = prepare_case(blasting, {"mesh.size=0.04", out});
+  CHECK(speed_scale(own.model, own.config) == doctest::Approx(1e9 / std::sqrt(2880.0 * own.model.materials[0].wave_modulus)));
+  auto mentions_skin = [](const std::vector<std::string>& warnings) {
+    return std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("contact.skin =") != std::string::npos; });
+  };
+  CHECK(mentions_skin(model_warnings(own.model, own.config, own.dt)));
+  const PreparedCase wide = prepare_case(blasting, {"mesh.size=0.04", out, "contact.skin=0.02"});
+  CHECK(!mentions_skin(model_warnings(wide.model, wide.config, wide.dt)));
 }
 
 }  // TEST_SUITE

@@ -133,20 +133,21 @@ void check_grid(ContactDetection& stage, const Model& m, const std::vector<real2
   CHECK(g.nx >= 1);
   CHECK(g.ny >= 1);
   CHECK(size_t(g.nx) * g.ny <= stage.max_cells());
-  double largest = 0, sum = 0;
+  double largest = 0, smallest = 1e300;
   bool covered = true;
   const auto boxes = host_boxes(m, pos, skin);
   for (const auto& b : boxes) {
     const double side = std::max(double(b.hi_x - b.lo_x), double(b.hi_y - b.lo_y));
     largest = std::max(largest, side);
-    sum += side;
+    smallest = std::min(smallest, side);
     covered = covered && b.lo_x >= g.x0 && b.lo_y >= g.y0 && b.hi_x <= g.x0 + g.nx * g.cell_size &&
               b.hi_y <= g.y0 + g.ny * g.cell_size;
   }
   CHECK(covered);
-  // Boxes up to the smaller of the largest side and twice the mean go into one cell.
-  const double small = std::min(largest, 2 * sum / std::max<size_t>(boxes.size(), 1));
-  CHECK(g.small_side == doctest::Approx(small).epsilon(1e-9));
+  // Boxes up to the geometric mean of the smallest and largest side (or what the capped
+  // cell holds) go into one cell.
+  CHECK(g.small_side >= doctest::Approx(std::sqrt(smallest * largest)).epsilon(1e-9));
+  CHECK(g.small_side <= std::max(largest, g.cell_size / 1.015625) * (1 + 1e-9));  // or the capped cell's
   CHECK(g.cell_size >= g.small_side);
 }
 
@@ -324,7 +325,7 @@ TEST_CASE("an extension by joined triangles lists what a detection with them wou
 }
 
 TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times larger): the brute force's couples") {
-  // The cell follows twice the mean box, not the largest: the large triangles are
+  // The cell follows the geometric mean of the smallest and largest box: the large triangles are
   // entered in every cell they cover and found there once.
   auto& cl = test::context();
   std::mt19937 rng(97);
@@ -341,7 +342,7 @@ TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times
   const auto a = detect(cl, stage);
   CHECK(a == brute_force(m, model_positions(m), 0.001));
   const auto g = stage.grid();
-  CHECK(g.small_side < 0.05);  // not the large triangles' size
+  CHECK(g.small_side < 0.1);  // not the large triangles' size (about 0.55 m)
   check_grid(stage, m, model_positions(m), 0.001);
 }
 

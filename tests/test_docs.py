@@ -230,7 +230,7 @@ class Commands(unittest.TestCase):
         """Every --option of `args` is one fdem --help lists for `command`."""
         known = self.options.get(command, set())
         bad = [a.split("=")[0] for a in args
-               if a.startswith("--") and a.split("=")[0] not in known]
+               if a.startswith("--") and a.split("=")[0] not in known | {"--help"}]
         return f"options not in `fdem --help` for {command}: {', '.join(bad)}" if bad else None
 
     def fdem_command(self, tokens, check_only=False):
@@ -261,6 +261,10 @@ class Commands(unittest.TestCase):
         if mpi or gpu or command == "bench":
             self.action = "options checked (GPU, ranks or bench)"
             return None  # options only: no GPU or ranks here
+        if "--help" in args:
+            proc = self.fdem([command, "--help"])
+            self.action = "run as written (a command's help)"
+            return None if proc.returncode == 0 and proc.stdout.strip() else f"exit {proc.returncode}"
         if command == "devices":
             proc = self.fdem(["devices"])
             return None if proc.returncode in (0, 4) else f"exit {proc.returncode}"
@@ -287,11 +291,19 @@ class Commands(unittest.TestCase):
             if args[i] == "--device":
                 i += 2
                 continue
-            keep.append(args[i])
+            # The small case's step is 1 s: a checkpoint interval in it, 5 steps.
+            keep.append("output.checkpoint_every=5" if args[i].startswith("output.checkpoint_every=")
+                        else args[i])
             i += 1
+        # A restart from a named checkpoint file goes to a folder of its own: the small
+        # run's folder holds the outputs of later runs, which that checkpoint's run did
+        # not write (--restart refuses to append to them).
+        out = self.out
+        if restart and args.index("--restart") + 1 < len(args) and args[args.index("--restart") + 1].endswith(".ckpt"):
+            out = tempfile.mkdtemp(dir=self.work)
         self.action = f"run on the small case, time.end={40 if restart else 20}"
         proc = self.fdem(["run", case] + keep + ["--device", "cpu", "--quiet", "--set",
-                                                 f"output.dir={self.out}", "--set",
+                                                 f"output.dir={out}", "--set",
                                                  f"time.end={40 if restart else 20}"])
         return None if proc.returncode == 0 else \
             f"exit {proc.returncode}: {(proc.stdout + proc.stderr)[-600:]}"
@@ -334,7 +346,7 @@ class Commands(unittest.TestCase):
             self.action = "run as written"
             if program == "make":
                 makefile = read(os.path.join(REPO, "Makefile"))
-                missing = [t for t in tokens[1:] if not t.startswith("-") and
+                missing = [t for t in tokens[1:] if not t.startswith("-") and "=" not in t and
                            not re.search(rf"(?m)^{re.escape(t)}:", makefile)]
                 problem = f"no target {', '.join(missing)} in the Makefile" if missing else None
                 self.action = "Makefile target found"

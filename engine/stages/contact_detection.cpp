@@ -121,8 +121,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   }
   positions_ = a.position;
   grid_kernel_ = compute::kernel(program, "grid_setup");
-  bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("n_triangles", nt)(
-      "partial_bounds", partial_bounds_)("partial_side", partial_side_)("max_cells", static_cast<cl_uint>(max_cells_))(
+  bind_args(grid_kernel_)("n_groups", static_cast<cl_uint>(groups_))("partial_bounds", partial_bounds_)("partial_side", partial_side_)("max_cells", static_cast<cl_uint>(max_cells_))(
       "grid", grid_)("dims", dims_)
       .done();
   cell_count_kernel_ = compute::kernel(program, "cell_count");
