@@ -1,4 +1,5 @@
 #include "io/checkpoint_file.hpp"
+#include "io/netcdf_header.hpp"
 
 #include <fcntl.h>
 #include <netcdf.h>
@@ -8,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "base/errors.hpp"
 #include "base/hash.hpp"
@@ -201,6 +203,23 @@ void write_checkpoint_file(const std::string& path, const CheckpointData& data) 
 CheckpointData read_checkpoint_file(const std::string& path) {
   auto bad = [&](const std::string& why) { return InputError("checkpoint '" + path + "': " + why); };
   if (!std::filesystem::is_regular_file(path)) throw bad("no such file");
+  {
+    // libnetcdf trusts the lengths in a header: a damaged or tampered one can make nc_open
+    // allocate gigabytes or corrupt memory. The header is checked against the file first
+    // (a checkpoint's header is a few kB; 16 MiB are read at most).
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    std::string head(static_cast<size_t>(std::min<uint64_t>(ec ? 0 : size, 16u << 20)), '\0');
+    if (ec || !in.read(head.data(), static_cast<std::streamsize>(head.size())))
+      throw bad("cannot be read");
+    CdfHeader header(head, size);
+    if (!header.fits())
+      throw bad("not a readable netCDF file (its header is damaged, claims more than the file holds, or is not "
+                "netCDF classic); truncated, tampered or not a checkpoint");
+    if (header.version() != 5) throw bad("not a checkpoint: netCDF classic format " + std::to_string(header.version()) +
+                                         ", where checkpoints are CDF-5 (64-bit data)");
+  }
   Handle nc;
   if (int s = nc_open(path.c_str(), NC_NOWRITE, &nc.id); s != NC_NOERR)
     throw bad(std::string("not a readable netCDF file (") + nc_strerror(s) + "); truncated or not a checkpoint");

@@ -404,4 +404,19 @@ TEST_CASE("a signal while a restart copies the earlier files stops it, the files
   CHECK_FALSE(has_partial_files(out));
 }
 
-}  // TEST_SUITE
+TEST_CASE("checkpoints whose netCDF header claims more than the file holds are refused before libnetcdf opens them") {
+  // The fuzzer's finds (docs/fuzzing.md): a negative-size memcpy in nc_open (abort), an
+  // 8 GB attribute, an array of 1.3e17 bytes. Each must be an InputError naming the file.
+  for (const char* name : {"netcdf-negative-memcpy.ckpt", "oom-attr-8gb.ckpt", "huge-array-dims.ckpt"}) {
+    CAPTURE(name);
+    const std::string path = test::source_path(std::string("tests/fuzz/regressions/checkpoint/") + name);
+    try {
+      io::read_checkpoint_file(path);
+      FAIL("read without an error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find(name) != std::string::npos);
+    }
+  }
+}
+
+}

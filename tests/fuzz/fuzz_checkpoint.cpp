@@ -13,7 +13,7 @@
 #include "engine/run.hpp"
 #include "fuzz_common.hpp"
 #include "io/checkpoint_file.hpp"
-#include "netcdf_header.hpp"
+#include "io/netcdf_header.hpp"
 
 namespace {
 bool raw_netcdf = false;
@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const fdem::PreparedCase empty_case;
-  if (!raw_netcdf && !fdem::fuzz::CdfHeader(std::string(reinterpret_cast<const char*>(data), size)).fits()) return -1;
+  if (!raw_netcdf && !fdem::io::CdfHeader(std::string(reinterpret_cast<const char*>(data), size)).fits()) return -1;
   const std::string path = fdem::fuzz::write_input("run.ckpt", data, size);
   try {
     const fdem::io::CheckpointData ckpt = fdem::io::read_checkpoint_file(path);

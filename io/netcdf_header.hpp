@@ -1,23 +1,25 @@
 // A structural check of a classic netCDF header (CDF-1, CDF-2, CDF-5: the format
 // checkpoints are written in) against the file it is in: every count, name and attribute
-// value must fit in the bytes that follow, and every variable's data (its dimensions'
+// value must fit in the header bytes given, and every variable's data (its dimensions'
 // product times its type's size) in the file. libnetcdf 4.9.0 (Debian 12) trusts these
 // lengths: a header that claims more than the file holds makes nc_open allocate what it
 // claims (gigabytes) or memcpy with a negative size (heap corruption, abort), see
-// docs/fuzzing.md "Findings". fuzz_checkpoint passes only headers that pass this check to
-// the reader, so that it fuzzes fdem's code rather than rediscovering those two; the
-// reader itself should refuse such a file before nc_open (the recorded inputs in
-// tests/fuzz/regressions/checkpoint/ stay pending until it does).
+// docs/fuzzing.md "Findings". The checkpoint reader (io/checkpoint_file.cpp) refuses a
+// file whose header does not pass before it calls nc_open.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace fdem::fuzz {
+namespace fdem::io {
 
 class CdfHeader {
  public:
-  explicit CdfHeader(const std::string& bytes) : b_(bytes) {}
+  // `bytes`: the file's first bytes (all of it, or at least its header); `file_size`: the
+  // whole file's (0: bytes.size()).
+  explicit CdfHeader(const std::string& bytes, uint64_t file_size = 0)
+      : b_(bytes), file_size_(file_size ? file_size : bytes.size()) {}
+  int version() const { return version_; }
 
   // True when the header is well formed and within the file.
   bool fits() {
@@ -44,14 +46,14 @@ class CdfHeader {
       for (uint64_t k = 0; k < rank; ++k) {
         uint64_t dim;
         if (!count(dim) || dim >= dims_.size()) return false;
-        if (dims_[dim] != 0 && values > b_.size() / dims_[dim]) return false;
+        if (dims_[dim] != 0 && values > file_size_ / dims_[dim]) return false;
         values *= dims_[dim];
       }
       uint64_t attributes;
       if (!list(0x0C, attributes, [&] { return attribute(); })) return false;
       uint32_t type;
       uint64_t vsize, begin;
-      return u32(type) && type_size(type) > 0 && values <= b_.size() / type_size(type) && count(vsize) &&
+      return u32(type) && type_size(type) > 0 && values <= file_size_ / type_size(type) && count(vsize) &&
              (version_ == 1 ? u32_as_64(begin) : u64(begin));
     });
   }
@@ -114,9 +116,10 @@ class CdfHeader {
   }
 
   const std::string& b_;
+  uint64_t file_size_;
   std::vector<uint64_t> dims_;  // dimension lengths (the record dimension's: numrecs)
   uint64_t pos_ = 0;
   int version_ = 0;
 };
 
-}  // namespace fdem::fuzz
+}  // namespace fdem::io
