@@ -91,6 +91,26 @@ inline uint group_exclusive_scan(__local uint* scratch, const uint value, uint* 
   return inclusive - value;
 }
 
+// Exclusive prefix sum, in place, of values[0 .. n) by ONE work-group (work-item l takes
+// a contiguous run of them, the group scans the runs' sums); returns the total. Every
+// work-item of the group must call it (barriers). For the prefix sums of per-block or
+// per-group totals (contact detection's scans, the carry-over's offsets).
+inline uint group_scan_global(__local uint* scratch, __global uint* values, const uint n) {
+  const uint size = get_local_size(0), lid = get_local_id(0);
+  const uint per = (n + size - 1) / size;
+  const uint first = min(lid * per, n), last = min(first + per, n);
+  uint sum = 0;
+  for (uint k = first; k < last; ++k) sum += values[k];
+  uint total;
+  uint running = group_exclusive_scan(scratch, sum, &total);
+  for (uint k = first; k < last; ++k) {
+    const uint count = values[k];
+    values[k] = running;
+    running += count;
+  }
+  return total;
+}
+
 // Index of `key` in the ascending list keys[0 .. n), or -1 (binary search).
 inline int find_key(__global const ulong* keys, uint n, ulong key) {
   uint lo = 0, hi = n;

@@ -47,19 +47,8 @@ __kernel void carry_offsets(const uint n_groups,
                             __global uint* restrict group_counts,
                             __global uint* restrict carry_count) {
   __local uint scratch[GROUP_SIZE];
-  const uint lid = get_local_id(0);
-  const uint per = (n_groups + GROUP_SIZE - 1) / GROUP_SIZE;
-  const uint first = min(lid * per, n_groups), last = min(first + per, n_groups);
-  uint sum = 0;
-  for (uint g = first; g < last; ++g) sum += group_counts[g];
-  uint total;
-  uint running = group_exclusive_scan(scratch, sum, &total);
-  for (uint g = first; g < last; ++g) {
-    const uint count = group_counts[g];
-    group_counts[g] = running;
-    running += count;
-  }
-  if (lid == 0) carry_count[0] = total;
+  const uint total = group_scan_global(scratch, group_counts, n_groups);
+  if (get_local_id(0) == 0) carry_count[0] = total;
 }
 
 // One work-item per couple c of the current list: a carried couple copies its key and

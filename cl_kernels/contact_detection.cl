@@ -171,18 +171,7 @@ __kernel void scan_blocks(const uint n, __global uint* restrict data, __global u
 // prefix sums (work-item l takes a contiguous run of blocks).
 __kernel void scan_block_sums(const uint n_blocks, __global uint* restrict block_sums) {
   __local uint scratch[GROUP_SIZE];
-  const uint lid = get_local_id(0);
-  const uint per = (n_blocks + GROUP_SIZE - 1) / GROUP_SIZE;
-  const uint first = min(lid * per, n_blocks), last = min(first + per, n_blocks);
-  uint sum = 0;
-  for (uint b = first; b < last; ++b) sum += block_sums[b];
-  uint total;
-  uint running = group_exclusive_scan(scratch, sum, &total);
-  for (uint b = first; b < last; ++b) {
-    const uint count = block_sums[b];
-    block_sums[b] = running;
-    running += count;
-  }
+  group_scan_global(scratch, block_sums, n_blocks);
 }
 
 // One work-item per entry k < n: adds the offset of its block.
