@@ -15,6 +15,7 @@
 #include "base/errors.hpp"
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
+#include "engine/stages/cohesive_forces.hpp"
 
 namespace fdem {
 
@@ -55,7 +56,82 @@ double gmsh_size(double h_ave_mm) {
   return 1e-3 * std::sqrt(15630.0 / static_cast<double>(it->second.first));
 }
 
+struct FracturingRow {
+  std::string name, case_path;
+  int refine = 0;
+  double window = 0;  // simulated seconds timed; 0: the case's whole run
+};
+
+FracturingRow fracturing_row(const std::string& name, const BenchOptions& o) {
+  FracturingRow row{name, "", 0, 0};
+  if (name == "ucs-fast") {
+    row.case_path = o.cases_dir + "/ucs/fast.toml";
+    return row;
+  }
+  row.case_path = o.cases_dir + "/blasting/case.toml";
+  row.window = o.blast_window;
+  if (name.size() == 10 && name.compare(0, 9, "blasting:") == 0 && name[9] >= '0' && name[9] <= '3')
+    row.refine = name[9] - '0';
+  return row;
+}
+
+// What one fracturing row measured.
+struct FracturingResult {
+  size_t tri3 = 0, ce4 = 0, broken = 0;
+  long steps = 0, detections = 0, extensions = 0;
+  double seconds = 0, ms_per_detection = 0, used_bytes = 0, planned_bytes = 0;
+};
+
+// Steps the row's case as `fdem run` does (no output; an energy row every kBenchRowEvery
+// steps) on `timed` for its window, then times detections of the broken model.
+FracturingResult run_fracturing(const FracturingRow& row, ClContext& timed) {
+  if (!std::filesystem::exists(row.case_path))
+    throw InputError("fdem bench --fracturing: " + row.case_path +
+                     " not found (run from the source tree, or give --cases DIR)");
+  const std::string dir = (std::filesystem::temp_directory_path() / "fdem-bench").string();
+  const PreparedCase p =
+      prepare_case(row.case_path, {"mesh.refine=" + std::to_string(row.refine), "output.dir=\"" + dir + "\""});
+  FracturingResult r;
+  r.tri3 = p.model.num_triangles();
+  r.ce4 = p.model.ce4.size();
+  r.steps = row.window > 0 ? std::min<long>(p.steps, std::lround(row.window / p.dt)) : p.steps;
+  r.planned_bytes = static_cast<double>(Solver::bytes_needed(p.model, timed.group_size()));
+  const size_t before_bytes = timed.device_bytes_in_use();
+  Solver solver(timed, p.model, p.dt, true);
+  timed.finish();
+  const auto start = std::chrono::steady_clock::now();
+  for (long s = 0; s < r.steps; ++s) solver.step((s + 1) % kBenchRowEvery == 0);
+  timed.finish();
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.detections = solver.contact_rebuilds();
+  r.extensions = solver.contact_extensions();
+  r.broken = solver.cohesive() ? solver.cohesive()->count_broken() : 0;
+  r.used_bytes = static_cast<double>(timed.device_bytes_in_use() - before_bytes);
+  r.ms_per_detection = solver.has_contact() ? solver.time_detections(20) : 0;
+  return r;
+}
+
 }  // namespace
+
+std::vector<std::string> fracturing_rows(const std::string& list) {
+  std::vector<std::string> rows;
+  std::istringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item == "all") {
+      for (const char* r : {"blasting", "blasting:2", "blasting:3", "ucs-fast"}) rows.push_back(r);
+      continue;
+    }
+    const bool blast = item == "blasting" ||
+                       (item.size() == 10 && item.compare(0, 9, "blasting:") == 0 && item[9] >= '0' && item[9] <= '3');
+    if (!blast && item != "ucs-fast")
+      throw InputError("--fracturing: unknown row '" + item +
+                       "' (blasting, blasting:K with K = 0 to 3 levels of mesh.refine, ucs-fast, or all)");
+    rows.push_back(item);
+  }
+  if (rows.empty()) throw InputError("--fracturing needs a list of rows (blasting, blasting:2, ucs-fast, all)");
+  return rows;
+}
 
 int run_bench(const BenchOptions& o, const std::string& device, std::ostream& out) {
   // Two queues on the device: the step time is taken on a plain one (profiling events
@@ -66,15 +142,18 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   std::ostringstream csv;
   csv << "h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,"
          "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account,planned_mib\n";
-  out << "fdem bench on " << cl.description() << ": " << o.warmup << " warm-up + " << o.steps
-      << " timed steps, dt 0.5 ns (halved per mesh.refine level), activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
-      << "ms/step on a plain queue with the energy account (a row every " << kBenchRowEvery
-      << " steps), no-account without it (same process); the stage times below from a run on a profiling queue\n";
-  out << std::setw(6) << "h_ave" << std::setw(10) << "TRI3" << std::setw(10) << "CE4" << std::setw(10) << "nodes"
-      << std::setw(11) << "couples" << std::setw(9) << "touch" << std::setw(6) << "rebd" << std::setw(11)
-      << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(7)
-      << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << std::setw(13) << "no-account"
-      << std::setw(9) << "account" << "\n";
+  out << "fdem bench on " << cl.description() << "\n";
+  if (!o.sizes.empty()) {
+    out << o.warmup << " warm-up + " << o.steps
+        << " timed steps, dt 0.5 ns (halved per mesh.refine level), activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
+        << "ms/step on a plain queue with the energy account (a row every " << kBenchRowEvery
+        << " steps), no-account without it (same process); the stage times below from a run on a profiling queue\n";
+    out << std::setw(6) << "h_ave" << std::setw(10) << "TRI3" << std::setw(10) << "CE4" << std::setw(10) << "nodes"
+        << std::setw(11) << "couples" << std::setw(9) << "touch" << std::setw(6) << "rebd" << std::setw(11)
+        << "ms/step" << std::setw(9) << "GP100" << std::setw(9) << "speedup" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(7)
+        << "B/TRI3" << std::setw(10) << "roofline" << std::setw(7) << "frac" << std::setw(13) << "no-account"
+        << std::setw(9) << "account" << "\n";
+  }
   // The rows: each Table 2 size, then the smallest one refined 1 … refine_rows times
   // (h_ave halves with each level).
   std::vector<std::pair<double, int>> rows;
@@ -159,6 +238,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
         << (paper_ms > 0 ? paper_ms / ms : 0) << "," << mib << "," << per_tri << "," << roofline << ","
         << (roofline > 0 ? roofline / ms : 0) << "," << ms_without << "," << planned_mib << "\n";
   }
+  double fit_a = 0, fit_b = 0;  // the intact rows' line, ms/step = a + b · TRI3
   if (fit_points.size() >= 2) {
     // Least-squares line ms = a + b · TRI3 over the rows, and each row's distance from it:
     // a cost linear in the model size shows as small distances at the large rows.
@@ -166,10 +246,41 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const double n = static_cast<double>(fit_points.size());
     for (const auto& [x, y] : fit_points) sx += x, sy += y, sxx += x * x, sxy += x * y;
     const double b = (n * sxy - sx * sy) / (n * sxx - sx * sx), a = (sy - b * sx) / n;
+    fit_a = a, fit_b = b;
     out << std::setprecision(4) << "linear fit over the rows: ms/step = " << a << " + " << b * 1e6
         << " × (TRI3 / 1e6); each row's ms/step against the fit:";
     for (const auto& [x, y] : fit_points) out << " " << std::setprecision(3) << 100.0 * (y / (a + b * x) - 1) << "%";
     out << std::defaultfloat << "\n";
+  }
+  if (!o.fracturing.empty()) {
+    out << "fracturing rows: each case as `fdem run` steps it (its own dt, activation, skin, loads; no output, an\n"
+           "energy row every " << kBenchRowEvery << " steps) on a plain queue; det/1k and ext/1k: contact detections and list\n"
+           "extensions by joins per 1,000 steps; ms/det: one detection of the broken model (host clock, mean of 20);\n"
+           "intact: the intact rows' line at the same TRI3 (ns per TRI3-step), x: this row against it\n";
+    out << std::setw(12) << "row" << std::setw(10) << "TRI3" << std::setw(9) << "steps" << std::setw(10) << "ms/step"
+        << std::setw(9) << "steps/s" << std::setw(8) << "det/1k" << std::setw(8) << "ext/1k" << std::setw(8)
+        << "ms/det" << std::setw(8) << "broken" << std::setw(9) << "ns/TRI3" << std::setw(8) << "intact" << std::setw(7)
+        << "x" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(8) << "B/TRI3" << "\n";
+    csv << "\nrow,tri3,ce4,steps,ms_per_step,steps_per_s,detections_per_1000,extensions_per_1000,ms_per_detection,"
+           "broken_ce4,ns_per_tri3_step,intact_ns_per_tri3_step,device_mib,planned_mib,bytes_per_tri3\n";
+    for (const std::string& name : o.fracturing) {
+      const FracturingRow row = fracturing_row(name, o);
+      const FracturingResult r = run_fracturing(row, timed);
+      const double steps = static_cast<double>(std::max<long>(r.steps, 1)), tri3 = static_cast<double>(r.tri3);
+      const double ms = 1e3 * r.seconds / steps, ns = 1e6 * ms / tri3;
+      const double intact = fit_b > 0 ? 1e6 * (fit_a + fit_b * tri3) / tri3 : 0;
+      const double mib = r.used_bytes / 1048576.0, plan = r.planned_bytes / 1048576.0, per_tri = r.used_bytes / tri3;
+      out << std::fixed << std::setw(12) << name << std::setw(10) << r.tri3 << std::setw(9) << r.steps << std::setw(10)
+          << std::setprecision(3) << ms << std::setw(9) << std::setprecision(0) << 1e3 / ms << std::setw(8)
+          << std::setprecision(1) << 1e3 * r.detections / steps << std::setw(8) << 1e3 * r.extensions / steps
+          << std::setw(8) << std::setprecision(3) << r.ms_per_detection << std::setw(8) << r.broken << std::setw(9)
+          << std::setprecision(2) << ns << std::setw(8) << intact << std::setw(7) << (intact > 0 ? ns / intact : 0)
+          << std::setw(8) << std::setprecision(0) << mib << std::setw(8) << plan << std::setw(8) << per_tri
+          << std::defaultfloat << "\n";
+      csv << name << "," << r.tri3 << "," << r.ce4 << "," << r.steps << "," << ms << "," << 1e3 / ms << ","
+          << 1e3 * r.detections / steps << "," << 1e3 * r.extensions / steps << "," << r.ms_per_detection << ","
+          << r.broken << "," << ns << "," << intact << "," << mib << "," << plan << "," << per_tri << "\n";
+    }
   }
   if (!o.csv.empty()) {
     std::ofstream file(o.csv);

@@ -17,7 +17,20 @@ struct BenchOptions {
   // twice, … up to this many times (4.3M and 17M TRI3 from the 1.08M mesh).
   int refine_rows = 0;
   std::string csv;  // also write the table here when not empty
+  // Fracturing rows (`--fracturing`), after the intact ones: the cases where rock breaks,
+  // stepped as `fdem run` steps them (their own Δt, activation, skin and loads, no output):
+  //   "blasting"    cases/blasting/case.toml over its first `blast_window` seconds, where
+  //                 most of its CE4s break; "blasting:K" the same mesh split K times
+  //                 (mesh.refine = K: 4^K times the TRI3, Δt halved K times);
+  //   "ucs-fast"    cases/ucs/fast.toml over its whole run, across its peak.
+  std::vector<std::string> fracturing;
+  double blast_window = 400e-6;
+  std::string cases_dir = "cases";  // where the fracturing rows' cases are
 };
+
+// The names `--fracturing` accepts ("all": blasting, blasting:2, blasting:3, ucs-fast).
+// Throws InputError for anything else.
+std::vector<std::string> fracturing_rows(const std::string& list);
 
 // Runs the benchmark rows on `device` (a ClContext choice) and prints the table to `out`.
 // Returns 0.

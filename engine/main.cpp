@@ -44,7 +44,8 @@ const char* kUsage =
     "             [--contact-travel METRES]] [--memory]\n"
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
-    "  fdem bench [--device ...] [--sizes 0.6,0.5,...] [--steps N] [--refine-rows K] [--csv FILE]\n"
+    "  fdem bench [--device ...] [--sizes 0.6,0.5,...|none] [--steps N] [--refine-rows K]\n"
+    "             [--fracturing blasting,blasting:2,ucs-fast|all] [--window S] [--csv FILE]\n"
     "             [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
     "  fdem COMMAND --help   (that command's options)\n"
@@ -72,9 +73,12 @@ const OptionSpec kOptions[] = {
     {"--memory", "", "the device memory plan, array by array"},
     {"--max-triangles", "N", "refuse a .geo mesh whose estimated triangle count is above N (default 5000000)"},
     {"--allow-geo-programs", "", "let a .geo file run programs (SystemCall, OnelabRun, ...): only for .geo files you trust"},
-    {"--sizes", "H,H,...", "element sizes h_ave in mm (default 0.6,0.5,0.4,0.3,0.2,0.15)"},
+    {"--sizes", "H,H,...", "element sizes h_ave in mm (default 0.6,0.5,0.4,0.3,0.2,0.15; none: no intact rows)"},
     {"--steps", "N", "timed steps per row (default 200)"},
     {"--refine-rows", "K", "add rows of the smallest size refined 1..K times by mesh.refine (0-3)"},
+    {"--fracturing", "ROWS", "add rows where rock breaks: blasting, blasting:K (mesh.refine K), ucs-fast, or all"},
+    {"--window", "SECONDS", "simulated time the blasting rows are timed over (default 400e-6)"},
+    {"--cases", "DIR", "where --fracturing finds blasting/case.toml and ucs/fast.toml (default cases)"},
     {"--csv", "FILE", "also write the rows as CSV"},
     {"--case", "CASE.toml", "the case to mesh at each size (default cases/ucs/case.toml)"},
 };
@@ -101,8 +105,10 @@ const std::vector<CommandSpec>& commands() {
         "--allow-geo-programs"}},
       {"devices", "fdem devices", "Lists the OpenCL devices, as --device P:D names them.", {}},
       {"bench", "fdem bench [OPTION]...",
-       "The seed paper's Table 2: the UCS specimen at several element sizes, ms/step and device memory.",
-       {"--device", "--sizes", "--steps", "--refine-rows", "--csv", "--case", "--max-triangles", "--allow-geo-programs"}},
+       "The seed paper's Table 2: the UCS specimen at several element sizes, ms/step and device memory;\n"
+       "with --fracturing, rows where rock breaks (the blasting case, refined, and the fast UCS test).",
+       {"--device", "--sizes", "--steps", "--refine-rows", "--fracturing", "--window", "--cases", "--csv", "--case",
+        "--max-triangles", "--allow-geo-programs"}},
   };
   return list;
 }
@@ -253,7 +259,9 @@ Arguments parse(int argc, char** argv) {
     }
     else if (arg == "--sizes") {
       a.bench.sizes.clear();
-      std::istringstream list(value(arg));
+      const std::string sizes = value(arg);
+      if (sizes == "none") continue;  // fracturing rows only
+      std::istringstream list(sizes);
       std::string item;
       while (std::getline(list, item, ','))
         try {
@@ -275,6 +283,19 @@ Arguments parse(int argc, char** argv) {
       if (v.empty() || v.size() > 1 || v[0] < '0' || v[0] > '3')
         throw fdem::InputError("--refine-rows needs 0, 1, 2 or 3 (levels of mesh.refine on the smallest size)");
       a.bench.refine_rows = v[0] - '0';
+    } else if (arg == "--fracturing") {
+      a.bench.fracturing = fdem::fracturing_rows(value(arg));
+    } else if (arg == "--cases") {
+      a.bench.cases_dir = value(arg);
+    } else if (arg == "--window") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        a.bench.blast_window = std::stod(v, &used);
+        if (used != v.size() || !(a.bench.blast_window > 0) || !(a.bench.blast_window <= 1)) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--window needs a time in seconds above 0 and at most 1, not '" + v + "'");
+      }
     } else if (arg == "--csv") a.bench.csv = value(arg);
     else if (arg == "--case") a.bench.case_path = value(arg);
     else if (!arg.empty() && arg[0] == '-') throw fdem::InputError("unknown option '" + arg + "'\n" + kUsage);

@@ -450,6 +450,17 @@ void Solver::add_split_contact_energy(EnergyTotals& e) {
   e.contact_damping += totals[1];
 }
 
+double Solver::time_detections(int repeats) {
+  if (!detection_ || repeats < 1) return 0;
+  cl_.finish();
+  const auto start = std::chrono::steady_clock::now();
+  for (int r = 0; r < repeats; ++r) {
+    detection_->run();
+    cl_.finish();
+  }
+  return 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
+}
+
 void Solver::save_state(StateWriter& out) {
   cl_.finish();
   out.integer("step", steps_);

@@ -141,6 +141,11 @@ class Solver {
   // the same forces, bitwise; tests/test_contact_cases.cpp).
   void set_extend_joins(bool on) { extend_joins_ = on; }
   ContactDetection* detection() { return detection_.get(); }
+  // Host-clock milliseconds of one contact detection of the current positions, as a step
+  // runs it (boxes, grid, counts, one count read, keys written), the mean of `repeats`
+  // back to back after the queue drained. The lists they write replace the contact
+  // stage's, so the solver must not step again: for `fdem bench`, after a row's last step.
+  double time_detections(int repeats);
   CohesiveForces* cohesive() { return cohesive_.get(); }
   // The pieces of the body now (models with CE4s; empty otherwise): per triangle, the
   // smallest triangle index of its piece (FragmentLabels). Waits. The pieces depend only
