@@ -274,7 +274,14 @@ inline uint triangle_couples(const uint i,
 #endif
                              __global ulong* keys) {
   const bool extension = covered != 0xffffffffu;
+#ifdef LIST_INACTIVE
+  // Couples listed ahead of their triangles' joins (activation "fractured" with a skin):
+  // a full detection lists every couple as if all took part; the contact stage lets only
+  // couples of two active triangles act, from the very step the second one joins.
+  const uint stamp_i = extension ? active[i] : 1u;
+#else
   const uint stamp_i = active[i];
+#endif
 #ifdef BONDED_PAIRS
   const uint p0 = bond_partners[3 * i], p1 = bond_partners[3 * i + 1], p2 = bond_partners[3 * i + 2];
 #else
@@ -318,7 +325,11 @@ inline uint triangle_couples(const uint i,
       const uint end = min(cell_start[h + 1], n_entries);
       for (uint k = cell_start[h]; k < end; ++k) {
         const uint j = sorted_tri[k];
+#ifdef LIST_INACTIVE
+        const uint stamp_j = extension ? active[j] : 1u;
+#else
         const uint stamp_j = active[j];
+#endif
         const bool bonded = j == p0 || j == p1 || j == p2;
         if (extension) {
           if (j == i || stamp_j == 0 || (stamp_j > covered && j < i) || bonded) continue;

@@ -229,6 +229,16 @@ inline int bond_word_state(const uint word, __global const int2* ce4_status
 #define CLASSIFY_BOND_PASS
 #endif
 
+#ifdef PRELISTED
+// Couples listed ahead of their triangles' joins (activation "fractured" with a skin,
+// ContactDetection's LIST_INACTIVE): `active` tells which triangles take part now.
+#define PRELIST_ARGS , __global const uint *restrict active
+#define PRELIST_PASS , active
+#else
+#define PRELIST_ARGS
+#define PRELIST_PASS
+#endif
+
 // Couple c: true when it may overlap (for the list); otherwise it is done here. The two
 // triangles of an intact or closed CE4 are not a contact couple: the CE4 carries their
 // overlap and sliding (its compression branch and friction element; cohesive_forces.cl).
@@ -240,7 +250,7 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
                             const uint new_from, __global uchar* live, __global uint* slot,
-                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS) {
+                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS) {
   // A new list, or couples appended to this one from `new_from` on (triangles that joined
   // the candidates, ContactDetection::extend_joined): no pool row, no flag yet.
   const bool fresh = !same_list || c >= new_from;
@@ -275,7 +285,13 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
     uint tri[2], nodes[2][3];
     real2 x[2][3];
     couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
-    if (!separated(x)) return true;
+#ifdef PRELISTED
+    // Not a couple until both of its triangles take part (listed ahead of a join).
+    const bool both_take_part = active[tri[0]] != 0u && active[tri[1]] != 0u;
+#else
+    const bool both_take_part = true;
+#endif
+    if (both_take_part && !separated(x)) return true;
   }
   if (fresh || live[c]) {  // in place and already forgotten: nothing to read or write
     const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
@@ -326,7 +342,7 @@ __kernel void contact_classify(const uint n_couples,
                                __global uint* restrict overlap_list,
                                __global uchar* restrict live,
                                __global uint* restrict slot,
-                               __global const uint* restrict carry_of BOND_ARGS CLASSIFY_BOND_ARGS,
+                               __global const uint* restrict carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS,
                                const uint n_nodes,
                                __global long* restrict contact_acc,
                                const uint list_counter
@@ -348,7 +364,7 @@ __kernel void contact_classify(const uint n_couples,
   }
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS))
+                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS))
     overlap_list[atomic_inc(&counters[list_counter])] = c;
 #else
   __local uint group_count, group_base;
@@ -356,7 +372,7 @@ __kernel void contact_classify(const uint n_couples,
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS);
+                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[list_counter], group_count);
@@ -487,9 +503,10 @@ __kernel void contact_forces(const uint n_couples,
   }
   real hist[CONTACT_HISTORY];
   for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
-  // A new couple found overlapping because one of its triangles joined contact since the
-  // last detection (activation "fractured": its mask value, the join's stamp, is at least
-  // `joined_since`), next to a triangle it already overlapped at a corner: its potential was
+  // A new couple found overlapping because one of its triangles joined contact (activation
+  // "fractured": its mask value, the join's stamp, is at least `joined_since`: this step's
+  // stamp when couples are listed ahead of joins (PRELISTED), else the first stamp after
+  // the last detection), next to a triangle it already overlapped at a corner: its potential was
   // never paid for by any work, so it stays without force or energy, marked by
   // HIST_OVERLAP_MAX < 0, until its triangles part (the separation test or normal_total ≤ 0
   // clears the history); then it is an ordinary couple (docs/energy-notes.md). Couples that
@@ -510,8 +527,15 @@ __kernel void contact_forces(const uint n_couples,
 #else
   const bool released_now = false;
 #endif
+#ifdef PRELISTED
+  // Listed ahead of the join (joined_since is this step's stamp): met overlapping in the
+  // very step its triangle joined, whichever list it is in.
+  const bool met_over_overlap = found < 0 && joined;
+#else
   // (couples appended to the list in this step are new too: c >= new_from)
-  if ((found < 0 && (!same_list || c >= new_from) && joined) || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
+  const bool met_over_overlap = found < 0 && (!same_list || c >= new_from) && joined;
+#endif
+  if (met_over_overlap || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
     const int row = take_slot(c, slot, pool_state, pool_capacity, step);
     if (row >= 0)
       for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;

@@ -16,6 +16,7 @@
 #include "engine/run.hpp"
 #include "engine/solver.hpp"
 #include "engine/stages/cohesive_forces.hpp"
+#include "engine/stages/contact_skin.hpp"
 
 namespace fdem {
 
@@ -78,7 +79,8 @@ FracturingRow fracturing_row(const std::string& name, const BenchOptions& o) {
 // What one fracturing row measured.
 struct FracturingResult {
   size_t tri3 = 0, ce4 = 0, broken = 0;
-  long steps = 0, detections = 0, extensions = 0;
+  long steps = 0, detections = 0;
+  double skin_lo = 0, skin_hi = 0;  // the skins the run used [m] (fixed: both the case's)
   double seconds = 0, ms_per_detection = 0, used_bytes = 0, planned_bytes = 0;
 };
 
@@ -104,11 +106,22 @@ FracturingResult run_fracturing(const FracturingRow& row, ClContext& timed) {
   timed.finish();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.detections = solver.contact_rebuilds();
-  r.extensions = solver.contact_extensions();
+  if (ContactSkin* skin = solver.skin()) {
+    r.skin_lo = skin->adaptive() && skin->smallest_skin() > 0 ? skin->smallest_skin() : p.model.contact.skin;
+    r.skin_hi = std::max(r.skin_lo, skin->largest_skin());
+  }
   r.broken = solver.cohesive() ? solver.cohesive()->count_broken() : 0;
   r.used_bytes = static_cast<double>(timed.device_bytes_in_use() - before_bytes);
   r.ms_per_detection = solver.has_contact() ? solver.time_detections(20) : 0;
   return r;
+}
+
+// "0.1" or "0.1-2.3" [mm].
+std::string skin_range(double lo, double hi) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(lo < 1e-3 ? 3 : 2) << 1e3 * lo;
+  if (hi > lo * (1 + 1e-9)) o << "-" << std::setprecision(2) << 1e3 * hi;
+  return o.str();
 }
 
 }  // namespace
@@ -254,14 +267,15 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   }
   if (!o.fracturing.empty()) {
     out << "fracturing rows: each case as `fdem run` steps it (its own dt, activation, skin, loads; no output, an\n"
-           "energy row every " << kBenchRowEvery << " steps) on a plain queue; det/1k and ext/1k: contact detections and list\n"
-           "extensions by joins per 1,000 steps; ms/det: one detection of the broken model (host clock, mean of 20);\n"
-           "intact: the intact rows' line at the same TRI3 (ns per TRI3-step), x: this row against it\n";
+           "energy row every " << kBenchRowEvery << " steps) on a plain queue; det/1k: contact detections per 1,000\n"
+           "steps; skin: the skins it used [mm] (\"auto\": picked at each detection); ms/det: one detection of the\n"
+           "broken model (host clock, mean of 20); intact: the intact rows' line at the same TRI3 (ns per TRI3-step),\n"
+           "x: this row against it\n";
     out << std::setw(12) << "row" << std::setw(10) << "TRI3" << std::setw(9) << "steps" << std::setw(10) << "ms/step"
-        << std::setw(9) << "steps/s" << std::setw(8) << "det/1k" << std::setw(8) << "ext/1k" << std::setw(8)
+        << std::setw(9) << "steps/s" << std::setw(8) << "det/1k" << std::setw(14) << "skin" << std::setw(8)
         << "ms/det" << std::setw(8) << "broken" << std::setw(9) << "ns/TRI3" << std::setw(8) << "intact" << std::setw(7)
         << "x" << std::setw(8) << "MiB" << std::setw(8) << "plan" << std::setw(8) << "B/TRI3" << "\n";
-    csv << "\nrow,tri3,ce4,steps,ms_per_step,steps_per_s,detections_per_1000,extensions_per_1000,ms_per_detection,"
+    csv << "\nrow,tri3,ce4,steps,ms_per_step,steps_per_s,detections_per_1000,skin_min_mm,skin_max_mm,ms_per_detection,"
            "broken_ce4,ns_per_tri3_step,intact_ns_per_tri3_step,device_mib,planned_mib,bytes_per_tri3\n";
     for (const std::string& name : o.fracturing) {
       const FracturingRow row = fracturing_row(name, o);
@@ -272,13 +286,13 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
       const double mib = r.used_bytes / 1048576.0, plan = r.planned_bytes / 1048576.0, per_tri = r.used_bytes / tri3;
       out << std::fixed << std::setw(12) << name << std::setw(10) << r.tri3 << std::setw(9) << r.steps << std::setw(10)
           << std::setprecision(3) << ms << std::setw(9) << std::setprecision(0) << 1e3 / ms << std::setw(8)
-          << std::setprecision(1) << 1e3 * r.detections / steps << std::setw(8) << 1e3 * r.extensions / steps
+          << std::setprecision(1) << 1e3 * r.detections / steps << std::setw(14) << skin_range(r.skin_lo, r.skin_hi)
           << std::setw(8) << std::setprecision(3) << r.ms_per_detection << std::setw(8) << r.broken << std::setw(9)
           << std::setprecision(2) << ns << std::setw(8) << intact << std::setw(7) << (intact > 0 ? ns / intact : 0)
           << std::setw(8) << std::setprecision(0) << mib << std::setw(8) << plan << std::setw(8) << per_tri
           << std::defaultfloat << "\n";
       csv << name << "," << r.tri3 << "," << r.ce4 << "," << r.steps << "," << ms << "," << 1e3 / ms << ","
-          << 1e3 * r.detections / steps << "," << 1e3 * r.extensions / steps << "," << r.ms_per_detection << ","
+          << 1e3 * r.detections / steps << "," << 1e3 * r.skin_lo << "," << 1e3 * r.skin_hi << "," << r.ms_per_detection << ","
           << r.broken << "," << ns << "," << intact << "," << mib << "," << plan << "," << per_tri << "\n";
     }
   }

@@ -505,7 +505,10 @@ int check_command(const Arguments& a) {
                 << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
       std::cout << "          detection "
                 << (m.contact.rebuild_skin ? "when a node may have moved half the skin, skin " : "every step, skin ")
-                << m.contact.skin << " m" << (m.contact.skin_from_mesh ? " (0.2 x the mean edge: the default)" : "")
+                << m.contact.skin << " m"
+                << (m.contact.skin_auto && m.node_owned.empty()
+                        ? " at first (0.2 x the mean edge), then picked at each detection from the nodes' speeds (\"auto\")"
+                        : m.contact.skin_auto ? " (0.2 x the mean edge; a split run keeps it)" : "")
                 << "\n";
       // The figure above holds the contact lists at Solver::expected_couples; a first
       // list larger than that grows them further.
@@ -709,7 +712,6 @@ void print_contact_list_profile(fdem::ClContext& cl, long steps, std::ostream& o
             << 1e3 * t.seconds / t.launches << " ms each\n" << std::defaultfloat;
   };
   line("contact detection (host wall", "contact detections");
-  line("contact list extension", "contact list extensions by joins");
 }
 
 int run_command(const Arguments& a) {

@@ -80,7 +80,8 @@ ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& con
   contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
   contact.skin = c.skin.value_or(0.0);  // a skin rebuild without `skin`: set from the mesh (default_skin)
   contact.skin_from_mesh = contact.rebuild_skin && !c.skin;
-  contact.extend_joins = !c.joins_detect;
+  contact.skin_auto = contact.rebuild_skin && c.skin_auto;
+  contact.list_ahead = contact.rebuild_skin && c.activation == "fractured";
   const size_t n = config.materials.size();
   auto row = [&](double pn, double ptan, double mu, const std::optional<io::ContactDampingConfig>& d) {
     const double T = d ? d->transition : std::numeric_limits<double>::infinity();
@@ -670,7 +671,7 @@ std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig
                     format_number(speed) + " m/s (the loads' particle speed, σ / (ρ c), or a prescribed speed; " +
                     "fragments can fly at twice that) cross half of it in about " + format_number(std::ceil(steps)) +
                     " steps of " + format_number(dt) + " s, so the run detects contact about that often; leave " +
-                    "`skin` out for 0.2 x the mean edge (" + format_number(0.2 * mean_edge_length(model)) + " m)");
+                    "`skin` out (or write \"auto\") and the engine picks it at each detection from the nodes' speeds");
   }
   if (config.contact) {
     const io::ContactConfig& c = *config.contact;

@@ -82,8 +82,12 @@ struct ContactModel {
   bool enabled = false;
   bool rebuild_skin = false;  // rebuild only when a node moved more than skin/2
   double skin = 0.0;          // [m]
-  bool skin_from_mesh = false;  // `skin` not given: default_skin(model)
-  bool extend_joins = true;     // [contact] joins = "extend" (ContactDetection::extend_joined)
+  bool skin_from_mesh = false;  // `skin` not given or "auto": the first skin is default_skin(model)
+  bool skin_auto = false;       // `skin` not given or "auto": picked at each detection (ContactSkin::choose)
+  // activation "fractured" with rebuild "skin": detections list the couples of every
+  // triangle, and a couple acts once both its triangles take part (ContactDetection's
+  // list_inactive, contact_forces.cl's PRELISTED), so a join needs no new list.
+  bool list_ahead = false;
   std::vector<double> pair_props;
   std::vector<uint32_t> pair_index;
   double max_normal_penalty = 0.0, max_tangential_penalty = 0.0;

@@ -66,7 +66,7 @@ std::unique_ptr<ContactDetection> Solver::build_detection(bool wanted, ClContext
                                                           const Model& model) {
   if (!wanted) return nullptr;
   auto detection = std::make_unique<ContactDetection>(cl, arrays, model.contact.skin, 0, detection_bonds(model),
-                                                      model.triangle_owned);
+                                                      model.triangle_owned, model.contact.list_ahead);
   if (!model.contact_active.empty()) detection->set_active(model.contact_active);
   return detection;
 }
@@ -193,7 +193,11 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       ordered_(cl, ordered_items(model)),
       row_reads_(cl),
       ce4_count_(model.ce4.size()) {
-  extend_joins_ = model.contact.extend_joins;
+  list_ahead_ = model.contact.list_ahead;
+  // `skin = "auto"`: picked at each detection. A split run keeps its first skin: its
+  // contact ghosts reach as far as that skin allows (engine/scale_out.cpp).
+  if (skin_ && model.contact.skin_auto && model.node_owned.empty())
+    skin_->adapt(mean_edge_length(model), model.num_triangles());
   if (contact_) {
     double reach = 0, longest = 0;
     for (size_t i = 0; i < model.num_nodes(); ++i) reach = std::max({reach, std::fabs(model.x[i]), std::fabs(model.y[i])});
@@ -248,30 +252,18 @@ void Solver::step(bool energy_row) {
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
     if (activation_) activation_->enqueue(steps_);
-    const ContactSkin::Due due =
-        !skin_ || rebuilds_ == 0 ? ContactSkin::Due::Moved : skin_->rebuild_due(steps_);
-    // Triangles joined the candidates and nothing moved far: their couples are added to
-    // the list from the last detection's grid (no new detection, no carry-over), unless
-    // there is no room or it cannot (ContactDetection::extend_joined: then a detection).
-    size_t extended = 0;
-    if (due == ContactSkin::Due::Joined && extend_joins_) {
-      const auto start = std::chrono::steady_clock::now();
-      const size_t listed = contact_->couples();
-      extended = detection_->extend_joined(listed, contact_->list_capacity(), ContactActivation::join_stamp(steps_));
-      if (extended) {
-        contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
-        contact_->enqueue_extended(detection_->couple_keys(), extended, dt_, energy_row, steps_);
-        skin_->joins_covered(steps_);
-        ++extensions_;
-      }
-      if (cl_.profiling())
-        cl_.add_host_time("contact list extension by joins (host wall, incl. count read)",
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
-    if (extended == 0 && due != ContactSkin::Due::Nothing) {
+    ContactSkin::Due due =
+        !skin_ || rebuilds_ == 0 || detect_after_load_ ? ContactSkin::Due::Moved : skin_->rebuild_due(steps_);
+    detect_after_load_ = false;
+    // With couples listed ahead of joins ("fractured" with a skin) a join needs no new
+    // list: its couples are in it, and act from the step the join happens.
+    if (due == ContactSkin::Due::Joined && list_ahead_) due = ContactSkin::Due::Nothing;
+    if (due != ContactSkin::Due::Nothing) {
       const auto start = std::chrono::steady_clock::now();
       if (before_detection_) before_detection_();
       contact_->carry_before_detection();  // the detection rewrites the list the stage reads
+      // An adaptive skin picks this detection's margin (ContactSkin::choose).
+      if (skin_ && skin_->adaptive()) detection_->set_skin(skin_->choose(contact_->couples()));
       const size_t count = detection_->run();
       detection_->set_covered_stamp(ContactActivation::join_stamp(steps_));
       if (cl_.profiling())
@@ -283,7 +275,7 @@ void Solver::step(bool energy_row) {
         skin_->joins_covered(steps_);
       }
       ++rebuilds_;
-    } else if (extended == 0) {
+    } else {
       if (skin_) contact_->ensure_pool(skin_->pool_rows_seen(), skin_->pool_rows_per_step());
       contact_->enqueue(detection_->couple_keys(), contact_->couples(), false, dt_, energy_row, steps_);
     }
@@ -505,6 +497,9 @@ void Solver::load_state(StateReader& in) {
   if (contact_) {
     contact_->load_state(in);
     detection_->load_state(in);
+    // A checkpoint of a list that held only the couples of active triangles (before
+    // couples were listed ahead of joins, 2026-12-03): the next step lists them all.
+    detect_after_load_ = list_ahead_ && !in.has("skin_current");
     if (skin_) {
       skin_->load_state(in);
       // The list and the last detection's grid as the run had them, so that a join is met

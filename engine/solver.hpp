@@ -134,12 +134,6 @@ class Solver {
   double contact_dissipated() { return contact_ ? contact_->dissipated_energy() : 0.0; }
   std::vector<real2> contact_forces();  // per node [N] (waits)
   long contact_rebuilds() const { return rebuilds_; }
-  // Steps whose list was extended by the couples of joined triangles instead of a new
-  // detection (activation "fractured" with a skin; ContactDetection::extend_joined).
-  long contact_extensions() const { return extensions_; }
-  // Off: every join is met by a new detection, as before extensions (for comparisons:
-  // the same forces, bitwise; tests/test_contact_cases.cpp).
-  void set_extend_joins(bool on) { extend_joins_ = on; }
   ContactDetection* detection() { return detection_.get(); }
   // Host-clock milliseconds of one contact detection of the current positions, as a step
   // runs it (boxes, grid, counts, one count read, keys written), the mean of `repeats`
@@ -216,8 +210,11 @@ class Solver {
   RowReads row_reads_;
   size_t ce4_count_ = 0;
   long rebuilds_ = 0;
+  // List extensions by joins (2026-12 until couples were listed ahead of joins): kept as
+  // the checkpoint's "contact_extensions" word, 0 in new runs.
   long extensions_ = 0;
-  bool extend_joins_ = true;  // [contact] joins = "extend" (the model's), or set_extend_joins
+  bool list_ahead_ = false;      // Model's contact.list_ahead: joins never need a new list
+  bool detect_after_load_ = false;  // a checkpoint from before list_ahead: detect at the next step
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]
   double contact_round_off_ = 0;  // P_n t ε |x|_max × 3 × longest edge [J] (EnergyTotals::resolution)

@@ -156,12 +156,10 @@ struct ContactConfig {
   // takes kDefaultSkinFraction × the mean edge length of the mesh (engine/model.cpp), with
   // Step the boxes are not enlarged.
   std::optional<double> skin;
-  // activation = "fractured" with rebuild = "skin": triangles that join the candidates
-  // get their couples appended to the list from the last detection's grid ("extend", the
-  // default) or by a new detection ("detect"; what a split run always does). The forces
-  // are the same, bitwise; the list, and so contact_candidates and the stored contact
-  // energy's rounding, differ.
-  bool joins_detect = false;
+  // With Skin: `skin` = "auto" or left out, the skin is picked again at each detection
+  // from the speeds (ContactSkin::choose), starting from the mesh's default; a number
+  // fixes it.
+  bool skin_auto = false;
   std::vector<ContactPairConfig> pairs;
   // With activation = "fractured": regions (Gmsh physical groups) whose triangles are
   // contact candidates from the start.

@@ -59,8 +59,16 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
   c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
                                                    {"skin", ContactRebuild::Skin}})
                   .value_or(ContactRebuild::Skin);
-  c.skin = r.number("skin", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative);
-  c.joins_detect = r.choice<bool>("joins", {{"extend", false}, {"detect", true}}).value_or(false);
+  const auto skin = r.number_or_keyword("skin", "auto", c.rebuild == ContactRebuild::Skin ? kPositive : kNonNegative);
+  if (skin && !*skin && c.rebuild != ContactRebuild::Skin)
+    r.fail("skin", r.key_path("skin") + " = \"auto\" needs " + r.key_path("rebuild") +
+                       " = \"skin\" (with \"step\" there is no skin to adapt)");
+  if (skin && *skin) c.skin = **skin;
+  c.skin_auto = c.rebuild == ContactRebuild::Skin && !(skin && *skin);
+  if (r.has("joins"))
+    r.fail("joins", r.key_path("joins") + " is gone (since 2026-12-03): with activation = \"fractured\" and a "
+                    "skin, every detection lists the couples of all triangles and a couple acts from the step "
+                    "its second triangle joins, so a join needs neither an extension nor a detection; delete the key");
 
   PairEntries seen;
   c.pairs = read_entries(r, "pair", "", [&](const TableReader& entry) {

@@ -54,7 +54,8 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
 }
 
 ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, size_t initial_capacity,
-                                   const std::vector<std::array<int, 2>>& bonds, const std::vector<char>& owned_first)
+                                   const std::vector<std::array<int, 2>>& bonds, const std::vector<char>& owned_first,
+                                   bool list_inactive)
     : cl_(cl), count_(a.num_triangles) {
   const size_t group = cl.group_size();
   if (group == 0 || (group & (group - 1)) != 0)
@@ -101,6 +102,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(group)},
                                              {"NO_PARTNER", std::to_string(kNoPartner) + "u"}};
   if (!bonds.empty()) defines["BONDED_PAIRS"] = "1";
+  if (list_inactive) defines["LIST_INACTIVE"] = "1";
   if (!owned_first.empty()) {
     if (owned_first.size() != count_) throw DeviceError("contact detection: the owned-triangle mask has the wrong size");
     defines["OWNED_FIRST"] = "1";
@@ -115,7 +117,8 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
     KernelArgs k(boxes_kernel_);
     k("n_triangles", nt)("tri_nodes", a.tri_nodes);
     box_positions_ = k.later("position", a.position);
-    k("half_skin", static_cast<real>(0.5 * skin))("boxes", boxes_)("partial_bounds", partial_bounds_)(
+    half_skin_ = k.later("half_skin", static_cast<real>(0.5 * skin));
+    k("boxes", boxes_)("partial_bounds", partial_bounds_)(
         "partial_side", partial_side_)
         .done();
   }
@@ -276,6 +279,8 @@ size_t ContactDetection::extend_joined(size_t listed, size_t limit, cl_uint cove
   last_count_ = listed + added;
   return last_count_;
 }
+
+void ContactDetection::set_skin(double skin) { half_skin_.set(static_cast<real>(0.5 * skin)); }
 
 size_t ContactDetection::run() {
   last_count_ = 0;

@@ -21,8 +21,11 @@ class ContactDetection {
   // owned_first (a split run, one per triangle; empty: every triangle): only couples whose
   // lower triangle i has owned_first[i] != 0 are listed, so each couple of the whole
   // model is listed by exactly one rank (ARCHITECTURE.md, "Scale-out").
+  // list_inactive (activation "fractured" with a skin): run() lists the couples of every
+  // triangle, whatever the active mask says (see LIST_INACTIVE in the kernel file).
   ContactDetection(ClContext& cl, DeviceArrays& arrays, double skin, size_t initial_capacity = 0,
-                   const std::vector<std::array<int, 2>>& bonds = {}, const std::vector<char>& owned_first = {});
+                   const std::vector<std::array<int, 2>>& bonds = {}, const std::vector<char>& owned_first = {},
+                   bool list_inactive = false);
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
   // The couples the output holds at first (initial_capacity 0: 8 per triangle), and the
   // capacity it grows to when a scan finds `needed` couples (×1.5).
@@ -46,6 +49,8 @@ class ContactDetection {
   // Waits once, for the count (the list grows to it before the keys are written: never
   // drops a couple); the writing of the keys is enqueued after that read.
   size_t run();
+  // The margin the next run() grows the boxes by (an adaptive skin, ContactSkin::choose).
+  void set_skin(double skin);
   compute::buffer& couple_keys();        // cl_ulong × capacity(); the first `count` are valid
 
   // Extends the list of `listed` couples (run()'s, and earlier extensions) by the couples
@@ -120,6 +125,7 @@ class ContactDetection {
   compute::kernel scan_blocks_kernel_, scan_sums_kernel_, scan_add_kernel_;
   compute::kernel couple_count_kernel_, couple_write_kernel_;
   KernelArg<compute::buffer> box_positions_, scatter_entries_;
+  KernelArg<real> half_skin_;
   KernelArg<cl_uint> scatter_capacity_;
   struct Couples {
     KernelArg<cl_uint> covered, listed, n_entries;

@@ -92,6 +92,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
   const bool fans = bonds && mesh_node_state != nullptr && model.node_origin.size() == model.num_nodes();
   bonds_ = bonds;
+  prelisted_ = model.contact.list_ahead && active != nullptr;
   // A bond word holds a CE4 index, or a mesh node's with the top bit set (contact_forces.cl).
   if (bonds && (model.ce4_triangles.size() >= 0x80000000u || model.num_nodes() >= 0x80000000u))
     throw InputError("the model has 2^31 CE4s or nodes or more; contact's bond words index them with 31 bits");
@@ -119,6 +120,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     defines["NO_BOND"] = std::to_string(kNoBond) + "u";
   }
   if (fans) defines["CORNER_FANS"] = "1";
+  if (prelisted_) defines["PRELISTED"] = "1";
   const auto program = cl.build(kernel_source::contact_forces, defines, {&kernel_source::couple_geometry});
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, "contact_forces");
@@ -206,6 +208,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     classify_bond_word_ = c.later("bond_word", bond_word_);
     classify_bond_words_known_ = c.later("bond_words_known", none);
   }
+  if (prelisted_) c("active", active_);
   c("n_nodes", static_cast<cl_uint>(a.num_nodes))("contact_acc", a.contact_acc);
   classify_list_counter_ = c.later("list_counter", cl_uint(0));
   if (monitored_) {
@@ -304,7 +307,9 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   ++epoch_;
   energy_row = energy_row || energy_row_requested_;
   energy_row_requested_ = false;
-  const cl_uint joined_since = joined_since_last_list();
+  // Couples listed ahead of joins: a couple is met over an overlap only in the step its
+  // triangle joined (stamp join_stamp(step)); otherwise any join since the last list.
+  const cl_uint joined_since = prelisted_ ? ContactActivation::join_stamp(step) : joined_since_last_list();
   // A new list: the couples of the last list that hold a history (and those next to a
   // join) go to the carry list, where the new list finds them by key (ContactCarry); the
   // pool is emptied, each couple taking a row again at its first write. Between

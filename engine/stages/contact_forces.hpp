@@ -214,6 +214,7 @@ class ContactForces {
   // classification of a list's first step (bond_words_known_ false until then).
   compute::buffer bond_word_;
   bool bonds_ = false, bond_words_known_ = false;
+  bool prelisted_ = false;  // Model::ContactModel::list_ahead (PRELISTED in the kernels)
   size_t extended_from_ = static_cast<size_t>(-1);  // enqueue_extended: the couples before the extension
   KernelArg<compute::buffer> classify_bond_word_;
   KernelArg<cl_uint> classify_bond_words_known_;

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <string>
 
+#include "base/errors.hpp"
+
 namespace fdem {
 
 namespace {
@@ -29,6 +31,43 @@ ContactSkin::ContactSkin(ClContext& cl, DeviceArrays& a, MonitorRing& ring, doub
     node_owned_ = arrays.allocate(cl, "skin node_owned");
     upload(cl, node_owned_, std::vector<cl_uchar>(node_owned.begin(), node_owned.end()));
   }
+}
+
+void ContactSkin::adapt(double box_side, size_t triangles) {
+  adaptive_ = box_side > 0 && std::isfinite(box_side);
+  box_side_ = box_side;
+  triangles_ = triangles;
+}
+
+double ContactSkin::choose(size_t listed) {
+  if (!adaptive_) return skin();
+  const double now = skin(), v = largest_speed_;
+  if (v > 0 && std::isfinite(v) && dt_ > 0) {
+    const double b = box_side_, lo = std::max(0.5 * now, 1e-3 * b), hi = std::min(2.0 * now, b);
+    const double count = static_cast<double>(std::max<size_t>(listed, 1));
+    auto cost = [&](double s) {
+      const double grown = (b + s) / (b + now);
+      const double list = count * grown * grown;
+      const double detection = kDetectionFixed + kDetectionPerTriangle * static_cast<double>(triangles_) +
+                               kDetectionPerCouple * list;
+      const double steps = std::max(1.0, s / (2.0 * v * dt_));
+      return detection / steps + list;
+    };
+    if (lo < hi) {
+      double best = now, best_cost = cost(now);
+      constexpr int kPoints = 64;
+      for (int k = 0; k <= kPoints; ++k) {
+        const double s = lo * std::pow(hi / lo, static_cast<double>(k) / kPoints);
+        const double c = cost(s);
+        if (c < best_cost) best = s, best_cost = c;
+      }
+      half_skin_ = 0.5 * best;
+    }
+  }
+  const double picked = skin();
+  smallest_skin_ = smallest_skin_ > 0 ? std::min(smallest_skin_, picked) : picked;
+  largest_skin_ = std::max(largest_skin_, picked);
+  return picked;
 }
 
 void ContactSkin::mark() {
@@ -119,6 +158,9 @@ void ContactSkin::save_state(StateWriter& out) {
   out.integer("skin_flags", (batch_pending_ ? 1 : 0) | (speed_known_ ? 2 : 0));
   out.number("skin_largest_speed", largest_speed_);
   out.integer("skin_synchronous", synchronous_);
+  out.number("skin_current", skin());  // an adaptive skin's last pick (the positions above were marked with it)
+  out.number("skin_smallest", smallest_skin_);
+  out.number("skin_largest", largest_skin_);
   std::vector<cl_long> steps(step_of_.begin(), step_of_.end());
   steps.push_back(joins_covered_step_);
   out.host<cl_long>("skin_slot_steps", steps.data(), steps.size());
@@ -138,6 +180,15 @@ void ContactSkin::load_state(StateReader& in) {
   speed_known_ = flags & 2;
   largest_speed_ = in.number("skin_largest_speed");
   synchronous_ = static_cast<long>(in.integer("skin_synchronous"));
+  // Checkpoints written before adaptive skins: the skin was fixed, the model's own.
+  if (in.has("skin_current")) {
+    const double current = in.number("skin_current");
+    if (!(current > 0) || !std::isfinite(current))
+      throw InputError("checkpoint: skin_current = " + std::to_string(current) + " is not a length above 0");
+    half_skin_ = 0.5 * current;
+    smallest_skin_ = in.number("skin_smallest");
+    largest_skin_ = in.number("skin_largest");
+  }
   // Checkpoints written before lists were extended: every join flag counts again (an
   // extension that finds nothing new costs a count, no couple twice).
   std::vector<cl_long> steps(kSlots + 1, -1);

@@ -43,6 +43,29 @@ class ContactSkin {
   // the largest over all ranks (collective: every rank calls it at the same steps, since
   // every rank then decides the same). The pool word stays this rank's own.
   void set_reduce(std::function<void(cl_uint* words, unsigned count)> reduce) { reduce_ = std::move(reduce); }
+  // An adaptive skin (`skin = "auto"`, one rank): before each detection, choose() picks
+  // the skin that detection and the list until the next one use, from the largest node
+  // speed the tests have shown and the cost model below; `box_side` is the model's mean
+  // edge (the typical triangle's box), `triangles` its count. Off: the skin stays fixed.
+  void adapt(double box_side, size_t triangles);
+  bool adaptive() const { return adaptive_; }
+  // The skin for the detection about to run, given `listed` couples in the list now
+  // (found with skin()). Minimises a step's cost in units of one listed couple's work a
+  // step (its classification):
+  //   J(s) = D(s) / n(s) + L(s),   n(s) = s / (2 v Δt)   steps until a node at the largest
+  //   speed v crosses half the skin;  L(s) = listed · ((b + s) / (b + skin()))²  couples
+  //   (boxes of side b grown by s);  D(s) = kDetectionFixed + kDetectionPerTriangle · T +
+  //   kDetectionPerCouple · L(s), a detection's cost (measured on the H200: see
+  //   docs/performance-notes.md, Session 9).
+  // Over a log grid of 65 skins within [skin() / 2, 2 skin()] ∩ [b / 1000, b]: a skin at
+  // most doubles or halves from one detection to the next, so one odd reading of the speed
+  // cannot throw it far. With no speed seen yet it keeps skin(). Deterministic: the speeds
+  // and counts are the device's, so the run stays bitwise reproducible. Returns skin().
+  double choose(size_t listed);
+  double skin() const { return 2.0 * half_skin_; }
+  // Couple-steps (see choose) a detection costs: fixed (launches, the count read), per
+  // triangle (boxes, binning, counting), per couple listed (writing, carrying).
+  static constexpr double kDetectionFixed = 1.0e7, kDetectionPerTriangle = 60.0, kDetectionPerCouple = 4.0;
   // Remembers the current positions as those of the last detection. Never waits.
   void mark();
   // The integration that ends step − 1 has enqueued the test of `step` (positions then
@@ -61,6 +84,9 @@ class ContactSkin {
   compute::buffer& position_at_build() { return at_build_; }
   MonitorRing& ring() { return ring_; }
   long synchronous_checks() const { return synchronous_; }
+  // The smallest and largest skin choose() has picked (0 before it first ran) [m].
+  double smallest_skin() const { return smallest_skin_; }
+  double largest_skin() const { return largest_skin_; }
   // The most contact history pool rows taken that the ring has shown since the last
   // mark() (word RING_POOL, written by ContactForces' clear kernel; up to kSlots − 1 steps
   // late), for ContactForces::ensure_pool.
@@ -80,6 +106,10 @@ class ContactSkin {
   ClContext& cl_;
   DeviceArrays& arrays_;
   double half_skin_, dt_;
+  bool adaptive_ = false;
+  double box_side_ = 0;
+  size_t triangles_ = 0;
+  double smallest_skin_ = 0, largest_skin_ = 0;  // the skins choose() picked [m]
   MonitorRing& ring_;
   compute::buffer at_build_, node_owned_;
   bool owned_ = false;
