@@ -947,12 +947,12 @@ class UcsStudy(TempDirCase):
     def test_report_on_synthetic_runs(self):
         study = load_study()
         runs = []
-        for k, speed in enumerate((0.025, 0.25)):
+        for speed, gain in ((0.025, 1.0), (0.05, 1.03), (0.25, 1.1)):
             name = f"delaunay-v{speed:g}"
             folder = os.path.join(self.dir, name)
             os.makedirs(folder)
             strain = np.linspace(0, 6e-3, 301)
-            peak = 45e6 * (1 + 0.1 * k)
+            peak = 45e6 * gain
             stress = np.where(strain <= 4e-3, peak * strain / 4e-3, np.maximum(peak - 30e9 * (strain - 4e-3), 0))
             closure = strain * study.HEIGHT
             times = np.linspace(0, 1e-2, 301)
@@ -974,8 +974,9 @@ class UcsStudy(TempDirCase):
         with open(os.path.join(out, "report.md")) as f:
             text = f.read()
         self.assertIn("| delaunay-v0.025 | delaunay | 0.025 | done | 45 | 4 |", text)
-        self.assertIn("0.25 m/s: peak +10.0% from the slowest", text)
-        self.assertNotIn("+10.0% from the slowest (0.025 m/s) (quasi-static", text)
+        self.assertIn("delaunay-v0.25: peak +10.0% from the slowest (delaunay-v0.025)", text)
+        self.assertIn("delaunay-v0.05: peak +3.0% from the slowest (delaunay-v0.025) (quasi-static: within 5%)", text)
+        self.assertNotIn("+10.0% from the slowest (delaunay-v0.025) (quasi-static", text)
         self.assertPng(os.path.join(out, "rate_delaunay.png"))
 
 
