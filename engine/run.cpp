@@ -336,7 +336,7 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
     // Meshes made from .geo files are cached in FDEM_MESH_CACHE when set (shared across
     // runs and machines), else next to the output.
     const char* cache = std::getenv("FDEM_MESH_CACHE");
-    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, cache && *cache ? cache : c.output.dir);
+    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache && *cache ? cache : c.output.dir, io::geo_meshing());
   }
   const io::Mesh mesh = io::read_gmsh(mesh_path, &p.notes);
   p.model = build_model(mesh, c, p.notes);

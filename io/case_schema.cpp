@@ -21,7 +21,9 @@ std::string spelled(std::string_view name, Shape shape, bool top_level) {
 }  // namespace
 
 // Defined in dependency order: a table's schema after the schemas of its sub-tables.
-const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}, {"refine"}}};
+const Schema kMeshPerturbKeys{{{"amplitude"}, {"seed"}, {"min_quality"}}};
+const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}, {"refine"}, {"algorithm"},
+                        {"perturb", Shape::Table, &kMeshPerturbKeys}}};
 const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
 const Schema kOutputEventsKeys{{{"distance"}, {"window"}}};
 const Schema kOutputKeys{{{"dir"}, {"name"}, {"frames"}, {"every"}, {"history_every"}, {"regions"},

@@ -32,7 +32,7 @@ struct Schema {
   }
 };
 
-extern const Schema kMeshKeys, kTimeKeys, kOutputEventsKeys, kOutputKeys, kStiffnessKeys, kPenaltyKeys,
+extern const Schema kMeshPerturbKeys, kMeshKeys, kTimeKeys, kOutputEventsKeys, kOutputKeys, kStiffnessKeys, kPenaltyKeys,
     kSofteningKeys, kFractureKeys, kMaterialKeys, kInterfaceKeys, kGravityKeys, kDampingKeys,
     kBlastKeys, kPressureTableKeys, kBoundaryKeys, kInitialKeys, kContactDampingKeys,
     kContactPairKeys, kContactKeys, kProbeKeys, kRootKeys;

@@ -56,6 +56,20 @@ MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
   m.scale = r.number("scale", kPositive).value_or(1.0);
   m.thickness = r.number("thickness", kPositive).value_or(1.0);
   m.refine = r.integer<int>("refine", 0).value_or(0);
+  if (r.has("algorithm") && key == "file")
+    r.fail("algorithm", "mesh.algorithm only applies with mesh.geo (it is the algorithm gmsh meshes the .geo with)");
+  m.algorithm = r.choice<std::string>("algorithm", {{"frontal-delaunay", "frontal-delaunay"},
+                                                    {"delaunay", "delaunay"},
+                                                    {"meshadapt", "meshadapt"}})
+                    .value_or("");
+  if (const toml::table* t = subtable(r, "perturb")) {
+    const TableReader perturb = subtable_reader(r, *t, "perturb");
+    perturb.check_keys(kMeshPerturbKeys);
+    if (!perturb.has("amplitude")) perturb.missing("amplitude");
+    m.perturb = *perturb.number("amplitude", Range{0.0, 0.5, false, false});
+    m.perturb_seed = perturb.integer<long>("seed", 0).value_or(1);
+    m.perturb_min_quality = perturb.number("min_quality", Range{0.0, 1.0, false, false}).value_or(0.5);
+  }
   return m;
 }
 

@@ -209,8 +209,9 @@ void check_geo_string(const std::string& geo_path, const std::string& path) {
 // factor 1 is N × factor²; a mesh that grew less than 3^1.5 times for the last step
 // does not scale so (Transfinite, Layers) and the measured exponent is used instead.
 // Above fdem_max_triangles it stops; else it meshes at the .geo's own factor and saves.
-std::string driver_script(const std::string& geo_abs, const std::string& out_path) {
+std::string driver_script(const std::string& geo_abs, const std::string& out_path, int algorithm) {
   return "Include \"" + geo_abs + "\";\n" +
+         (algorithm > 0 ? "Mesh.Algorithm = " + std::to_string(algorithm) + ";\n" : std::string()) +
          R"(fdem_user_factor = Mesh.MeshSizeFactor;
 fdem_verbosity = General.Verbosity;
 If (fdem_verbosity > 1) General.Verbosity = 1; EndIf  // errors only from the coarse meshes)" "\n" R"(
@@ -390,7 +391,21 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   return mesh_geo(geo_path, size, cache_dir, geo_meshing());
 }
 
+int gmsh_algorithm_number(const std::string& algorithm) {
+  if (algorithm.empty()) return 0;
+  if (algorithm == "meshadapt") return 1;
+  if (algorithm == "delaunay") return 5;
+  if (algorithm == "frontal-delaunay") return 6;
+  throw InputError("mesh.algorithm = \"" + algorithm + "\" is not valid (allowed: \"frontal-delaunay\", \"delaunay\", \"meshadapt\")");
+}
+
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir, const GeoMeshing& options) {
+  return mesh_geo(geo_path, size, "", cache_dir, options);
+}
+
+std::string mesh_geo(const std::string& geo_path, double size, const std::string& algorithm,
+                     const std::string& cache_dir, const GeoMeshing& options) {
+  const int algorithm_number = gmsh_algorithm_number(algorithm);
   const std::string geo_text = read_file_bytes(geo_path, ".geo file");
   if (!options.allow_programs) {
     const auto programs = geo_program_commands(geo_path);
@@ -411,7 +426,8 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
     if (std::strtod(size_shown, nullptr) == size) break;
   }
   char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text)));
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text +
+                                          (algorithm.empty() ? std::string() : "\nMesh.Algorithm=" + algorithm))));
   const std::string cache_name = fs::path(geo_path).stem().string() + "-" + hash + ".msh";
   const fs::path final_path = fs::path(cache_dir) / cache_name;
   std::error_code ec;
@@ -445,12 +461,14 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   check_geo_string(geo_path, temp_path.string());
   {
     std::ofstream driver(driver_path);
-    driver << driver_script(geo_abs, temp_path.string());
+    driver << driver_script(geo_abs, temp_path.string(), algorithm_number);
     if (!driver) throw InputError(geo_path + ": cannot write " + driver_path.string() + " in the mesh cache");
   }
   // What a user would type to see gmsh's own messages.
   std::string shown = "gmsh -2 " + geo_path;
   if (size > 0) shown += std::string(" -setnumber size ") + size_shown;
+  if (algorithm_number > 0)
+    shown += std::string(" -algo ") + (algorithm_number == 1 ? "meshadapt" : algorithm_number == 5 ? "del2d" : "front2d");
   char limit_text[32];
   std::snprintf(limit_text, sizeof limit_text, "%ld", options.max_triangles);
   std::vector<std::string> args = {gmsh, driver_path.string(), "-setnumber", "fdem_max_triangles", limit_text};

@@ -57,6 +57,14 @@ struct MeshingStopped : std::runtime_error {
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir);
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& cache_dir,
                      const GeoMeshing& options);
+// The same with gmsh's 2D algorithm chosen (the case's mesh.algorithm: "frontal-delaunay",
+// "delaunay" or "meshadapt", set as Mesh.Algorithm after the .geo's own settings; "" keeps
+// the .geo's). A named algorithm is part of the cache name's hash; "" hashes as before.
+std::string mesh_geo(const std::string& geo_path, double size, const std::string& algorithm,
+                     const std::string& cache_dir, const GeoMeshing& options);
+// gmsh's Mesh.Algorithm number of a mesh.algorithm name; 0 for "" (none set). Throws
+// InputError for another name.
+int gmsh_algorithm_number(const std::string& algorithm);
 
 // The commands in a .geo file (and in the files it Includes or Merges by literal name,
 // recursively) that make gmsh start another program: System, SystemCall,

@@ -72,4 +72,33 @@ int orient_triangles(Mesh& mesh, std::vector<std::string>* notes = nullptr,
 // triangles or nodes. levels = 0 leaves the mesh untouched.
 void refine_mesh(Mesh& mesh, int levels, const std::string& what = "mesh refinement");
 
+// Random perturbation of interior nodes (io/mesh_perturb.cpp; the case's mesh.perturb): it
+// breaks the near-lattice that gmsh makes of a region with a uniform size, whose edges
+// (and so the only paths a crack can take) lie along three directions 60° apart.
+struct PerturbOptions {
+  double amplitude = 0.0;    // largest move, as a fraction of the node's mean edge length
+  unsigned long long seed = 1;
+  double min_quality = 0.5;  // guard: 4√3 A / (a² + b² + c²), 1 for an equilateral triangle
+};
+struct PerturbSummary {
+  long movable = 0;    // nodes eligible (interior to one movable surface)
+  long moved = 0;      // nodes moved (a full or a shortened move)
+  long kept = 0;       // eligible nodes left in place by the guard
+  double min_quality_before = 1.0, min_quality_after = 1.0;  // over the movable surfaces
+  double min_height_before = 0.0, min_height_after = 0.0;    // smallest triangle height there
+};
+// Moves each node that lies inside one physical surface with movable_group[g] set (every
+// triangle around it in that surface, on no boundary or interface edge, on no line or
+// point element) by a random vector of length up to amplitude × its mean edge length,
+// uniform over the disc. Nodes are visited in index order; each draws from a
+// counter-based generator (splitmix64 of the seed and its node tag) with arithmetic and
+// sqrt only, so the same mesh, options and seed give bitwise the same coordinates on
+// every machine. A move is kept only if every triangle around the node stays
+// counter-clockwise, keeps quality ≥ min(min_quality, its quality before), and keeps its
+// smallest height ≥ the smallest height of the movable surfaces before (so the stable
+// time step that their triangles set does not shrink); otherwise the move is halved, up
+// to three times, then the node stays. Triangles must be counter-clockwise
+// (orient_triangles). amplitude = 0 leaves the mesh untouched.
+PerturbSummary perturb_mesh(Mesh& mesh, const std::vector<char>& movable_group, const PerturbOptions& options);
+
 }  // namespace fdem::io

@@ -19,6 +19,7 @@
   is no b instead of raising.
 """
 
+import json
 import os
 import shutil
 import subprocess
@@ -815,6 +816,168 @@ class OpenRealRun(TempDirCase):
             rc, text = run_plot("fragments", self.out, "--without-largest", "-o", out)
             self.assertEqual(rc, 0, text)
             self.assertIn(f"{len(size) - 1} fragments (the largest", text)
+
+
+# ---------------------------------------------------------------------------------------
+# Issue 34: edge and crack orientation roses, the UCS study driver.
+
+STUDY = os.path.join(REPO, "tools", "ucs-study")
+
+
+def load_study():
+    import importlib.machinery
+    import importlib.util
+    loader = importlib.machinery.SourceFileLoader("ucs_study", STUDY)
+    spec = importlib.util.spec_from_loader("ucs_study", loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+def lattice_exodus(path, n=6, times=(0.0, 1.0)):
+    """A strip of equilateral triangles (edges at 0, 60, 120 degrees) with a CE4 on each
+    interior edge, in the engine's layout (each triangle its own nodes); one frame per time."""
+    h = np.sqrt(3) / 2
+    x, y, tris = [], [], []
+    for i in range(n):
+        for corners in (((i, 0), (i + 1, 0), (i + 0.5, h)), ((i + 1, 0), (i + 1.5, h), (i + 0.5, h))):
+            base = len(x)
+            for cx, cy in corners:
+                x.append(cx)
+                y.append(cy)
+            tris.append([base, base + 1, base + 2])
+    x, y = np.array(x, float), np.array(y, float)
+    ce4 = []
+    edges = {}
+    for t in tris:
+        for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            key = tuple(sorted([(x[a], y[a]), (x[b], y[b])]))
+            if key in edges:
+                a2, b2 = edges[key]
+                ce4.append([a, b, a2, b2])
+            else:
+                edges[key] = (b, a)
+    write_exodus(path, x, y, [("rock", "TRI3", np.array(tris)), ("cohesive", "QUAD4", np.array(ce4))])
+    with netCDF4.Dataset(path, "a") as ds:
+        ds.variables["time_whole"][:] = np.array(times)
+    return x, y, np.array(ce4)
+
+
+class Roses(TempDirCase):
+    def test_directions_histogram_and_lattice_share(self):
+        from fdem import orientation
+        a = orientation.directions([0, 0, 0, 0], [0, 0, 0, 0], [1, -1, 0, 1], [0, 0, 1, -1])
+        np.testing.assert_allclose(a, [0, 0, 90, 135])
+        np.testing.assert_allclose(orientation.histogram([0, 14.9, 15, 179.9]),
+                                   [0.5, 0.25] + [0] * 9 + [0.25])
+        self.assertAlmostEqual(orientation.lattice_share(np.linspace(0, 180, 1200, endpoint=False)), 0.5)
+        self.assertAlmostEqual(orientation.lattice_share([1, 61, 121, 29, 89, 149]), 1.0)
+        self.assertTrue(np.isnan(orientation.lattice_share([])))
+
+    def test_mesh_rose_and_crack_rose(self):
+        exo = os.path.join(self.dir, "ucs.exo")
+        x, y, ce4 = lattice_exodus(exo)
+        code, out = run_plot("mesh-rose", f"{exo}:strip", "-o", os.path.join(self.dir, "m.png"))
+        self.assertEqual(code, 0, out)
+        self.assertIn(f"strip: {len(ce4)} CE4s", out)
+        self.assertIn("lattice share 100.0 %", out)
+        self.assertPng(os.path.join(self.dir, "m.png"))
+        # Breaks: the first three CE4s, modes I, II, mixed, at t = 0.5, 0.5 and 2.
+        write_events(os.path.join(self.dir, "ucs_events.nc"), breaks={
+            "break_time": (np.array([0.5, 0.5, 2.0]), "s"), "break_x": (np.zeros(3), "m"),
+            "break_y": (np.zeros(3), "m"), "break_mode": (np.array([1, 2, 3], dtype=np.int32), ""),
+            "break_ce4": (np.array([0, 1, 2], dtype=np.int32), "")})
+        code, out = run_plot("cracks", exo, "--rose", "--events", os.path.join(self.dir, "ucs_events.nc"),
+                             "-o", os.path.join(self.dir, "c.png"))
+        self.assertEqual(code, 0, out)
+        # Up to the last frame (t = 1): two breaks, one mode I and one mode II.
+        self.assertIn("all broken CE4s (2)", out)
+        self.assertIn("mode I (1)", out)
+        self.assertIn("mixed (0)", out)
+        self.assertPng(os.path.join(self.dir, "c.png"))
+        code, out = run_plot("cracks", exo, "--events", os.path.join(self.dir, "ucs_events.nc"),
+                             "-o", os.path.join(self.dir, "d.png"))
+        self.assertEqual(code, 2)
+        self.assertIn("--events goes with --rose", out)
+
+
+class UcsStudy(TempDirCase):
+    def test_curve_points_of_a_known_curve(self):
+        study = load_study()
+        strain = np.linspace(0, 6e-3, 601)
+        # Linear (13 GPa) to 3e-3, a parabola to the peak at 4e-3, then down 20 GPa.
+        stress = np.where(strain <= 3e-3, 13e9 * strain,
+                          np.where(strain <= 4e-3, 39e6 + 13e9 * (strain - 3e-3) - 6.5e12 * (strain - 3e-3) ** 2,
+                                   45.5e6 - 20e9 * (strain - 4e-3)))
+        stress = np.maximum(stress, 0)
+        p = study.curve_points(stress, strain, strain, None)
+        self.assertAlmostEqual(p["peak"] / 1e6, 45.5, places=3)
+        self.assertAlmostEqual(p["peak_strain"], 4e-3, places=9)
+        self.assertAlmostEqual(p["modulus"] / 1e9, 13.0, places=6)
+        # 1% below the line: 6.5e12 d^2 = 0.01 * (39e6 + 13e9 d - ...), d about 0.25e-3.
+        self.assertTrue(3.2e-3 <= strain[p["a"]] <= 3.3e-3, strain[p["a"]])
+        self.assertAlmostEqual(p["slope"] / 1e9, -20.0, places=6)
+        self.assertAlmostEqual(strain[p["c"]], 4e-3 + 0.8 * 45.5e6 / 20e9, delta=1e-5)
+
+    def test_plan_writes_a_script_bash_accepts(self):
+        script = os.path.join(self.dir, "s.sh")
+        proc = subprocess.run([sys.executable, STUDY, "plan", "--preset", "x8", "--dt", "1e-9", "-o", script],
+                              capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("delaunay-v0.025", proc.stdout)
+        self.assertEqual(subprocess.run(["bash", "-n", script]).returncode, 0)
+        with open(script) as f:
+            text = f.read()
+        self.assertIn("--max-wall", text)
+        self.assertIn("'boundary.0.velocity=[0.0,-0.025]'", text)
+        self.assertIn("'mesh.algorithm=\"delaunay\"'", text)
+        with open(os.path.join(self.dir, "s.json")) as f:
+            manifest = json.load(f)
+        frames = [r["name"] for r in manifest["runs"] if r["frames"]]
+        self.assertEqual(frames, ["delaunay-v0.025"])
+        # 0.025 m/s each to strain 5.5e-3: t = 5.5e-3 * 0.1295 / 0.05 = 14.245 ms.
+        run = next(r for r in manifest["runs"] if r["name"] == "delaunay-v0.025")
+        self.assertAlmostEqual(run["t_end"], 14.245e-3, places=9)
+        self.assertEqual(run["steps"], 14245000)
+        proc = subprocess.run([sys.executable, STUDY, "plan", "--runs", "hexagons-v0.1", "--dt", "1e-9",
+                               "-o", script], capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 2)
+        self.assertIn("not MESH-vSPEED", proc.stderr)
+
+    def test_report_on_synthetic_runs(self):
+        study = load_study()
+        runs = []
+        for speed, gain in ((0.025, 1.0), (0.05, 1.03), (0.25, 1.1)):
+            name = f"delaunay-v{speed:g}"
+            folder = os.path.join(self.dir, name)
+            os.makedirs(folder)
+            strain = np.linspace(0, 6e-3, 301)
+            peak = 45e6 * gain
+            stress = np.where(strain <= 4e-3, peak * strain / 4e-3, np.maximum(peak - 30e9 * (strain - 4e-3), 0))
+            closure = strain * study.HEIGHT
+            times = np.linspace(0, 1e-2, 301)
+            write_history(os.path.join(folder, "ucs_history.nc"), times, {
+                "platen_top_force_y": (stress * study.WIDTH, "N"),
+                "platen_top_disp_y": (-closure / 2, "m"), "platen_bottom_disp_y": (closure / 2, "m")})
+            write_events(os.path.join(folder, "ucs_events.nc"), breaks={
+                "break_time": (np.array([5e-3, 6e-3, 9e-3]), "s"), "break_x": (np.zeros(3), "m"),
+                "break_y": (np.zeros(3), "m"), "break_mode": (np.array([1, 2, 2], dtype=np.int32), ""),
+                "break_ce4": (np.array([0, 1, 2], dtype=np.int32), "")})
+            lattice_exodus(os.path.join(folder, "ucs.exo"))
+            open(os.path.join(folder, "done"), "w").close()
+            runs.append(dict(name=name, mesh="delaunay", variant="", speed=speed, frames=False))
+        with open(os.path.join(self.dir, "manifest.json"), "w") as f:
+            json.dump(dict(case="cases/ucs/case.toml", scale="full", runs=runs), f)
+        out = os.path.join(self.dir, "report")
+        proc = subprocess.run([sys.executable, STUDY, "report", self.dir, "-o", out], capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        with open(os.path.join(out, "report.md")) as f:
+            text = f.read()
+        self.assertIn("| delaunay-v0.025 | delaunay | 0.025 | done | 45 | 4 |", text)
+        self.assertIn("delaunay-v0.25: peak +10.0% from the slowest (delaunay-v0.025)", text)
+        self.assertIn("delaunay-v0.05: peak +3.0% from the slowest (delaunay-v0.025) (quasi-static: within 5%)", text)
+        self.assertNotIn("+10.0% from the slowest (delaunay-v0.025) (quasi-static", text)
+        self.assertPng(os.path.join(out, "rate_delaunay.png"))
 
 
 if __name__ == "__main__":

@@ -288,7 +288,12 @@ def plot_field(args):
 
 
 def plot_cracks(args):
-    """Mesh outline and broken CE4s colored by failure mode."""
+    """Mesh outline and broken CE4s colored by failure mode (or, with --rose, their
+    orientation roses)."""
+    if args.rose:
+        return plot_crack_rose(args)
+    if args.events:
+        raise PlotError("--events goes with --rose")
     exo = load(args.file, fdem_load.load_exodus)
     frame = choose_frame(exo, args.frame, args.time)
     x, y = deformed_coordinates(exo, frame, args.deformed_scale, args.file)
@@ -330,6 +335,112 @@ def plot_cracks(args):
     save(fig, args.output)
     print(f"frame {frame}, t = {exo.times[frame]:.6g} s: {len(pairs) // 2} broken CE4s "
           f"(mode I {counts[0]}, mode II {counts[1]}, mixed {counts[2]})")
+
+
+def draw_rose(ax, fractions, color="tab:blue", title=""):
+    """A rose of undirected directions on a polar axis: each bin drawn at angle and angle
+    + 180 degrees, radius the fraction in percent."""
+    bins = len(fractions)
+    width = np.pi / bins
+    centres = (np.arange(bins) + 0.5) * width
+    radius = 100.0 * np.asarray(fractions)
+    for offset in (0.0, np.pi):
+        ax.bar(centres + offset, radius, width=width * 0.95, color=color, alpha=0.8,
+               edgecolor="k", linewidth=0.3)
+    ax.set_theta_zero_location("E")
+    ax.set_theta_direction(1)
+    ax.set_yticklabels([])
+    if title:
+        ax.set_title(title, fontsize="small")
+
+
+def rose_of_breaks(exo, path, frame, events_path):
+    """(directions, modes) of the broken CE4s: from the events catalogue (break_ce4,
+    break_mode; breaks up to the frame's time) when `events_path` is given, else from
+    the frame's BROKEN and MODE."""
+    from . import orientation
+    if events_path:
+        from . import output
+        try:
+            ev = output.read_events(events_path)
+        except (OSError, ValueError) as exc:
+            raise PlotError(f"{events_path}: cannot read it ({exc})")
+        if "break_ce4" not in ev:
+            raise PlotError(f"{events_path}: no break_ce4 (not an events file, or one "
+                            f"written before the catalogue named its CE4s)")
+        keep = ev["break_time"].values <= exo.times[frame] if frame is not None else \
+            np.ones(len(ev["break_ce4"]), dtype=bool)
+        which = ev["break_ce4"].values[keep].astype(int)
+        modes = np.nan_to_num(ev["break_mode"].values[keep]).round().astype(int)
+    else:
+        b = cohesive_block(exo)
+        if b is None or "BROKEN" not in exo.element:
+            raise PlotError(f"{path}: no cohesive block with BROKEN: nothing to make a rose of")
+        broken = exo.element["BROKEN"][b][frame]
+        which = np.flatnonzero(np.isfinite(broken) & (broken > 0.5))
+        modes = np.nan_to_num(exo.element["MODE"][b][frame][which]).round().astype(int) \
+            if "MODE" in exo.element else np.zeros(len(which), dtype=int)
+    try:
+        angles = orientation.ce4_directions(exo, which)
+    except (ValueError, IndexError) as exc:
+        raise PlotError(f"{path}: {exc} (the events file is of another mesh?)")
+    return angles, modes
+
+
+def plot_crack_rose(args):
+    """Crack-orientation roses: all broken CE4s and each mode, with the mesh's CE4 rose."""
+    from . import orientation
+    exo = load(args.file, fdem_load.load_exodus)
+    frame = choose_frame(exo, args.frame, args.time)
+    angles, modes = rose_of_breaks(exo, args.file, frame, args.events)
+    mesh_angles = orientation.ce4_directions(exo)
+    panels = [("mesh: every CE4", mesh_angles, "0.5"), ("all broken CE4s", angles, "k")]
+    panels += [(name, angles[modes == value], color) for value, name, color in MODES]
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.2 * len(panels), 3.8),
+                             subplot_kw={"projection": "polar"})
+    lines = []
+    for ax, (name, values, color) in zip(axes, panels):
+        fractions = orientation.histogram(values, args.bins)
+        draw_rose(ax, fractions, color=color, title=f"{name} ({len(values)})")
+        lines.append(f"{name} ({len(values)}): {orientation.format_bins(fractions)} %"
+                     + (f"; lattice share {100 * orientation.lattice_share(values):.1f} %"
+                        if args.bins == 12 and len(values) else ""))
+    when = f"t = {exo.times[frame]:.6g} s (frame {frame})"
+    fig.suptitle(args.title or f"crack orientation at {when}, {args.bins} bins of "
+                 f"{180 / args.bins:g}\N{DEGREE SIGN} from x, counter-clockwise")
+    fig.tight_layout()
+    save(fig, args.output)
+    print(f"{when}: directions in {args.bins} bins of {180 / args.bins:g} deg from 0 deg (x axis)")
+    for line in lines:
+        print(line)
+
+
+def plot_mesh_rose(args):
+    """Edge-orientation roses of the CE4s (interior edges of fracturable regions) of one
+    or more runs' meshes, side by side."""
+    from . import orientation
+    runs = []
+    for spec in args.files:
+        path, _, label = spec.partition(":") if not os.path.exists(spec) else (spec, "", "")
+        exo = load(path, fdem_load.load_exodus)
+        try:
+            angles = orientation.ce4_directions(exo)
+        except ValueError as exc:
+            raise PlotError(str(exc))
+        runs.append((label or os.path.basename(os.path.dirname(os.path.abspath(path))) or path,
+                     angles))
+    fig, axes = plt.subplots(1, len(runs), figsize=(3.4 * len(runs), 3.9),
+                             subplot_kw={"projection": "polar"}, squeeze=False)
+    for ax, (label, angles) in zip(axes[0], runs):
+        fractions = orientation.histogram(angles, args.bins)
+        share = orientation.lattice_share(angles)
+        draw_rose(ax, fractions, title=f"{label}\n{len(angles)} CE4s, lattice share "
+                                       f"{100 * share:.1f} %")
+        print(f"{label}: {len(angles)} CE4s; {args.bins} bins of {180 / args.bins:g} deg: "
+              f"{orientation.format_bins(fractions)} %; lattice share {100 * share:.1f} %")
+    fig.suptitle(args.title or "directions of the fracturable regions' interior edges")
+    fig.tight_layout()
+    save(fig, args.output)
 
 
 # Loading tests: the stress on the specimen from the load region's force F [N].
@@ -826,8 +937,26 @@ def parse_args(argv):
                        help="the frame nearest to this time [s]")
     cracks.add_argument("--deformed-scale", type=float, default=None,
                         help="displacement magnification (default 1; 0 = undeformed)")
+    cracks.add_argument("--rose", action="store_true",
+                        help="crack-orientation roses instead of the map: the mesh's CE4s, "
+                             "all broken CE4s and each mode (reference directions)")
+    cracks.add_argument("--events", default=None, metavar="EVENTS.nc",
+                        help="with --rose: the broken CE4s and their modes from this break "
+                             "catalogue (breaks up to the frame's time) instead of the frame; "
+                             "FILE then only gives the mesh (any frame of the same mesh)")
+    cracks.add_argument("--bins", type=int, default=12, help="rose bins over 180 degrees (12)")
+    cracks.add_argument("--title", default="", help="plot title (--rose)")
     cracks.add_argument("-o", "--output", required=True, help="image file to write")
     cracks.set_defaults(run=plot_cracks)
+
+    rose = sub.add_parser("mesh-rose", help="edge-orientation roses of the fracturable "
+                                            "regions' CE4s of one or more meshes")
+    rose.add_argument("files", nargs="+", metavar="EXO[:LABEL]",
+                      help="Exodus files (any frame; a run with time.steps = 1 will do)")
+    rose.add_argument("--bins", type=int, default=12, help="bins over 180 degrees (12)")
+    rose.add_argument("--title", default="", help="plot title")
+    rose.add_argument("-o", "--output", required=True, help="image file to write")
+    rose.set_defaults(run=plot_mesh_rose)
 
     compare = sub.add_parser("compare", help="one history variable from several runs")
     compare.add_argument("var", help="history variable, e.g. kinetic_energy")
@@ -891,6 +1020,8 @@ def parse_args(argv):
             parser.error(f"--bin-width must be > 0 (got {args.bin_width:g})")
         if args.dm < 0:
             parser.error(f"--dm must be >= 0 (got {args.dm:g})")
+    if getattr(args, "bins", None) is not None and not 1 <= args.bins <= 360:
+        parser.error(f"--bins must be 1 to 360 (got {args.bins})")
     if args.command == "stress-strain":
         for key in ("size", "thickness") + (("width",) if args.test == "ucs" else ()):
             value = getattr(args, key)
