@@ -5,7 +5,7 @@
 #pragma once
 #include <string>
 
-#include "engine/run.hpp"
+#include "engine/prepared_case.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace fdem {

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 
-#include "engine/solver.hpp"
 
 namespace fdem {
 
@@ -15,32 +14,8 @@ std::string netcdf_name(const std::string& region) {
   return out;
 }
 
-const std::vector<real2>& HistoryRow::positions() {
-  if (!positions_) positions_ = pending_positions_ ? pending_positions_() : solver_.positions();
-  return *positions_;
-}
-const std::vector<real2>& HistoryRow::forces() {
-  if (!forces_) forces_ = pending_forces_ ? pending_forces_() : solver_.forces();
-  return *forces_;
-}
-const std::vector<int>& HistoryRow::broken() {
-  if (!broken_) broken_ = solver_.cohesive()->broken();
-  return *broken_;
-}
-const std::vector<int>& HistoryRow::mode() {
-  if (!mode_) mode_ = solver_.cohesive()->mode();
-  return *mode_;
-}
-const std::vector<double>& HistoryRow::probe_values() {
-  if (!probe_values_) probe_values_ = probes_.values(solver_);
-  return *probe_values_;
-}
-
 const FragmentSummary& HistoryRow::fragments(const Model& model) {
-  if (!fragments_) {
-    const long broken_now = static_cast<long>(std::count_if(broken().begin(), broken().end(), [](int b) { return b != 0; }));
-    fragments_ = summarise_fragments(model, labels_ ? *labels_ : solver_.fragment_labels(broken_now), positions());
-  }
+  if (!fragments_) fragments_ = summarise_fragments(model, snap.labels, snap.positions);
   return *fragments_;
 }
 
@@ -53,7 +28,7 @@ struct Unbalance {
 };
 Unbalance unbalance(const Model& model, const std::vector<double>& mass, HistoryRow& row) {
   if (row.unbalance) return {(*row.unbalance)[0], (*row.unbalance)[1]};
-  const auto& f = row.forces();
+  const auto& f = row.snap.forces;
   Unbalance u;
   double internal_sum = 0;
   for (size_t i = 0; i < f.size(); ++i) {
@@ -69,6 +44,15 @@ Unbalance unbalance(const Model& model, const std::vector<double>& mass, History
 
 }  // namespace
 
+Needs HistoryTable::needs(const Model& model, const PointProbes& probes) {
+  // The account; the out-of-balance force, reactions and mean displacements.
+  Needs needs = Need::Energy | Need::Forces | Need::Positions;
+  if (model.contact.enabled) needs |= Need::ContactCounts;
+  if (!model.ce4.empty()) needs |= Need::Ce4Flags | Need::FragmentLabels;
+  if (!probes.empty()) needs |= Need::Probes;
+  return needs;
+}
+
 HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses, const PointProbes& probes) {
   auto add = [&](std::string name, std::string unit, std::string description, std::function<double(HistoryRow&)> f) {
     columns_.push_back({{std::move(name), std::move(unit), std::move(description), {}}, std::move(f)});
@@ -76,34 +60,34 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
   // The energy account (docs/case-format.md defines each term). Its values are those of
   // the row's last step's start, t - Δt: the positions that step's forces used.
   add("kinetic_energy", "J", "kinetic energy, 1/2 m v(t-dt/2).v(t+dt/2) with the integrator's (scaled) masses",
-      [](HistoryRow& r) { return r.energy.kinetic; });
+      [](HistoryRow& r) { return r.snap.energy.kinetic; });
   add("strain_energy", "J", "hyperelastic potential of the triangles (Eq. 1 or Eqs. 2-3)",
-      [](HistoryRow& r) { return r.energy.strain; });
+      [](HistoryRow& r) { return r.snap.energy.strain; });
   add("cohesive_stored_energy", "J", "recoverable elastic energy held by the intact CE4s",
-      [](HistoryRow& r) { return r.energy.cohesive_stored; });
+      [](HistoryRow& r) { return r.snap.energy.cohesive_stored; });
   add("contact_stored_energy", "J", "normal penalty potential and tangential springs of the contact couples",
-      [](HistoryRow& r) { return r.energy.contact_stored; });
+      [](HistoryRow& r) { return r.snap.energy.contact_stored; });
   add("gravity_potential", "J", "-sum m g.(x - X), relative to the reference positions",
-      [](HistoryRow& r) { return r.energy.gravity_potential; });
+      [](HistoryRow& r) { return r.snap.energy.gravity_potential; });
   add("viscous_dissipation", "J", "work of the viscous stress eta D, cumulative",
-      [](HistoryRow& r) { return r.energy.viscous; });
+      [](HistoryRow& r) { return r.snap.energy.viscous; });
   add("local_damping_dissipation", "J", "work of the local (Cundall) damping forces, cumulative",
-      [](HistoryRow& r) { return r.energy.local_damping; });
-  add("friction_dissipation", "J", "contact friction work, cumulative", [](HistoryRow& r) { return r.energy.friction; });
+      [](HistoryRow& r) { return r.snap.energy.local_damping; });
+  add("friction_dissipation", "J", "contact friction work, cumulative", [](HistoryRow& r) { return r.snap.energy.friction; });
   add("contact_damping_dissipation", "J", "work of the contact damping (Eq. 15), cumulative",
-      [](HistoryRow& r) { return r.energy.contact_damping; });
+      [](HistoryRow& r) { return r.snap.energy.contact_damping; });
   add("fracture_dissipation", "J", "energy dissipated by CE4 softening and breaking, cumulative",
-      [](HistoryRow& r) { return r.energy.fracture; });
+      [](HistoryRow& r) { return r.snap.energy.fracture; });
   add("absorbed_energy", "J", "energy taken out by absorbing boundaries, cumulative",
-      [](HistoryRow& r) { return r.energy.absorbed; });
+      [](HistoryRow& r) { return r.snap.energy.absorbed; });
   add("boundary_work", "J", "work of the reactions of prescribed velocities and fixed components, cumulative",
-      [](HistoryRow& r) { return r.energy.boundary_work; });
+      [](HistoryRow& r) { return r.snap.energy.boundary_work; });
   add("load_work", "J", "work of tractions, pressures and blast loads, cumulative",
-      [](HistoryRow& r) { return r.energy.load_work; });
+      [](HistoryRow& r) { return r.snap.energy.load_work; });
   add("energy_error", "1", "(stored + dissipated - supplied - initial stored) / max(|supplied|, initial stored, peak kinetic)",
-      [](HistoryRow& r) { return r.energy_error; });
+      [](HistoryRow& r) { return r.snap.energy_error; });
   add("energy_ratio", "1", "(stored + dissipated) / (initial stored + supplied)",
-      [](HistoryRow& r) { return r.energy_ratio; });
+      [](HistoryRow& r) { return r.snap.energy_ratio; });
 
   std::vector<double> mass;
   for (const auto& mk : masses) mass.push_back(mk.x);
@@ -117,18 +101,18 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
 
   if (model.contact.enabled) {
     add("contact_couples", "1", "triangle couples in contact (overlapping) in the last step",
-        [](HistoryRow& r) { return double(r.solver().contact_touching()); });
+        [](HistoryRow& r) { return double(r.snap.contact_touching); });
     add("contact_candidates", "1", "candidate couples from the last contact detection",
-        [](HistoryRow& r) { return double(r.solver().contact_candidates()); });
+        [](HistoryRow& r) { return double(r.snap.contact_candidates); });
     add("contact_rebuilds", "1", "contact detections run since the start",
-        [](HistoryRow& r) { return double(r.solver().contact_rebuilds()); });
+        [](HistoryRow& r) { return double(r.snap.contact_rebuilds); });
   }
   if (!model.ce4.empty()) {
     std::vector<double> length;  // initial length of each CE4 [m]
     for (const auto& c : model.ce4) length.push_back(std::hypot(model.x[c[1]] - model.x[c[0]], model.y[c[1]] - model.y[c[0]]));
     auto count = [](HistoryRow& r, int mode) {
-      const auto& broken = r.broken();
-      const auto& modes = r.mode();
+      const auto& broken = r.snap.broken;
+      const auto& modes = r.snap.mode;
       double n = 0;
       for (size_t e = 0; e < broken.size(); ++e) n += broken[e] && (mode == 0 || modes[e] == mode) ? 1 : 0;
       return n;
@@ -138,7 +122,7 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
     add("broken_mode2", "1", "CE4s broken in mode II", [count](HistoryRow& r) { return count(r, 2); });
     add("broken_mixed", "1", "CE4s broken in mixed mode I-II", [count](HistoryRow& r) { return count(r, 3); });
     add("crack_length", "m", "total initial length of the broken CE4s", [length](HistoryRow& r) {
-      const auto& broken = r.broken();
+      const auto& broken = r.snap.broken;
       double sum = 0;
       for (size_t e = 0; e < broken.size(); ++e) sum += broken[e] ? length[e] : 0.0;
       return sum;
@@ -155,14 +139,14 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
     const Region* r = &region;
     // Reaction on a prescribed component: minus the out-of-balance force there.
     auto reaction = [&model, r](HistoryRow& row, uint32_t bit, int axis) {
-      const auto& f = row.forces();
+      const auto& f = row.snap.forces;
       double sum = 0;
       for (int node : r->nodes)
         if (model.groups[model.node_group[node]].mask & bit) sum -= axis ? f[node].y : f[node].x;
       return sum;
     };
     auto mean_displacement = [&model, r](HistoryRow& row, int axis) {
-      const auto& x = row.positions();
+      const auto& x = row.snap.positions;
       double sum = 0;
       for (int node : r->nodes) sum += axis ? x[node].y - model.y[node] : x[node].x - model.x[node];
       return sum / double(r->nodes.size());
@@ -181,7 +165,7 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
 
   const auto probe_variables = probes.variables(model);
   for (size_t k = 0; k < probe_variables.size(); ++k)
-    columns_.push_back({probe_variables[k], [k](HistoryRow& r) { return r.probe_values()[k]; }});
+    columns_.push_back({probe_variables[k], [k](HistoryRow& r) { return r.snap.probes[k]; }});
 }
 
 std::vector<io::HistoryVariable> HistoryTable::variables() const {

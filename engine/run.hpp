@@ -1,4 +1,5 @@
-// Running a case end to end: case → mesh → model → device → steps → Exodus + history.
+// Running a case end to end: case → mesh → model → device → steps → Exodus + history
+// (the driver: engine/run.cpp; ARCHITECTURE.md, "The run").
 #pragma once
 #include <csignal>
 #include <iosfwd>
@@ -6,34 +7,12 @@
 #include <vector>
 
 #include "engine/cl_context.hpp"
-#include "engine/model.hpp"
 #include "engine/partition.hpp"
+#include "engine/prepared_case.hpp"
+#include "engine/run/prepare_case.hpp"
 #include "engine/transport.hpp"
-#include "engine/probes.hpp"
-#include "io/case_config.hpp"
 
 namespace fdem {
-
-// A case read, meshed and checked, ready to run.
-struct PreparedCase {
-  io::CaseConfig config;
-  Model model;
-  std::vector<std::string> notes;  // re-oriented triangles, dropped nodes, ...
-  StableStep stable;               // stable Δt estimate
-  double dt = 0;                   // the Δt the run uses
-  long steps = 0;                  // number of steps
-  std::string exodus_path, history_path;
-  std::string fragments_path;  // OUT/NAME_fragments.nc, written when the model has CE4s
-  std::string events_path;  // OUT/NAME_events.nc: break catalogue and events (models with CE4s only)
-  std::vector<ProbeLocation> probes;  // [[probe]] points tied to their node and triangle
-};
-
-// Reads the case (with --set overrides), meshes a .geo if needed, builds the model and
-// resolves Δt and the step count. Throws InputError for anything wrong, including a Δt
-// above the stable estimate (unless mass scaling makes any Δt stable), an
-// output.checkpoint_every shorter than Δt, and an output.dir that is the root of the file
-// system or a system directory (/etc, /usr, ...).
-PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides);
 
 struct RunSummary {
   long steps = 0;
@@ -67,14 +46,6 @@ struct RunOptions {
   // ghosts; SplitRun). 0: default_contact_travel.
   double contact_travel = 0;
 };
-
-// OUT/NAME.ckpt: where a case's checkpoints go.
-std::string checkpoint_path(const PreparedCase& prepared);
-
-// Throws OutputError, with the message run_case would give, when the output folder can
-// neither be written nor made, or one of the run's file names is taken by something other
-// than a file. run_case checks it before anything is computed; `fdem check` too.
-void check_output(const PreparedCase& prepared);
 
 // Runs the prepared case on `cl`. Progress goes to `log` (a live status line when
 // `status_line`, else periodic lines). Throws NumericalError after writing the last
