@@ -6,7 +6,6 @@
 #include <sstream>
 
 #include "base/errors.hpp"
-#include "engine/solver.hpp"
 
 namespace fdem {
 
@@ -121,24 +120,6 @@ std::vector<io::HistoryVariable> PointProbes::variables(const Model& model) cons
     vars.push_back({p.name + "_ps1", "Pa", "largest principal stress (tension positive) of the element" + at, where});
   }
   return vars;
-}
-
-std::vector<double> PointProbes::values(Solver& solver) const {
-  std::vector<double> row;
-  if (locations_.empty()) return row;
-  solver.enqueue_stress();
-  auto& queue = solver.context().queue();
-  const auto& arrays = solver.arrays();
-  for (const auto& p : locations_) {
-    real2 v;
-    real4 s;
-    queue.enqueue_read_buffer(arrays.velocity, p.node * sizeof(real2), sizeof(real2), &v);
-    queue.enqueue_read_buffer(arrays.stress, p.triangle * sizeof(real4), sizeof(real4), &s);
-    const double sxx = s.x, syy = s.y, sxy = s.z;
-    const double ps1 = 0.5 * (sxx + syy) + std::hypot(0.5 * (sxx - syy), sxy);
-    row.insert(row.end(), {double(v.x), double(v.y), sxx, syy, sxy, ps1});
-  }
-  return row;
 }
 
 }  // namespace fdem

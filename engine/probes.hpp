@@ -13,8 +13,6 @@
 
 namespace fdem {
 
-class Solver;
-
 struct ProbeLocation {
   std::string name;
   std::array<double, 2> point{0, 0};  // [m], as given
@@ -38,9 +36,9 @@ class PointProbes {
   explicit PointProbes(std::vector<ProbeLocation> locations) : locations_(std::move(locations)) {}
 
   std::vector<io::HistoryVariable> variables(const Model& model) const;
-  // Evaluates the stress of the current state (one triangle-force pass) and reads back
-  // each probe's velocity (one real2) and stress (one real4). Waits for the queue.
-  std::vector<double> values(Solver& solver) const;
+  // The values of a row, per probe (vx, vy, sxx, syy, sxy, ps1), are read by the domain
+  // (engine/run/whole_domain.cpp, SplitRun::probe_values).
+  const std::vector<ProbeLocation>& locations() const { return locations_; }
   bool empty() const { return locations_.empty(); }
 
  private:

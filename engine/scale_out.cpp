@@ -151,7 +151,7 @@ std::vector<double> SplitRun::probe_values(Solver& solver, const std::vector<Pro
       } else {
         const double sxx = r[at + 2], syy = r[at + 3], sxy = r[at + 4];
         row[6 * k + 2] = sxx, row[6 * k + 3] = syy, row[6 * k + 4] = sxy;
-        row[6 * k + 5] = 0.5 * (sxx + syy) + std::hypot(0.5 * (sxx - syy), sxy);  // as PointProbes::values
+        row[6 * k + 5] = 0.5 * (sxx + syy) + std::hypot(0.5 * (sxx - syy), sxy);  // as one rank (whole_domain.cpp)
       }
     }
   }

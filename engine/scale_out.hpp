@@ -68,7 +68,7 @@ class SplitRun {
   // The first offenders of every rank, in global indices, smallest over the ranks (what
   // one rank's atomic minima give). Collective.
   Conditions conditions(Solver& solver);
-  // The [[probe]] values of the current state (PointProbes::values, in its order) on
+  // The [[probe]] values of the current state (PointProbes::variables' order, as one rank reads them) on
   // rank 0, empty elsewhere: each rank evaluates its stress, the owners of a probe's node
   // and triangle send their values. Collective.
   std::vector<double> probe_values(Solver& solver, const std::vector<ProbeLocation>& probes);

@@ -65,7 +65,7 @@ struct Snapshot {
   std::vector<int> broken, mode, labels;
   size_t contact_touching = 0, contact_candidates = 0;
   long contact_rebuilds = 0;
-  std::vector<double> probes;            // PointProbes::values, in their order
+  std::vector<double> probes;            // per probe (vx, vy, sxx, syy, sxy, ps1), in PointProbes' order
   std::vector<io::BreakRecord> breaks;   // Breaks or Catalogue: global CE4 indices, with their triangles
   io::CheckpointData state;              // State: the whole model's, as one rank writes it
   long broken_ce4 = 0;                   // State: CE4s broken so far
