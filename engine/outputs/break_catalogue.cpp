@@ -2,7 +2,7 @@
 // bring them (a resumed run starts from the catalogue its checkpoint carries, so breaks
 // written after the checkpoint before a crash are dropped like rows and frames), grouped
 // into events at the end.
-#include "engine/fracture_events.hpp"
+#include "engine/outputs/fracture_events.hpp"
 #include "engine/outputs/outputs.hpp"
 #include "io/events_writer.hpp"
 

@@ -2,7 +2,7 @@
 // the case's identity and the digests of the records the other files hold.
 #include <chrono>
 
-#include "engine/checkpoint_identity.hpp"
+#include "engine/model/checkpoint_identity.hpp"
 #include "engine/outputs/outputs.hpp"
 #include "io/checkpoint_file.hpp"
 

@@ -2,7 +2,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "engine/fragments.hpp"
+#include "engine/outputs/fragments.hpp"
 #include "engine/outputs/outputs.hpp"
 #include "io/exodus_writer.hpp"
 #include "io/fragment_writer.hpp"

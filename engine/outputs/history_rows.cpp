@@ -1,5 +1,5 @@
 // History rows (engine/outputs/outputs.hpp): one row of HistoryTable's columns per write.
-#include "engine/history.hpp"
+#include "engine/outputs/history_table.hpp"
 #include "engine/outputs/outputs.hpp"
 #include "io/history_writer.hpp"
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/cl_context.hpp"
+#include "engine/device/cl_context.hpp"
 #include "engine/outputs/output.hpp"
-#include "engine/prepared_case.hpp"
+#include "engine/model/prepared_case.hpp"
 
 namespace fdem {
 

@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "engine/energy.hpp"
-#include "engine/real.hpp"
+#include "engine/energy/energy.hpp"
+#include "engine/model/real.hpp"
 #include "engine/solver.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/events_writer.hpp"

@@ -1,7 +1,7 @@
 #include "engine/run/domain.hpp"
 
-#include "engine/scale_out.hpp"
-#include "engine/transport.hpp"
+#include "engine/run/split_run.hpp"
+#include "engine/parallel/transport.hpp"
 
 namespace fdem {
 

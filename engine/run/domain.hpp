@@ -1,5 +1,5 @@
 // Where a run's model lives (ARCHITECTURE.md, "The run"): on one device (WholeDomain) or
-// split over the ranks of `mpirun` (SplitDomain, engine/scale_out.*). The Domain is the
+// split over the ranks of `mpirun` (SplitDomain, engine/run/split_run.*). The Domain is the
 // only type that knows which: the driver, the outputs and the guard call the same
 // functions in the same order on every rank (each call that reads is collective in a
 // split run), and one factory picks the domain, once.
@@ -10,7 +10,7 @@
 #include <string>
 
 #include "engine/outputs/snapshot.hpp"
-#include "engine/prepared_case.hpp"
+#include "engine/model/prepared_case.hpp"
 #include "engine/solver.hpp"
 
 namespace fdem {

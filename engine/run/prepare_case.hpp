@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/prepared_case.hpp"
+#include "engine/model/prepared_case.hpp"
 
 namespace fdem {
 

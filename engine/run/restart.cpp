@@ -4,7 +4,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
-#include "engine/checkpoint_identity.hpp"
+#include "engine/model/checkpoint_identity.hpp"
 #include "engine/outputs/outputs.hpp"
 #include "io/checkpoint_file.hpp"
 

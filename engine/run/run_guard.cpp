@@ -5,7 +5,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
-#include "engine/scale_out.hpp"
+#include "engine/run/split_run.hpp"
 
 namespace fdem {
 

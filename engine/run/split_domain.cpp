@@ -1,11 +1,11 @@
-// The model split over the ranks of `mpirun` (engine/run/domain.hpp, engine/scale_out.*):
+// The model split over the ranks of `mpirun` (engine/run/domain.hpp, engine/run/split_run.*):
 // each rank steps its share; a read gathers the whole model to rank 0 in global order,
 // and the sums of the account are taken by one rule, so the files are one rank's.
 #include <algorithm>
 #include <chrono>
 
 #include "engine/run/domain.hpp"
-#include "engine/scale_out.hpp"
+#include "engine/run/split_run.hpp"
 
 namespace fdem {
 

@@ -2,9 +2,9 @@
 
 #include "engine/stages/contact_activation.hpp"
 
-#include "engine/energy.hpp"
+#include "engine/energy/energy.hpp"
 #include "base/errors.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/kernel_args.hpp"
 
 #include <algorithm>
 #include <cmath>
