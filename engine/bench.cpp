@@ -11,9 +11,9 @@
 #include <ostream>
 #include <sstream>
 
-#include "engine/device_arrays.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "base/errors.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "engine/stages/contact_skin.hpp"

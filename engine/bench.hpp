@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/cl_context.hpp"
+#include "engine/device/cl_context.hpp"
 
 namespace fdem {
 

@@ -19,17 +19,17 @@
 #include <vector>
 
 #include "engine/bench.hpp"
-#include "engine/cl_context.hpp"
-#include "engine/device_arrays.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "base/errors.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include <cstdlib>
-#include "engine/partition.hpp"
-#include "engine/scale_out.hpp"
-#include "engine/transport.hpp"
+#include "engine/parallel/partition.hpp"
+#include "engine/run/split_run.hpp"
+#include "engine/parallel/transport.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/gmsh_reader.hpp"
 
@@ -378,14 +378,14 @@ int check_checkpoint(const std::string& path) {
 }
 
 // `fdem check --ranks N`: each part's share of the model and what it would hold besides
-// (engine/partition.hpp gives the ownership and ghost rules).
+// (engine/parallel/partition.hpp gives the ownership and ghost rules).
 void print_partition(const Arguments& a, const fdem::Model& m) {
   using fdem::PartitionMethod;
   const PartitionMethod method = a.partition == "bisection" || (a.partition.empty() && !fdem::partition_has_metis())
                                      ? PartitionMethod::Bisection
                                      : PartitionMethod::Metis;
   const auto partition = fdem::partition_model(m, a.ranks, method);
-  // The contact ghosts a split run holds (engine/scale_out.hpp).
+  // The contact ghosts a split run holds (engine/run/split_run.hpp).
   const double reach = m.contact.enabled ? fdem::contact_ghost_reach(m, a.contact_travel > 0 ? a.contact_travel
                                                                                              : fdem::default_contact_travel(m))
                                          : 0.0;
@@ -592,7 +592,7 @@ fdem::PartitionMethod partition_method(const Arguments& a) {
 }
 
 // --quiet: the run's log less its progress lines ("  40%  step 400/1000 ...", which
-// engine/run.cpp writes when stderr is not a terminal); warnings pass through, in order
+// engine/run/run.cpp writes when stderr is not a terminal); warnings pass through, in order
 // with the rest of stdout.
 class ProgressFilter : public std::streambuf {
  public:
@@ -630,7 +630,7 @@ class ProgressFilter : public std::streambuf {
 };
 
 // `mpirun -np N fdem run CASE`: every rank reads the case and runs its share
-// (engine/scale_out.*); rank 0 prints and writes the files.
+// (engine/run/split_run.*); rank 0 prints and writes the files.
 int split_run_command(const Arguments& a) {
   fdem::Transport& t = *g_transport;
   g_split_started = true;

@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "base/errors.hpp"
-#include "engine/transport.hpp"
+#include "engine/parallel/transport.hpp"
 
 namespace fdem {
 

@@ -4,11 +4,11 @@
 #include <memory>
 #include <vector>
 
-#include "engine/checkpoint.hpp"
-#include "engine/cl_context.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/energy.hpp"
-#include "engine/model.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/energy/energy.hpp"
+#include "engine/model/model.hpp"
 #include "engine/stages/boundary_loads.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "engine/stages/contact_activation.hpp"
@@ -156,11 +156,11 @@ class Solver {
   // Replaces the state by a saved one (same model; InputError when a piece does not fit).
   void load_state(StateReader& in);
 
-  // A split run (engine/scale_out.*): which items this rank accounts for in energy(),
+  // A split run (engine/run/split_run.*): which items this rank accounts for in energy(),
   // which is then collective (every rank calls it at the same step). Null: all items.
   // Set before the first step; collective when not null (the block lists of SplitSums).
   void set_scope(const ItemScope* scope);
-  // A split run with contact (engine/scale_out.*): `before_detection` runs on the host
+  // A split run with contact (engine/run/split_run.*): `before_detection` runs on the host
   // just before each contact detection (collective: the decision is the same on every
   // rank); the exchange of the fixed-point contact forces that one rank's couples put on
   // nodes another owns: `contact_sent` right after the contact stage is enqueued (it must
@@ -206,7 +206,7 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
-  OrderedSums ordered_;  // the energy account's sums in item order (engine/energy.hpp)
+  OrderedSums ordered_;  // the energy account's sums in item order (engine/energy/energy.hpp)
   RowReads row_reads_;
   size_t ce4_count_ = 0;
   long rebuilds_ = 0;

@@ -44,7 +44,7 @@ struct OutputConfig {
   bool float_frames = false;  // precision = "float": frame values stored as float (coordinates stay double)
   bool compress = false;      // compress = true: netCDF-4 Exodus file, deflated frame values (not crash-safe)
   // [output] events = { distance, window }: grouping of breaks into events; 0: the
-  // default from the mesh and the wave speed (engine/fracture_events.hpp).
+  // default from the mesh and the wave speed (engine/outputs/fracture_events.hpp).
   double events_distance = 0;  // [m]
   double events_window = 0;    // [s]
 };
@@ -61,7 +61,7 @@ struct Stiffness {
 };
 
 // Cohesive properties of a [material.fracture] or an [[interface]]: the CE4 law of
-// Eqs. 4–14 (engine/cohesive_model.hpp's FractureProperties).
+// Eqs. 4–14 (engine/model/cohesive_model.hpp's FractureProperties).
 struct FractureConfig {
   double tensile_strength = 0, cohesion = 0, friction_angle = 0, gf1 = 0, gf2 = 0;
   double penalty_opening = 0, penalty_sliding = 0, penalty_overlap = 0;
@@ -150,14 +150,14 @@ enum class ContactRebuild { Step, Skin };
 struct ContactConfig {
   double normal_penalty = 0.0;      // P_n [Pa]
   // P_tan [Pa/m]. nullopt: not given; the model takes 6 P_n / h for each pair, h the mean
-  // triangle edge of the mesh (engine/model.hpp, default_tangential_penalty).
+  // triangle edge of the mesh (engine/model/model.hpp, default_tangential_penalty).
   std::optional<double> tangential_penalty;
   double friction = 0.0;            // Coulomb μ
   std::optional<ContactDampingConfig> damping;  // nullopt: elastic contact
   std::string activation = "all";   // "all" or "fractured"
   ContactRebuild rebuild = ContactRebuild::Skin;  // the default: the fast path
   // [m] margin added to the boxes (> 0 with Skin). nullopt: not given; with Skin the model
-  // takes kDefaultSkinFraction × the mean edge length of the mesh (engine/model.cpp), with
+  // takes kDefaultSkinFraction × the mean edge length of the mesh (engine/model/model.cpp), with
   // Step the boxes are not enlarged.
   std::optional<double> skin;
   // With Skin: `skin` = "auto" or left out, the skin is picked again at each detection

@@ -43,7 +43,7 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
                                         "[[contact.pair]] entries need (they override "
                                         "[contact]'s values)");
   c.normal_penalty = r.required_number("normal_penalty", kPositive);
-  c.tangential_penalty = r.number("tangential_penalty", kNonNegative);  // nullopt: 6 P_n / h (engine/model.cpp)
+  c.tangential_penalty = r.number("tangential_penalty", kNonNegative);  // nullopt: 6 P_n / h (engine/model/model.cpp)
   c.friction = r.number("friction", kNonNegative).value_or(0.0);
   c.damping = read_contact_damping_in(r);
   c.activation = r.choice<std::string>("activation", {{"all", "all"}, {"fractured", "fractured"}})
@@ -55,7 +55,7 @@ ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfi
   if (r.has("regions")) c.regions = *r.strings("regions");
   for (const std::string& region : c.regions) check_region_name(r, "regions", region);
   // Default "skin": a user who writes neither key gets the fast path, with a margin the
-  // model takes from the mesh (engine/model.cpp) unless `skin` gives it.
+  // model takes from the mesh (engine/model/model.cpp) unless `skin` gives it.
   c.rebuild = r.choice<ContactRebuild>("rebuild", {{"step", ContactRebuild::Step},
                                                    {"skin", ContactRebuild::Skin}})
                   .value_or(ContactRebuild::Skin);

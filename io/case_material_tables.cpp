@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "engine/cohesive_model.hpp"
+#include "engine/model/cohesive_model.hpp"
 
 namespace fdem::io::detail {
 namespace {
@@ -69,7 +69,7 @@ FractureConfig read_fracture_keys(const TableReader& r) {
   return f;
 }
 
-// A material's name is its element block's name in the Exodus file (engine/run.cpp),
+// A material's name is its element block's name in the Exodus file (engine/run/run.cpp),
 // where names are fixed arrays of 32 bytes (io/exodus_writer.cpp, kMaxNameLength), and
 // the CE4 block of a fracturable case is named "cohesive". "" when the name fits.
 std::string material_name_problem(const std::string& name) {

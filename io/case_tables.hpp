@@ -19,7 +19,7 @@ constexpr std::size_t kMaxOutputName = 200;
 
 // A region named by [[boundary]], [[initial]], output.regions or contact.regions gets
 // history variables named after it (REGION_force_x, with "r_" before a leading digit:
-// engine/history.cpp), and netCDF names hold at most 256 bytes (NC_MAX_NAME).
+// engine/outputs/history_table.cpp), and netCDF names hold at most 256 bytes (NC_MAX_NAME).
 constexpr std::size_t kMaxRegionName = 246;
 // Fails at `key` when `name` is longer than kMaxRegionName.
 void check_region_name(const TableReader& r, std::string_view key, const std::string& name);
@@ -33,7 +33,7 @@ DampingConfig read_damping(const TableReader& r);                             //
 
 // io/case_material_tables.cpp: what the body is made of.
 // A material name is an Exodus block name: at most 32 bytes (io/exodus_writer.cpp), and
-// not the name of the CE4 block (engine/run.cpp).
+// not the name of the CE4 block (engine/run/run.cpp).
 constexpr std::size_t kMaxMaterialName = 32;
 constexpr const char* kCohesiveBlockName = "cohesive";
 std::vector<MaterialConfig> read_materials(const TableReader& top);  // [[material]]

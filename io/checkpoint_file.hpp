@@ -1,7 +1,7 @@
 // Checkpoint files: a self-describing netCDF file (CDF-5, which holds 64-bit integers) of
 // named arrays and text/number attributes. Written under a temporary name, synced and
 // renamed, so a crash never leaves a half-written checkpoint; the previous one is kept as
-// PATH.prev. The engine decides what goes in (engine/checkpoint.*).
+// PATH.prev. The engine decides what goes in (engine/device/checkpoint.*).
 #pragma once
 #include <cstddef>
 #include <cstdint>

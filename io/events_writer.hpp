@@ -22,7 +22,7 @@ struct BreakRecord {
   long tri_a = -1, tri_b = -1;  // 0-based triangles (element + 1 of the Exodus file's TRI3 blocks)
 };
 
-// Breaks grouped by proximity in space and time (engine/fracture_events.hpp).
+// Breaks grouped by proximity in space and time (engine/outputs/fracture_events.hpp).
 struct EventRecord {
   double start = 0, end = 0;  // [s] first and last break
   double x = 0, y = 0;        // [m] mean of the breaks' midpoints

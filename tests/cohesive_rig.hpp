@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/device_arrays.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "fixture.hpp"
 #include "reference_cohesive.hpp"

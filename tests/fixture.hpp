@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/cl_context.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/model.hpp"
-#include "engine/run.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/model/model.hpp"
+#include "engine/run/run.hpp"
 
 namespace fdem::test {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 
-#include "engine/materials.hpp"
+#include "engine/model/materials.hpp"
 
 namespace fdem::reference {
 

@@ -7,7 +7,7 @@
 #include <array>
 #include <cmath>
 
-#include "engine/cohesive_model.hpp"
+#include "engine/model/cohesive_model.hpp"
 
 namespace fdem::reference_cohesive {
 

@@ -2,7 +2,7 @@
 // material axes are turned by 30°, under uniaxial stress, relaxed to static equilibrium,
 // against the closed-form small-strain answer ε = S σ from the compliance rotated into
 // the global frame. The reference rotates the stress into the material frame and the
-// strain back (2×2 tensors), not the stiffness (engine/materials.cpp rotates the
+// strain back (2×2 tensors), not the stiffness (engine/model/materials.cpp rotates the
 // 4th-order stiffness), so the two paths are independent.
 #include <doctest/doctest.h>
 
@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;

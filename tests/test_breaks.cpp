@@ -14,8 +14,8 @@
 
 #include "case_files.hpp"
 #include "case_reader_fixture.hpp"
-#include "engine/fracture_events.hpp"
-#include "engine/run.hpp"
+#include "engine/outputs/fracture_events.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
 #include "fracture_tables.hpp"

@@ -82,7 +82,7 @@ TEST_CASE("contact: defaults, and damping with only an exponent") {
   const CaseConfig c = read_case(d.write("c.toml", kContact));
   REQUIRE(c.contact.has_value());
   CHECK(c.contact->normal_penalty == 1e9);
-  // Not given: the model takes 6 P_n / h from the mesh (engine/model.cpp).
+  // Not given: the model takes 6 P_n / h from the mesh (engine/model/model.cpp).
   CHECK_FALSE(c.contact->tangential_penalty.has_value());
   CHECK(c.contact->friction == 0.0);
   CHECK_FALSE(c.contact->damping.has_value());

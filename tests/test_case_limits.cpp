@@ -11,7 +11,7 @@
 
 #include "base/errors.hpp"
 #include "case_reader_fixture.hpp"
-#include "engine/cohesive_model.hpp"
+#include "engine/model/cohesive_model.hpp"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // [[probe]] history points: reading the entries, and tying each point to a node and a
-// triangle (engine/probes.cpp). The values a run records: tests/test_solver_probes.cpp.
+// triangle (engine/model/probes.cpp). The values a run records: tests/test_solver_probes.cpp.
 #include <doctest/doctest.h>
 
 #include <array>
@@ -7,7 +7,7 @@
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
-#include "engine/probes.hpp"
+#include "engine/model/probes.hpp"
 #include "fixture.hpp"
 #include "io/case_config.hpp"
 #include "probe_fixture.hpp"

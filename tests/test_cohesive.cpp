@@ -13,7 +13,7 @@
 #include <tuple>
 
 #include "cohesive_rig.hpp"
-#include "engine/device_arrays.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "fixture.hpp"
 #include "reference_cohesive.hpp"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fixture.hpp"
 #include "fracture_tables.hpp"
 

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/checkpoint.hpp"
-#include "engine/run.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
 

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
 

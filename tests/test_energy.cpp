@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/stages/triangle_forces.hpp"
 #include "fixture.hpp"
 

@@ -17,8 +17,8 @@
 #include <sstream>
 
 #include "case_files.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/run.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/run/run.hpp"
 #include "engine/stages/fragment_labels.hpp"
 #include "fixture.hpp"
 #include "fracture_tables.hpp"

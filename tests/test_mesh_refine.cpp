@@ -1,4 +1,4 @@
-// [mesh] refine = N (io/mesh_refine.cpp, engine/model.cpp): counts, geometry, groups,
+// [mesh] refine = N (io/mesh_refine.cpp, engine/model/model.cpp): counts, geometry, groups,
 // numbering, what the model builds on a refined mesh, and the case key. Meshes are the
 // committed tests/data/gmsh/multi22a.msh and a bar built in memory: no gmsh needed.
 #include <doctest/doctest.h>
@@ -15,8 +15,8 @@
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "case_reader_fixture.hpp"
-#include "engine/model.hpp"
-#include "engine/run.hpp"
+#include "engine/model/model.hpp"
+#include "engine/run/run.hpp"
 #include "io/case_config.hpp"
 #include "io/gmsh_reader.hpp"
 

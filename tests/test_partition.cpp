@@ -1,7 +1,7 @@
-// The partition of a model over ranks (engine/partition.*): every triangle in exactly
+// The partition of a model over ranks (engine/parallel/partition.*): every triangle in exactly
 // one part, balanced work, deterministic, and the owner and ghost counts of `fdem check
 // --ranks` against a brute-force reference written here from the rules in
-// engine/partition.hpp.
+// engine/parallel/partition.hpp.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -14,10 +14,10 @@
 #include <memory>
 #include "base/errors.hpp"
 #include "case_files.hpp"
-#include "engine/halo.hpp"
-#include "engine/partition.hpp"
-#include "engine/scale_out.hpp"
-#include "engine/run.hpp"
+#include "engine/parallel/halo.hpp"
+#include "engine/parallel/partition.hpp"
+#include "engine/run/split_run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
 #include "fracture_tables.hpp"
@@ -68,7 +68,7 @@ std::vector<PartitionMethod> methods() {
   return list;
 }
 
-// The rules of engine/partition.hpp, with sets.
+// The rules of engine/parallel/partition.hpp, with sets.
 std::vector<PartStats> reference_stats(const Model& m, const Partition& p, double reach) {
   std::vector<int> owner(m.num_nodes(), -1);
   for (size_t t = 0; t < m.num_triangles(); ++t)
@@ -171,7 +171,7 @@ TEST_SUITE("partition") {
   // elements plus every element that uses one of its nodes, in the global order, so its
   // own nodes' forces are summed as one rank sums them; only ghost nodes' positions and
   // velocities travel, once a step. Here the ranks run one after another in one process
-  // and the exchange is the engine's (engine/halo.*) over in-process transports.
+  // and the exchange is the engine's (engine/parallel/halo.*) over in-process transports.
   TEST_CASE("ranks emulated in one process: every owned node bitwise as one rank, CE4s breaking") {
     test::TempDir dir;
     const PreparedCase p = prepare_case(pulled_bar(dir), {});
@@ -197,7 +197,7 @@ TEST_SUITE("partition") {
           CHECK(!locals.back().ghost_nodes.empty());
           ranks.push_back(std::make_unique<Solver>(cl, locals.back().model, p.dt));
         }
-        // The engine's exchange (engine/halo.*) through in-process transports: every
+        // The engine's exchange (engine/parallel/halo.*) through in-process transports: every
         // rank posts its owned boundary nodes, then every rank takes its ghosts.
         InProcessHub hub(parts);
         std::vector<std::unique_ptr<HaloExchange>> halos;

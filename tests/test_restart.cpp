@@ -13,7 +13,7 @@
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fixture.hpp"
 #include "io/checkpoint_file.hpp"
 #include <netcdf.h>

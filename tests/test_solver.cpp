@@ -11,7 +11,7 @@
 #include "case_files.hpp"
 #include "case_measures.hpp"
 #include "base/errors.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "case_files.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fixture.hpp"
 #include "probe_fixture.hpp"
 

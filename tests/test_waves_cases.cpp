@@ -11,7 +11,7 @@
 
 #include "case_files.hpp"
 #include "case_measures.hpp"
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;

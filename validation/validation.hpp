@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 
 namespace fdem::validation {
 

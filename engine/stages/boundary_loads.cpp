@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "engine/kernel_args.hpp"
+#include "engine/device/kernel_args.hpp"
 #include <vector>
 
 namespace fdem {

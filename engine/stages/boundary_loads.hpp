@@ -1,10 +1,10 @@
 // Stage: tractions, pressures (constant, tabulated, blast) and absorbing tractions on
 // boundary edges (cl_kernels/boundary_loads.cl), with their work for the energy account.
 #pragma once
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/checkpoint.hpp"
-#include "engine/energy.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/energy/energy.hpp"
 
 namespace fdem {
 

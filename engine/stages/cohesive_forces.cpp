@@ -8,8 +8,8 @@
 #include <cmath>
 #include <string>
 
-#include "engine/device_arrays.hpp"
-#include "engine/errors.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 

@@ -3,12 +3,12 @@
 #include <utility>
 #include <vector>
 
-#include "engine/checkpoint.hpp"
-#include "engine/cl_context.hpp"
-#include "engine/cohesive_model.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/memory_plan.hpp"
-#include "engine/real.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/model/cohesive_model.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/memory_plan.hpp"
+#include "engine/model/real.hpp"
 #include "io/events_writer.hpp"
 
 namespace fdem {

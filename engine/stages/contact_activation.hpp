@@ -3,9 +3,9 @@
 #include <array>
 #include <vector>
 
-#include "engine/cl_context.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
 #include "engine/stages/monitor_ring.hpp"
 
 namespace fdem {

@@ -3,7 +3,7 @@
 #include <map>
 #include <string>
 
-#include "engine/layouts.hpp"
+#include "engine/model/layouts.hpp"
 
 namespace fdem {
 

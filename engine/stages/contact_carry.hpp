@@ -4,9 +4,9 @@
 #pragma once
 #include <algorithm>
 
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/memory_plan.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/memory_plan.hpp"
 
 namespace fdem {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "base/errors.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/kernel_args.hpp"
 
 namespace fdem {
 

@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/checkpoint.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
 
 namespace fdem {
 

@@ -2,9 +2,9 @@
 
 #include "engine/stages/contact_activation.hpp"
 
-#include "engine/energy.hpp"
+#include "engine/energy/energy.hpp"
 #include "base/errors.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/kernel_args.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -417,7 +417,11 @@ cl_uint ContactForces::joined_since_last_list() const {
 
 size_t ContactForces::carry_old_list() {
   ++epoch_;
-  const size_t carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since_last_list());
+  // Listed ahead of joins, a couple is "old" only by its history: a join's couples were in
+  // the last list too, and one met overlapping in its join's step must not be carried as
+  // old by the join (no mask value reaches the largest stamp).
+  const cl_uint joined_since = prelisted_ ? std::numeric_limits<cl_uint>::max() : joined_since_last_list();
+  const size_t carried = carry_.carry(keys_, history_, slot_, live_, active_, count_, joined_since);
   // The carry waited for the device: a full pool in the steps since the last check stops here.
   check_pool();
   return carried;

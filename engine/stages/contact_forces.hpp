@@ -2,11 +2,11 @@
 #pragma once
 #include <algorithm>
 
-#include "engine/checkpoint.hpp"
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/model.hpp"
-#include "engine/row_reads.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/model/model.hpp"
+#include "engine/device/row_reads.hpp"
 #include "engine/stages/contact_carry.hpp"
 #include "engine/stages/monitor_ring.hpp"
 

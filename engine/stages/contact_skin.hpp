@@ -4,8 +4,8 @@
 #include <functional>
 #include <vector>
 
-#include "engine/checkpoint.hpp"
-#include "engine/device_arrays.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "engine/stages/monitor_ring.hpp"
 
 namespace fdem {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "engine/device_arrays.hpp"
-#include "engine/errors.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "base/errors.hpp"
 
 namespace fdem {
 

@@ -1,12 +1,12 @@
 // Stage: fragment labelling (cl_kernels/fragments.cl). Not part of the step: run on
-// demand at output frames and history rows (engine/run.cpp, engine/history.cpp).
+// demand at output frames and history rows (engine/run/run.cpp, engine/outputs/history_table.cpp).
 #pragma once
 #include <array>
 #include <vector>
 
-#include "engine/cl_context.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/memory_plan.hpp"
+#include "engine/device/cl_context.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/memory_plan.hpp"
 
 namespace fdem {
 

@@ -93,7 +93,7 @@ void Integrate::enqueue(double time_after, int step, bool energy_row) {
   step_.set(step);
   energy_row_.set(energy_row ? 1 : 0);
   // One rank: the row's per-node energies exist for this step only (the ordered block sums
-  // below take them in node order, the rule of engine/energy.hpp); a split run keeps them
+  // below take them in node order, the rule of engine/energy/energy.hpp); a split run keeps them
   // for the gather of energy().
   const bool transient = energy_row && !keep_rows_;
   if (transient) {

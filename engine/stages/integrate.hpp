@@ -4,10 +4,10 @@
 #include <array>
 #include <optional>
 
-#include "engine/device_arrays.hpp"
-#include "engine/checkpoint.hpp"
-#include "engine/energy.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/energy/energy.hpp"
+#include "engine/device/kernel_args.hpp"
 #include "engine/stages/contact_skin.hpp"
 
 namespace fdem {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/kernel_args.hpp"
+#include "engine/device/kernel_args.hpp"
 
 namespace fdem {
 

@@ -1,8 +1,8 @@
 // Stage: lumped mass and the integrator's inertia (cl_kernels/lumped_mass.cl), run once
 // at set-up. Uses the corner_force array as scratch for the corner masses.
 #pragma once
-#include "engine/device_arrays.hpp"
-#include "engine/model.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/model/model.hpp"
 #include "engine/stages/node_gather.hpp"
 
 namespace fdem {

@@ -1,14 +1,14 @@
 // The monitor ring: per-step words that kernels write on the device and the host reads
 // late, so that the step loop never waits for the device. Slot slot_of(step) holds
-// RING_WORDS uints (engine/layouts.hpp): the contact skin test's largest move and speed
+// RING_WORDS uints (engine/model/layouts.hpp): the contact skin test's largest move and speed
 // (written by the integration, Integrate with a ContactSkin) and the join flag (written
 // by ContactActivation). ContactSkin reads it, kBatch slots at a time, and decides when
 // detection runs again. One object, built before the stages that write it.
 #pragma once
 #include <vector>
 
-#include "engine/device_arrays.hpp"
-#include "engine/layouts.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/model/layouts.hpp"
 
 namespace fdem {
 

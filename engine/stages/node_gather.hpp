@@ -5,8 +5,8 @@
 #include <map>
 #include <string>
 
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
 
 namespace fdem {
 

@@ -1,10 +1,10 @@
 // Stage: TRI3 internal forces (cl_kernels/triangle_forces.cl), with the strain energy and
 // viscous dissipation of the energy account.
 #pragma once
-#include "engine/device_arrays.hpp"
-#include "engine/kernel_args.hpp"
-#include "engine/checkpoint.hpp"
-#include "engine/energy.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/checkpoint.hpp"
+#include "engine/energy/energy.hpp"
 
 namespace fdem {
 

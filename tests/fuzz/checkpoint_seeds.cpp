@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/checkpoint_identity.hpp"
+#include "engine/model/checkpoint_identity.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace {

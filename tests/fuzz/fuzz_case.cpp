@@ -1,5 +1,5 @@
 // Fuzz target: the case file and its --set overrides, as `fdem check CASE` reads them
-// (engine/run.cpp prepare_case: io::read_case, then the mesh, the model, the stable step
+// (engine/run/run.cpp prepare_case: io::read_case, then the mesh, the model, the stable step
 // and the probes). The input is the case text; each line that starts with "#--set " also
 // gives an override (the rest of the line), so the TOML parser sees it as a comment.
 // Mesh files named by the case resolve against the scratch directory, which holds the
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/run.hpp"
+#include "engine/run/run.hpp"
 #include "fuzz_common.hpp"
 #include "io/case_config.hpp"
 

@@ -1,6 +1,6 @@
 // Fuzz target: checkpoint files (io/checkpoint_file.cpp: netCDF CDF-5 through libnetcdf,
 // the attributes, the arrays and their checksum), then what `fdem check FILE.ckpt`
-// prints and the restart's identity check (engine/checkpoint_identity.cpp check_fits)
+// prints and the restart's identity check (engine/model/checkpoint_identity.cpp check_fits)
 // against an empty prepared case: the seeds (tests/fuzz/checkpoint_seeds.cpp) are stamped
 // for that case, so a seed passes every check and mutations reach each refusal.
 // Inputs whose netCDF header does not fit in the file are not passed on (netcdf_header.hpp:
@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/checkpoint_identity.hpp"
-#include "engine/run.hpp"
+#include "engine/model/checkpoint_identity.hpp"
+#include "engine/run/run.hpp"
 #include "fuzz_common.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/netcdf_header.hpp"

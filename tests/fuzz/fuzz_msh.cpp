@@ -1,11 +1,11 @@
 // Fuzz target: Gmsh MSH 2.2 and 4.1, ASCII and binary (io/gmsh_msh.cpp on the byte
 // buffer of io/gmsh_buffer.hpp), then what the engine does with a mesh it accepted: one
 // refinement (io/mesh_refine.cpp) and a model with a fracturable material on every
-// physical surface (engine/model.cpp: CE4 insertion, boundary curves) and its stable step.
+// physical surface (engine/model/model.cpp: CE4 insertion, boundary curves) and its stable step.
 #include <string>
 #include <vector>
 
-#include "engine/model.hpp"
+#include "engine/model/model.hpp"
 #include "fuzz_common.hpp"
 #include "io/case_config.hpp"
 #include "io/gmsh_reader.hpp"

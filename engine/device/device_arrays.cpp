@@ -1,0 +1,180 @@
+#include "engine/device/device_arrays.hpp"
+
+#include <algorithm>
+#include <climits>
+
+#include "base/errors.hpp"
+
+namespace fdem {
+
+namespace {
+
+// The (time, pressure) points of every pressure table, one after another; one dummy
+// point when there are none.
+size_t pressure_point_count(const Model& model) {
+  size_t points = 0;
+  for (const auto& l : model.loads)
+    if (l.kind == LoadKind::Table) points += l.times.size();
+  return std::max<size_t>(points, 1);
+}
+
+}  // namespace
+
+MemoryPlan DeviceArrays::plan(const Model& model) {
+  const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
+  const size_t u = sizeof(uint32_t);
+  MemoryPlan p;
+  p.add("position", n * sizeof(real2))
+      .add("velocity", n * sizeof(real2))
+      .add("ref_position", n * sizeof(real2))
+      .add("node_force", n * sizeof(real2))
+      .add("node_mass", n * sizeof(real2))
+      .add("node_group", n * u)
+      .add("group_table", model.groups.size() * sizeof(real4))
+      .add("tri_nodes", 3 * t * u)
+      .add("ref_inverse", t * sizeof(real4))
+      .add("tri_material", t * u)
+      .add("materials", model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real))
+      .add("corner_force", 3 * t * sizeof(real2))
+      .add("stress", t * sizeof(real4), MemoryPlan::Lifetime::Output)
+      .add("corner_start", (n + 1) * u)
+      .add("corner_slot", 3 * t * u)
+      .add("edge_nodes", 2 * e * u)
+      .add("edge_load", e * u)
+      .add("load_table", std::max<size_t>(1, model.loads.size()) * sizeof(real4))
+      .add("pressure_points", pressure_point_count(model) * sizeof(real2))
+      .add("edge_force", 2 * e * sizeof(real2))
+      .add("edge_start", (n + 1) * u)
+      .add("edge_slot", 2 * e * u)
+      .add("ce4_start", (n + 1) * u)
+      .add("ce4_slot", std::max<size_t>(1, 4 * model.ce4.size()) * u)  // 4 slots per CE4
+      .add("contact_acc", (model.contact.enabled ? n : 1) * 2 * sizeof(cl_long))
+      .add("conditions", layout::CONDITION_WORDS * sizeof(int));
+  return p;
+}
+
+compute::buffer& DeviceArrays::output_stress(ClContext& cl) {
+  if (stress.get() == nullptr) {
+    stress = cl.allocate(stress_bytes_, "stress");
+    // A triangle the stress pass finds inverted or not finite writes nothing: it reads 0,
+    // not what the new array happened to hold (a failed run's last frame; every rank of a
+    // split run the same). Before the array was transient it kept the last output's value.
+    const real zero = 0;
+    cl.queue().enqueue_fill_buffer(stress, &zero, sizeof(zero), 0, stress_bytes_);
+  }
+  return stress;
+}
+
+DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
+    : num_nodes(model.num_nodes()),
+      num_triangles(model.num_triangles()),
+      num_loaded_edges(model.loaded_edges.size()) {
+  const size_t n = num_nodes, t = num_triangles, e = num_loaded_edges;
+  const MemoryPlan plan = DeviceArrays::plan(model);
+  position = plan.allocate(cl, "position");
+  velocity = plan.allocate(cl, "velocity");
+  ref_position = plan.allocate(cl, "ref_position");
+  node_force = plan.allocate(cl, "node_force");
+  node_mass = plan.allocate(cl, "node_mass");
+  node_group = plan.allocate(cl, "node_group");
+  group_table = plan.allocate(cl, "group_table");
+  tri_nodes = plan.allocate(cl, "tri_nodes");
+  ref_inverse = plan.allocate(cl, "ref_inverse");
+  tri_material = plan.allocate(cl, "tri_material");
+  materials = plan.allocate(cl, "materials");
+  corner_force = plan.allocate(cl, "corner_force");
+  stress_bytes_ = plan.bytes("stress");  // allocated for output steps only (output_stress)
+  corner_start = plan.allocate(cl, "corner_start");
+  corner_slot = plan.allocate(cl, "corner_slot");
+  edge_nodes = plan.allocate(cl, "edge_nodes");
+  edge_load = plan.allocate(cl, "edge_load");
+  load_table = plan.allocate(cl, "load_table");
+  pressure_points = plan.allocate(cl, "pressure_points");
+  edge_force = plan.allocate(cl, "edge_force");
+  edge_start = plan.allocate(cl, "edge_start");
+  edge_slot = plan.allocate(cl, "edge_slot");
+  ce4_start = plan.allocate(cl, "ce4_start");
+  ce4_slot = plan.allocate(cl, "ce4_slot");
+  contact_acc = plan.allocate(cl, "contact_acc");
+  conditions = plan.allocate(cl, "conditions");
+  const SlotMap ce4 = build_slot_map(n, model.ce4);
+  upload(cl, ce4_start, ce4.start);
+  upload(cl, ce4_slot, ce4.slot);
+
+  std::vector<real2> pos(n), vel(n);
+  for (size_t i = 0; i < n; ++i) {
+    pos[i] = {real(model.x[i]), real(model.y[i])};
+    vel[i] = {real(model.vx0[i]), real(model.vy0[i])};
+  }
+  upload(cl, position, pos);
+  upload(cl, ref_position, pos);
+  upload(cl, velocity, vel);
+  upload(cl, node_group, model.node_group);
+  std::vector<real4> groups;
+  for (const auto& g : model.groups) groups.push_back({real(g.mask), real(g.vx), real(g.vy), real(g.rise)});
+  upload(cl, group_table, groups);
+
+  std::vector<uint32_t> tn(3 * t), tm(t);
+  std::vector<real4> inv(t);
+  for (size_t k = 0; k < t; ++k) {
+    const auto& tri = model.triangles[k];
+    for (int j = 0; j < 3; ++j) tn[3 * k + j] = static_cast<uint32_t>(tri[j]);
+    tm[k] = static_cast<uint32_t>(model.triangle_material[k]);
+    const double a = model.x[tri[1]] - model.x[tri[0]], b = model.x[tri[2]] - model.x[tri[0]];
+    const double c = model.y[tri[1]] - model.y[tri[0]], d = model.y[tri[2]] - model.y[tri[0]];
+    const double det = a * d - b * c;  // > 0: build_model oriented every triangle
+    inv[k] = {real(d / det), real(-b / det), real(-c / det), real(a / det)};
+  }
+  upload(cl, tri_nodes, tn);
+  upload(cl, tri_material, tm);
+  upload(cl, ref_inverse, inv);
+  std::vector<real> table;
+  for (double v : material_table(model.materials)) table.push_back(real(v));
+  upload(cl, materials, table);
+  const SlotMap corners = build_slot_map(n, model.triangles);
+  upload(cl, corner_start, corners.start);
+  upload(cl, corner_slot, corners.slot);
+
+  std::vector<uint32_t> en(2 * e), el(e);
+  std::vector<std::array<int, 2>> edge_items(e);
+  for (size_t k = 0; k < e; ++k) {
+    const auto& edge = model.loaded_edges[k];
+    en[2 * k] = static_cast<uint32_t>(edge.a);
+    en[2 * k + 1] = static_cast<uint32_t>(edge.b);
+    el[k] = static_cast<uint32_t>(edge.load);
+    edge_items[k] = {edge.a, edge.b};
+  }
+  upload(cl, edge_nodes, en);
+  upload(cl, edge_load, el);
+  std::vector<real4> loads;
+  std::vector<real2> points;
+  for (const auto& l : model.loads) {
+    const real kind = real(static_cast<int>(l.kind));
+    switch (l.kind) {
+      case LoadKind::Traction: loads.push_back({kind, real(l.tx), real(l.ty), real(l.rise)}); break;
+      case LoadKind::Pressure: loads.push_back({kind, real(l.pressure), real(l.rise), 0}); break;
+      case LoadKind::Blast: {
+        const BlastPulse b = blast_pulse(l.pressure, l.rise, l.ratio);
+        loads.push_back({kind, real(b.scale), real(b.alpha), real(b.beta)});
+        break;
+      }
+      case LoadKind::Table:
+        loads.push_back({kind, real(points.size()), real(l.times.size()), 0});
+        for (size_t k = 0; k < l.times.size(); ++k) points.push_back({real(l.times[k]), real(l.values[k])});
+        break;
+      case LoadKind::Absorbing: loads.push_back({kind, real(l.material), 0, 0}); break;
+    }
+  }
+  upload(cl, load_table, loads);
+  if (points.empty()) points.push_back({0, 0});
+  upload(cl, pressure_points, points);
+  const SlotMap edges = build_slot_map(n, edge_items);
+  upload(cl, edge_start, edges.start);
+  upload(cl, edge_slot, edges.slot);
+
+  upload(cl, contact_acc, std::vector<cl_long>((model.contact.enabled ? n : 1) * 2, 0));
+  upload(cl, conditions, std::vector<int>(layout::CONDITION_WORDS, INT_MAX));
+  cl.finish();
+}
+
+}  // namespace fdem

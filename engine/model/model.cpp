@@ -1,0 +1,763 @@
+#include "engine/model/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "base/errors.hpp"
+#include "base/format.hpp"
+#include "io/mesh.hpp"
+#include "io/suggest.hpp"
+
+namespace fdem {
+
+namespace {
+
+std::string dim_word(int dim) { return dim == 2 ? "surface" : dim == 1 ? "curve" : "point"; }
+
+std::vector<std::string> group_names(const io::Mesh& mesh, int dim = -1) {
+  std::vector<std::string> names;
+  for (const auto& g : mesh.groups)
+    if ((dim < 0 || g.dim == dim) && !g.name.empty()) names.push_back(g.name);
+  return names;
+}
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out.empty() ? "(none)" : out;
+}
+
+// Group indices with this name (any dimension), or an InputError with a suggestion.
+std::vector<int> find_region(const io::Mesh& mesh, const std::string& name, const std::string& where) {
+  std::vector<int> found;
+  for (size_t g = 0; g < mesh.groups.size(); ++g)
+    if (mesh.groups[g].name == name) found.push_back(static_cast<int>(g));
+  if (found.empty())
+    throw InputError(where + ": region '" + name + "' is not a physical group of mesh " +
+                     mesh.source + io::did_you_mean(name, group_names(mesh)) +
+                     "; its physical groups are " + list_names(group_names(mesh)));
+  return found;
+}
+
+struct EdgeOwner {
+  int triangle = -1;
+  int a = 0, b = 0;  // the edge in the triangle's counter-clockwise order
+  int count = 0;     // triangles sharing the edge
+};
+
+std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+}  // namespace
+
+double mean_edge_length(const Model& model) {
+  double sum = 0;
+  size_t edges = 0;
+  for (const auto& tri : model.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      sum += std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]);
+      ++edges;
+    }
+  return edges ? sum / static_cast<double>(edges) : 0.0;
+}
+
+double default_skin(const Model& model) { return kDefaultSkinFraction * mean_edge_length(model); }
+
+double default_tangential_penalty(double normal_penalty, double mean_edge) {
+  return kTangentialPenaltyFactor * normal_penalty / mean_edge;
+}
+
+namespace {
+
+// `mean_edge`: mean_edge_length of the model, the h of the default P_tan.
+ContactModel build_contact(const io::ContactConfig& c, const io::CaseConfig& config, double mean_edge) {
+  ContactModel contact;
+  contact.enabled = true;
+  contact.rebuild_skin = c.rebuild == io::ContactRebuild::Skin;
+  contact.skin = c.skin.value_or(0.0);  // a skin rebuild without `skin`: set from the mesh (default_skin)
+  contact.skin_from_mesh = contact.rebuild_skin && !c.skin;
+  contact.skin_auto = contact.rebuild_skin && c.skin_auto;
+  contact.list_ahead = contact.rebuild_skin && c.activation == "fractured";
+  const size_t n = config.materials.size();
+  auto row = [&](double pn, double ptan, double mu, const std::optional<io::ContactDampingConfig>& d) {
+    const double T = d ? d->transition : std::numeric_limits<double>::infinity();
+    const double b = d ? d->exponent : 1.0;
+    const bool damped = d && (std::isfinite(T) || b != 1.0);
+    std::array<double, layout::CONTACT_PROPS> props{};
+    props[layout::PAIR_NORMAL_PENALTY] = pn;
+    props[layout::PAIR_TANGENTIAL_PENALTY] = ptan;
+    props[layout::PAIR_FRICTION] = mu;
+    props[layout::PAIR_TENSILE] = std::isfinite(T) ? T : std::numeric_limits<double>::max();
+    props[layout::PAIR_DAMPING] = b;
+    props[layout::PAIR_DAMPED] = damped ? 1.0 : 0.0;
+    contact.pair_props.insert(contact.pair_props.end(), props.begin(), props.end());
+    contact.max_normal_penalty = std::max(contact.max_normal_penalty, pn);
+    contact.max_tangential_penalty = std::max(contact.max_tangential_penalty, ptan);
+    return static_cast<uint32_t>(contact.pair_props.size() / layout::CONTACT_PROPS - 1);
+  };
+  // P_tan not given in the pair nor in [contact]: consistent with the pair's own P_n.
+  auto tangential = [&](const std::optional<double>& pair_value, double pn) {
+    return pair_value ? *pair_value
+                      : c.tangential_penalty ? *c.tangential_penalty : default_tangential_penalty(pn, mean_edge);
+  };
+  const uint32_t defaults =
+      row(c.normal_penalty, tangential(std::nullopt, c.normal_penalty), c.friction, c.damping);
+  contact.pair_index.assign(n * n, defaults);
+  auto index_of = [&](const std::string& name) {
+    for (size_t m = 0; m < n; ++m)
+      if (config.materials[m].name == name) return m;
+    throw InputError(config.path + ": contact.pair names unknown material '" + name + "'");
+  };
+  for (const auto& pair : c.pairs) {
+    const size_t a = index_of(pair.materials[0]), b = index_of(pair.materials[1]);
+    const double pn = pair.normal_penalty.value_or(c.normal_penalty);
+    const uint32_t r = row(pn, tangential(pair.tangential_penalty, pn), pair.friction.value_or(c.friction),
+                           pair.damping ? pair.damping : c.damping);
+    contact.pair_index[a * n + b] = contact.pair_index[b * n + a] = r;
+  }
+  return contact;
+}
+
+FractureProperties fracture_properties(const io::FractureConfig& f) {
+  FractureProperties p;
+  p.tensile_strength = f.tensile_strength;
+  p.cohesion = f.cohesion;
+  p.friction_angle = f.friction_angle;
+  p.gf1 = f.gf1;
+  p.gf2 = f.gf2;
+  p.penalty_opening = f.penalty_opening;
+  p.penalty_sliding = f.penalty_sliding;
+  p.penalty_overlap = f.penalty_overlap;
+  p.a = f.softening_a;
+  p.b = f.softening_b;
+  p.c = f.softening_c;
+  return p;
+}
+
+// Gives every triangle of a fracturable material its own three nodes and puts a CE4 on
+// every interior edge between two fracturable triangles (same material, or two
+// materials joined by an [[interface]]). Every node-indexed array of the model follows:
+// a region, boundary condition or initial velocity on an original node applies to all
+// of its copies; a loaded edge moves to the copies of its one triangle.
+void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<std::string>& notes) {
+  const size_t n_materials = config.materials.size();
+  std::vector<int> material_fracture(n_materials, -1);
+  for (size_t m = 0; m < n_materials; ++m)
+    if (config.materials[m].fracture) {
+      material_fracture[m] = static_cast<int>(model.fracture.size());
+      model.fracture.push_back(fracture_properties(*config.materials[m].fracture));
+    }
+  model.triangle_fracturable.assign(model.num_triangles(), false);
+  bool any = false;
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    any |= model.triangle_fracturable[t] = material_fracture[model.triangle_material[t]] >= 0;
+  if (!any) return;
+  std::vector<int> pair_fracture(n_materials * n_materials, -1);
+  for (size_t m = 0; m < n_materials; ++m) pair_fracture[m * n_materials + m] = material_fracture[m];
+  for (const auto& interface : config.interfaces) {
+    size_t a = 0, b = 0;
+    for (size_t m = 0; m < n_materials; ++m) {
+      if (config.materials[m].name == interface.materials[0]) a = m;
+      if (config.materials[m].name == interface.materials[1]) b = m;
+    }
+    const int index = static_cast<int>(model.fracture.size());
+    model.fracture.push_back(fracture_properties(interface.fracture));
+    pair_fracture[a * n_materials + b] = pair_fracture[b * n_materials + a] = index;
+  }
+
+  // Interior edges of the unsplit mesh: (a, b) of triangle t1 in its CCW order, the
+  // twin (b, a) of t2.
+  struct Side {
+    int triangle = -1, corner = 0;  // the edge runs from corner to corner + 1
+  };
+  std::map<std::pair<int, int>, std::array<Side, 2>> edges;
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      const int a = model.triangles[t][e], b = model.triangles[t][(e + 1) % 3];
+      auto& sides = edges[edge_key(a, b)];
+      sides[sides[0].triangle < 0 ? 0 : 1] = {static_cast<int>(t), e};
+    }
+
+  // New nodes in triangle order (keeps neighbours close in memory): a shared node keeps
+  // one index for the non-fracturable triangles; each fracturable corner gets its own.
+  const size_t old_nodes = model.num_nodes();
+  std::vector<int> shared_index(old_nodes, -1);
+  std::vector<std::vector<int>> copies(old_nodes);
+  std::vector<int> origin;  // original node of each new node
+  auto new_node = [&](int old) {
+    origin.push_back(old);
+    copies[old].push_back(static_cast<int>(origin.size() - 1));
+    return static_cast<int>(origin.size() - 1);
+  };
+  std::vector<std::array<int, 3>> triangles = model.triangles;
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int old = model.triangles[t][k];
+      if (model.triangle_fracturable[t]) {
+        triangles[t][k] = new_node(old);
+      } else {
+        if (shared_index[old] < 0) shared_index[old] = new_node(old);
+        triangles[t][k] = shared_index[old];
+      }
+    }
+
+  // CE4s on interior fracturable edges.
+  size_t unbonded = 0;
+  for (const auto& [key, sides] : edges) {
+    if (sides[1].triangle < 0) continue;  // boundary edge
+    const int t1 = sides[0].triangle, t2 = sides[1].triangle;
+    if (!model.triangle_fracturable[t1] || !model.triangle_fracturable[t2]) continue;
+    const int props = pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
+    if (props < 0) {
+      ++unbonded;
+      continue;
+    }
+    const int c1 = sides[0].corner, c2 = sides[1].corner;
+    // t1 runs a → b, t2 runs b → a: i = a in t1, j = b in t1, j' = b in t2, i' = a in t2.
+    model.ce4.push_back({triangles[t1][c1], triangles[t1][(c1 + 1) % 3], triangles[t2][c2], triangles[t2][(c2 + 1) % 3]});
+    model.ce4_triangles.push_back({t1, t2});
+    model.ce4_properties.push_back(props);
+  }
+  if (unbonded)
+    notes.push_back(std::to_string(unbonded) + " edges between two different fracturable materials have no [[interface]]: "
+                    "they are not bonded (free surfaces in contact)");
+
+  // Bonded fans: a mesh node whose triangles are all fracturable and whose interior edges
+  // all got a CE4 (an unbonded interface or a non-fracturable neighbour breaks the fan).
+  model.vertex_bonded.assign(old_nodes, 1);
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    if (!model.triangle_fracturable[t])
+      for (int v : model.triangles[t]) model.vertex_bonded[v] = 0;
+  for (const auto& [key, sides] : edges) {
+    if (sides[1].triangle < 0) continue;
+    const int t1 = sides[0].triangle, t2 = sides[1].triangle;
+    const bool bonded = model.triangle_fracturable[t1] && model.triangle_fracturable[t2] &&
+                        pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]] >= 0;
+    if (!bonded) model.vertex_bonded[key.first] = model.vertex_bonded[key.second] = 0;
+  }
+  model.node_origin = origin;
+
+  // Node-indexed arrays follow the split.
+  const Model old = model;
+  model.x.clear(), model.y.clear(), model.node_tags.clear(), model.node_group.clear();
+  model.vx0.clear(), model.vy0.clear();
+  for (int o : origin) {
+    model.x.push_back(old.x[o]);
+    model.y.push_back(old.y[o]);
+    model.node_tags.push_back(old.node_tags[o]);
+    model.node_group.push_back(old.node_group[o]);
+    model.vx0.push_back(old.vx0[o]);
+    model.vy0.push_back(old.vy0[o]);
+  }
+  for (auto& region : model.regions) {
+    std::vector<int> nodes;
+    for (int o : region.nodes) nodes.insert(nodes.end(), copies[o].begin(), copies[o].end());
+    std::sort(nodes.begin(), nodes.end());
+    region.nodes = nodes;
+  }
+  for (auto& edge : model.loaded_edges) {
+    const auto& sides = edges.at(edge_key(edge.a, edge.b));
+    const Side& side = sides[0];  // a loaded edge is a boundary edge: one triangle
+    edge.a = triangles[side.triangle][side.corner];
+    edge.b = triangles[side.triangle][(side.corner + 1) % 3];
+  }
+  model.triangles = triangles;
+  notes.push_back("fracturable regions split: " + std::to_string(old_nodes) + " → " + std::to_string(model.num_nodes()) +
+                  " nodes, " + std::to_string(model.ce4.size()) + " CE4s");
+}
+
+// Contact candidates for activation = "fractured": triangles with a node in a listed region.
+std::vector<uint32_t> initial_candidates(const Model& model, const io::ContactConfig& contact) {
+  if (contact.activation != "fractured") return {};
+  std::vector<char> listed(model.num_nodes(), 0);
+  for (const auto& name : contact.regions)
+    for (const auto& region : model.regions)
+      if (region.name == name)
+        for (int n : region.nodes) listed[n] = 1;
+  std::vector<uint32_t> active(model.num_triangles(), 0);
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int n : model.triangles[t]) active[t] |= listed[n];
+  return active;
+}
+
+}  // namespace
+
+Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
+                  std::vector<std::string>& notes) {
+  io::Mesh mesh = source_mesh;
+  const int flipped = io::orient_triangles(mesh, &notes);
+  (void)flipped;
+  // Refinement comes before anything reads the mesh, so materials, fracturable regions,
+  // boundary curves, loads, probes and contact all see the refined one. Orientation is
+  // checked first: the children keep their parent's counter-clockwise order, and notes
+  // about the file name its own element tags.
+  if (config.mesh.refine > 0) {
+    const size_t nodes = mesh.x.size(), triangles = mesh.triangles.size(), lines = mesh.lines.size();
+    const std::string key = "mesh.refine = " + std::to_string(config.mesh.refine);
+    io::refine_mesh(mesh, config.mesh.refine, config.path + ": " + key);
+    notes.push_back(mesh.source + " refined (" + key + "): " + std::to_string(triangles) + " → " +
+                    std::to_string(mesh.triangles.size()) + " triangles, " + std::to_string(nodes) + " → " +
+                    std::to_string(mesh.x.size()) + " nodes, " + std::to_string(lines) + " → " +
+                    std::to_string(mesh.lines.size()) + " line elements");
+  }
+  const double scale = config.mesh.scale;
+
+  Model model;
+  model.mesh_path = mesh.source;
+  model.thickness = config.mesh.thickness;
+  model.gravity = config.gravity.g;
+  model.local_damping = config.damping.local_enabled ? config.damping.local : 0.0;
+  model.mass_scaling = config.damping.mass_scaling;
+
+  // Materials own physical surfaces.
+  std::vector<int> group_material(mesh.groups.size(), -1);
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const auto& mat = config.materials[m];
+    for (const auto& region : mat.regions) {
+      const std::string where = config.path + ": material[" + std::to_string(m) + "] ('" + mat.name + "').regions";
+      const int g = mesh.find_group(region, 2);
+      if (g < 0) {
+        if (mesh.find_group(region, 1) >= 0)
+          throw InputError(where + ": '" + region + "' is a physical curve of " + mesh.source +
+                           ", not a surface; materials take physical surfaces");
+        throw InputError(where + ": no physical surface '" + region + "' in " + mesh.source +
+                         io::did_you_mean(region, group_names(mesh, 2)) + "; its surfaces are " +
+                         list_names(group_names(mesh, 2)));
+      }
+      if (group_material[g] >= 0 && group_material[g] != static_cast<int>(m))
+        throw InputError(where + ": surface '" + region + "' already belongs to material '" +
+                         config.materials[group_material[g]].name + "'");
+      group_material[g] = static_cast<int>(m);
+    }
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int g = mesh.triangle_group[t];
+    if (group_material[g] < 0) {
+      const auto& group = mesh.groups[g];
+      throw InputError(mesh.source + ": physical surface '" + group.name + "' (tag " +
+                       std::to_string(group.tag) + ", e.g. element " +
+                       std::to_string(mesh.triangle_tags[t]) +
+                       ") has no material: list it in the regions of a [[material]] in " + config.path);
+    }
+  }
+
+  // mesh.perturb: interior nodes of the fracturable surfaces moved at random (a crack runs
+  // along edges, so a lattice-like mesh would steer it), before anything measures the mesh.
+  if (config.mesh.perturb > 0) {
+    std::vector<char> movable(mesh.groups.size(), 0);
+    for (size_t g = 0; g < mesh.groups.size(); ++g)
+      movable[g] = group_material[g] >= 0 && config.materials[group_material[g]].fracture.has_value();
+    const io::PerturbSummary s = io::perturb_mesh(
+        mesh, movable, io::PerturbOptions{config.mesh.perturb, static_cast<unsigned long long>(config.mesh.perturb_seed),
+                                          config.mesh.perturb_min_quality});
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "mesh.perturb (amplitude %g, seed %ld, min_quality %g): %ld of %ld interior nodes of the fracturable "
+                  "surfaces moved, %ld kept in place by the guard; smallest quality %.3f -> %.3f, smallest height "
+                  "%.4g -> %.4g (mesh units)",
+                  config.mesh.perturb, config.mesh.perturb_seed, config.mesh.perturb_min_quality, s.moved, s.movable,
+                  s.kept, s.min_quality_before, s.min_quality_after, s.min_height_before, s.min_height_after);
+    notes.push_back(text);
+  }
+
+  // Triangles grouped by material, stable within a material (keeps the mesher's locality).
+  std::vector<size_t> order(mesh.triangles.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return group_material[mesh.triangle_group[a]] < group_material[mesh.triangle_group[b]];
+  });
+
+  // Nodes used by triangles, renumbered in their original order.
+  std::vector<int> new_index(mesh.x.size(), -1);
+  for (const auto& tri : mesh.triangles)
+    for (int n : tri) new_index[n] = 0;
+  size_t used = 0;
+  for (size_t n = 0; n < mesh.x.size(); ++n)
+    if (new_index[n] >= 0) {
+      new_index[n] = static_cast<int>(used++);
+      model.x.push_back(mesh.x[n] * scale);
+      model.y.push_back(mesh.y[n] * scale);
+      model.node_tags.push_back(mesh.node_tags[n]);
+    }
+  if (used < mesh.x.size())
+    notes.push_back(std::to_string(mesh.x.size() - used) + " mesh nodes belong to no triangle and were dropped");
+
+  model.block_start.assign(config.materials.size() + 1, 0);
+  std::vector<double> edge_sum(config.materials.size(), 0.0);
+  for (size_t k : order) {
+    const auto& tri = mesh.triangles[k];
+    const int mat = group_material[mesh.triangle_group[k]];
+    model.triangles.push_back({new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]});
+    model.triangle_material.push_back(mat);
+    model.triangle_tags.push_back(mesh.triangle_tags[k]);
+    model.block_start[mat + 1]++;
+    const auto& t = model.triangles.back();
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      edge_sum[mat] += std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]);
+    }
+  }
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const size_t count = model.block_start[m + 1];
+    model.block_start[m + 1] += model.block_start[m];
+    if (count == 0)
+      notes.push_back("material '" + config.materials[m].name + "' has no triangles");
+    model.materials.push_back(make_material(config.materials[m], count ? edge_sum[m] / (3.0 * count) : 0.0));
+  }
+
+  // Regions named by boundary and initial entries.
+  auto region_nodes = [&](const std::string& name, const std::string& where, int* dim_out) {
+    const auto groups = find_region(mesh, name, where);
+    std::vector<int> nodes;
+    int dim = 0;
+    for (int g : groups) {
+      dim = std::max(dim, mesh.groups[g].dim);
+      for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        if (mesh.triangle_group[t] == g) nodes.insert(nodes.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+      for (size_t l = 0; l < mesh.lines.size(); ++l)
+        if (mesh.line_group[l] == g) nodes.insert(nodes.end(), mesh.lines[l].begin(), mesh.lines[l].end());
+      for (size_t p = 0; p < mesh.points.size(); ++p)
+        if (mesh.point_group[p] == g) nodes.push_back(mesh.points[p]);
+    }
+    std::vector<int> mapped;
+    for (int n : nodes)
+      if (new_index[n] >= 0) mapped.push_back(new_index[n]);
+    std::sort(mapped.begin(), mapped.end());
+    mapped.erase(std::unique(mapped.begin(), mapped.end()), mapped.end());
+    if (mapped.empty())
+      throw InputError(where + ": region '" + name + "' of " + mesh.source + " has no nodes on any triangle");
+    if (dim_out) *dim_out = dim;
+    return mapped;
+  };
+  auto remember_region = [&](const std::string& name, int dim, const std::vector<int>& nodes, bool prescribed) {
+    for (auto& r : model.regions)
+      if (r.name == name) {
+        r.prescribed = r.prescribed || prescribed;
+        return;
+      }
+    model.regions.push_back({name, dim, nodes, prescribed});
+  };
+
+  // Prescribed motion, combined per node (a corner node may be fixed in x by one
+  // entry and in y by another).
+  std::vector<BoundaryGroup> node_bc(model.num_nodes());
+  std::vector<int> node_bc_entry(2 * model.num_nodes(), -1);  // which entry set vx / vy
+  // Edges of the triangles, for orienting loaded curves.
+  std::map<std::pair<int, int>, EdgeOwner> edges;
+  auto build_edges = [&]() {
+    if (!edges.empty()) return;
+    for (size_t t = 0; t < model.triangles.size(); ++t)
+      for (int e = 0; e < 3; ++e) {
+        const int a = model.triangles[t][e], b = model.triangles[t][(e + 1) % 3];
+        auto& owner = edges[edge_key(a, b)];
+        owner.triangle = static_cast<int>(t);
+        owner.a = a;
+        owner.b = b;
+        owner.count++;
+      }
+  };
+
+  for (size_t i = 0; i < config.boundaries.size(); ++i) {
+    const auto& bc = config.boundaries[i];
+    const std::string where = config.path + ": boundary[" + std::to_string(i) + "]";
+    int dim = 0;
+    const auto nodes = region_nodes(bc.region, where, &dim);
+    const bool prescribes = bc.fix_x || bc.fix_y || bc.velocity.has_value();
+    remember_region(bc.region, dim, nodes, prescribes);
+
+    if (prescribes) {
+      for (int n : nodes) {
+        for (int axis = 0; axis < 2; ++axis) {
+          const bool set = (axis == 0 ? bc.fix_x : bc.fix_y) || bc.velocity.has_value();
+          if (!set) continue;
+          const double v = bc.velocity ? (*bc.velocity)[axis] : 0.0;
+          auto& g = node_bc[n];
+          const uint32_t bit = 1u << axis;
+          double& gv = axis == 0 ? g.vx : g.vy;
+          if ((g.mask & bit) && gv != v) {
+            const auto& other = config.boundaries[node_bc_entry[2 * n + axis]];
+            throw InputError(where + ": region '" + bc.region + "' prescribes v" + "xy"[axis] + " = " +
+                             std::to_string(v) + " on node " + std::to_string(model.node_tags[n]) +
+                             ", which region '" + other.region + "' already prescribes as " +
+                             std::to_string(gv));
+          }
+          if (v != 0.0 && bc.rise > 0.0) {
+            if (g.rise > 0.0 && g.rise != bc.rise)
+              throw InputError(where + ": node " + std::to_string(model.node_tags[n]) +
+                               " gets two different rise times for its prescribed velocity");
+            g.rise = bc.rise;
+          }
+          g.mask |= bit;
+          gv = v;
+          node_bc_entry[2 * n + axis] = static_cast<int>(i);
+        }
+      }
+    }
+
+    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing) {
+      if (dim != 1)
+        throw InputError(where + ": loads and absorbing boundaries act on a physical curve; '" + bc.region +
+                         "' is a " + dim_word(dim));
+      build_edges();
+      EdgeLoad load;
+      if (bc.traction) load.tx = (*bc.traction)[0], load.ty = (*bc.traction)[1];
+      if (bc.pressure) load.kind = LoadKind::Pressure, load.pressure = *bc.pressure;
+      load.rise = bc.rise;
+      if (bc.pressure_table) {
+        load.kind = LoadKind::Table;
+        load.times = bc.pressure_table->times;
+        load.values = bc.pressure_table->values;
+      }
+      if (bc.blast) {
+        load.kind = LoadKind::Blast;
+        load.pressure = bc.blast->peak;
+        load.rise = bc.blast->rise;
+        load.ratio = bc.blast->ratio;
+      }
+      if (bc.absorbing) load.kind = LoadKind::Absorbing;
+      // An absorbing edge needs the impedance of its own material: one load per
+      // material along the curve.
+      std::map<int, int> load_of_material;
+      auto load_for = [&](int triangle) {
+        const int material = load.kind == LoadKind::Absorbing ? model.triangle_material[triangle] : -1;
+        auto found = load_of_material.find(material);
+        if (found != load_of_material.end()) return found->second;
+        load.material = material;
+        model.loads.push_back(load);
+        return load_of_material[material] = static_cast<int>(model.loads.size() - 1);
+      };
+      for (int g : find_region(mesh, bc.region, where)) {
+        for (size_t l = 0; l < mesh.lines.size(); ++l) {
+          if (mesh.line_group[l] != g) continue;
+          const int a = new_index[mesh.lines[l][0]], b = new_index[mesh.lines[l][1]];
+          auto it = (a >= 0 && b >= 0) ? edges.find(edge_key(a, b)) : edges.end();
+          if (it == edges.end())
+            throw InputError(mesh.source + ": line element " + std::to_string(mesh.line_tags[l]) + " of curve '" +
+                             bc.region + "' is not an edge of any triangle (the curve must be meshed with the surface)");
+          if (it->second.count != 1)
+            throw InputError(where + ": curve '" + bc.region + "' runs inside the body (line element " +
+                             std::to_string(mesh.line_tags[l]) + " lies between two triangles); loads act on the boundary");
+          model.loaded_edges.push_back({it->second.a, it->second.b, load_for(it->second.triangle)});
+        }
+      }
+    }
+  }
+
+  // Deduplicate per-node prescriptions into groups; group 0 is the free node.
+  model.groups.push_back(BoundaryGroup{});
+  model.node_group.assign(model.num_nodes(), 0);
+  for (size_t n = 0; n < model.num_nodes(); ++n) {
+    if (node_bc[n].mask == 0) continue;
+    auto it = std::find(model.groups.begin() + 1, model.groups.end(), node_bc[n]);
+    if (it == model.groups.end()) {
+      model.groups.push_back(node_bc[n]);
+      it = model.groups.end() - 1;
+    }
+    model.node_group[n] = static_cast<uint32_t>(it - model.groups.begin());
+  }
+
+  model.vx0.assign(model.num_nodes(), 0.0);
+  model.vy0.assign(model.num_nodes(), 0.0);
+  for (size_t i = 0; i < config.initials.size(); ++i) {
+    const auto& init = config.initials[i];
+    const std::string where = config.path + ": initial[" + std::to_string(i) + "]";
+    int dim = 0;
+    const auto nodes = region_nodes(init.region, where, &dim);
+    remember_region(init.region, dim, nodes, false);
+    for (int n : nodes) {
+      model.vx0[n] = init.velocity[0];
+      model.vy0[n] = init.velocity[1];
+    }
+  }
+  for (const auto& name : config.output.regions) {
+    int dim = 0;
+    const auto nodes = region_nodes(name, config.path + ": output.regions", &dim);
+    remember_region(name, dim, nodes, false);
+  }
+  if (config.contact) {
+    model.contact = build_contact(*config.contact, config, mean_edge_length(model));
+    if (model.contact.skin_from_mesh) model.contact.skin = default_skin(model);
+    for (const auto& name : config.contact->regions) {
+      int dim = 0;
+      const auto nodes = region_nodes(name, config.path + ": contact.regions", &dim);
+      remember_region(name, dim, nodes, false);
+    }
+  }
+
+  // Prescribed velocities hold from the start.
+  for (size_t n = 0; n < model.num_nodes(); ++n) {
+    const auto& g = model.groups[model.node_group[n]];
+    if (g.rise > 0) continue;
+    if (g.mask & 1u) model.vx0[n] = g.vx;
+    if (g.mask & 2u) model.vy0[n] = g.vy;
+  }
+  split_fracturable(model, config, notes);
+  if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
+  return model;
+}
+
+BlastPulse blast_pulse(double peak, double rise, double ratio) {
+  // t₀ = ln r / (β − α) with β = r α gives α = ln r / (t₀ (r − 1)).
+  BlastPulse p;
+  p.alpha = std::log(ratio) / (rise * (ratio - 1.0));
+  p.beta = ratio * p.alpha;
+  p.scale = peak / (std::exp(-p.alpha * rise) - std::exp(-p.beta * rise));
+  return p;
+}
+
+StableStep stable_time_step(const Model& model) {
+  // Absorbing edges (keyed by their nodes, the triangle's own copies) and their length.
+  std::map<std::pair<int, int>, double> absorbing;
+  for (const auto& e : model.loaded_edges)
+    if (model.loads[e.load].kind == LoadKind::Absorbing)
+      absorbing[edge_key(e.a, e.b)] += std::hypot(model.x[e.b] - model.x[e.a], model.y[e.b] - model.y[e.a]);
+  StableStep best{std::numeric_limits<double>::infinity(), 0};
+  for (size_t t = 0; t < model.num_triangles(); ++t) {
+    const auto& tri = model.triangles[t];
+    const auto& m = model.materials[model.triangle_material[t]];
+    double dashpot_length = 0;  // absorbing edges of this triangle [m]
+    if (!absorbing.empty())
+      for (int e = 0; e < 3; ++e)
+        if (auto it = absorbing.find(edge_key(tri[e], tri[(e + 1) % 3])); it != absorbing.end()) dashpot_length += it->second;
+    double longest = 0;
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      longest = std::max(longest, std::hypot(model.x[b] - model.x[a], model.y[b] - model.y[a]));
+    }
+    const double area2 = (model.x[tri[1]] - model.x[tri[0]]) * (model.y[tri[2]] - model.y[tri[0]]) -
+                         (model.y[tri[1]] - model.y[tri[0]]) * (model.x[tri[2]] - model.x[tri[0]]);
+    const double h = area2 / longest;  // smallest height
+    // Contact springs: two triangles of height H overlapping by d over L push back with
+    // about 6 P_n d L / H, a modulus of about 6 P_n; the friction spring P_tan × L is
+    // a modulus of about P_tan × h.
+    double modulus = model.contact.enabled ? std::max({m.wave_modulus, 6.0 * model.contact.max_normal_penalty,
+                                                        model.contact.max_tangential_penalty * h})
+                                           : m.wave_modulus;
+    // Intact CE4s: the traction slope at the origin is P/h on an element of size h, a
+    // modulus of about P (the largest of the opening, sliding and overlap penalties). In
+    // shear under compression the cohesive part and the friction element's stick spring
+    // (cl_kernels/cohesive_forces.cl) act together: 2 P_tan.
+    if (!model.triangle_fracturable.empty() && model.triangle_fracturable[t])
+      for (const auto& f : model.fracture)
+        modulus = std::max({modulus, f.penalty_opening, 2.0 * f.penalty_sliding, f.penalty_overlap});
+    const double c = std::sqrt(modulus / m.density);
+    const double omega = 2.0 * c / h;
+    double xi = m.viscosity * omega / (2.0 * modulus);
+    // An absorbing edge is an explicit dashpot c_d = ρV L t/2 on each of its nodes; on a
+    // node held only by this triangle (mass ρAt/3) it adds the damping ratio
+    // c_d / (2 m ω) (at most 0.75 h/h_edge: the step shrinks by up to half).
+    if (dashpot_length > 0) xi += 0.75 * std::sqrt(m.density * m.wave_modulus) * dashpot_length / (m.density * 0.5 * area2 * omega);
+    const double dt = h / c * (std::sqrt(1.0 + xi * xi) - xi);
+    if (dt < best.dt) best = {dt, t};
+  }
+  return best;
+}
+
+double speed_scale(const Model& model, const io::CaseConfig& config) {
+  double speed = 0, lowest_impedance = 0;
+  for (const auto& m : model.materials) {
+    const double z = std::sqrt(m.density * m.wave_modulus);
+    if (z > 0 && (lowest_impedance == 0 || z < lowest_impedance)) lowest_impedance = z;
+  }
+  auto push = [&](double stress) {  // a stress wave's particle speed, σ / (ρ c)
+    if (lowest_impedance > 0) speed = std::max(speed, std::fabs(stress) / lowest_impedance);
+  };
+  for (const auto& b : config.boundaries) {
+    if (b.velocity) speed = std::max(speed, std::hypot((*b.velocity)[0], (*b.velocity)[1]));
+    if (b.traction) push(std::hypot((*b.traction)[0], (*b.traction)[1]));
+    if (b.pressure) push(*b.pressure);
+    if (b.pressure_table)
+      for (double v : b.pressure_table->values) push(v);
+    if (b.blast) push(b.blast->peak);
+  }
+  for (const auto& i : config.initials) speed = std::max(speed, std::hypot(i.velocity[0], i.velocity[1]));
+  return speed;
+}
+
+std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config, double dt) {
+  std::vector<std::string> out;
+  auto where = [&](const std::string& key) { return io::origin_of(config, key) + ": "; };
+  // A skin that the loads' speed crosses in a few steps: a detection nearly every step.
+  if (config.contact && config.contact->rebuild == io::ContactRebuild::Skin && config.contact->skin && dt > 0) {
+    const double speed = speed_scale(model, config), skin = *config.contact->skin;
+    const double steps = speed > 0 ? 0.5 * skin / (2 * speed * dt) : 0;
+    if (speed > 0 && steps < 30)
+      out.push_back(where("contact.skin") + "contact.skin = " + format_number(skin) + " m: nodes moving at " +
+                    format_number(speed) + " m/s (the loads' particle speed, σ / (ρ c), or a prescribed speed; " +
+                    "fragments can fly at twice that) cross half of it in about " + format_number(std::ceil(steps)) +
+                    " steps of " + format_number(dt) + " s, so the run detects contact about that often; leave " +
+                    "`skin` out (or write \"auto\") and the engine picks it at each detection from the nodes' speeds");
+  }
+  if (config.contact) {
+    const io::ContactConfig& c = *config.contact;
+    const double h = mean_edge_length(model);
+    // One check per place a P_tan is written: [contact], then each [[contact.pair]].
+    auto check = [&](const std::string& key, const std::string& shown, std::optional<double> ptan, double pn,
+                     double mu) {
+      if (!ptan || mu == 0) return;  // a default is consistent; without friction P_tan does nothing
+      const double consistent = default_tangential_penalty(pn, h);
+      if (*ptan == 0) {
+        out.push_back(where(key) + shown + " = 0 turns the tangential contact force off, so friction = " +
+                      format_number(mu) + " has no effect");
+      } else if (*ptan > 10 * consistent || *ptan < consistent / 10) {
+        out.push_back(where(key) + shown + " = " + format_number(*ptan) + " Pa/m is more than 10x away from " +
+                      "6 P_n / h = " + format_number(consistent) + " Pa/m (P_n " + format_number(pn) +
+                      " Pa, h " + format_number(h) + " m, the mean triangle edge)" +
+                      (*ptan < consistent ? ": the elastic slip before sliding is much larger than the overlap, and a "
+                                            "block that must stick creeps (cases/sliding/README.md)"
+                                          : ": the friction spring is much stiffer than the normal one and sets the "
+                                            "stable step") +
+                      "; leave tangential_penalty out for 6 P_n / h");
+      }
+    };
+    check("contact.tangential_penalty", "contact.tangential_penalty", c.tangential_penalty, c.normal_penalty,
+          c.friction);
+    for (size_t k = 0; k < c.pairs.size(); ++k) {
+      const auto& p = c.pairs[k];
+      const std::string index = std::to_string(k);
+      const double pn = p.normal_penalty.value_or(c.normal_penalty), mu = p.friction.value_or(c.friction);
+      if (p.tangential_penalty)
+        check("contact.pair." + index + ".tangential_penalty", "contact.pair[" + index + "].tangential_penalty",
+              p.tangential_penalty, pn, mu);
+      else if (pn != c.normal_penalty || (mu > 0) != (c.friction > 0))  // else [contact]'s warning says it
+        check("contact.tangential_penalty", "contact.tangential_penalty (taken by contact.pair[" + index + "])",
+              c.tangential_penalty, pn, mu);
+    }
+  }
+  // CE4 penalties against the stiffest fracturable material's E (seed paper, Sections 2.1
+  // and 3.4): an intact rock made compliant by its CE4s, and slower waves.
+  if (!model.ce4.empty()) {
+    double stiffest = 0;
+    for (const auto& m : config.materials)
+      if (m.fracture) stiffest = std::max(stiffest, m.young);
+    const bool dynamic = !config.damping.mass_scaling;
+    auto check = [&](const std::string& prefix, const std::string& shown, const io::FractureConfig& f) {
+      for (const auto& [key, value] : {std::pair<const char*, double>{"opening", f.penalty_opening},
+                                       {"sliding", f.penalty_sliding},
+                                       {"overlap", f.penalty_overlap}})
+        if (value < 10 * stiffest)
+          out.push_back(where(prefix + ".penalty." + key) + shown + ".penalty." + key + " = " + format_number(value) +
+                        " Pa is below 10 E = " + format_number(10 * stiffest) +
+                        " Pa (E of the stiffest fracturable material): the intact CE4s make the rock too compliant "
+                        "and stress waves too slow" +
+                        (dynamic ? "; the seed paper (Section 3.4) measured 4660 m/s instead of 5000 m/s with "
+                                   "penalties = E, and says penalties near E must not be used for dynamic fracture "
+                                   "analysis (it uses 50 E)"
+                                 : " (seed paper, Section 2.1)"));
+    };
+    for (size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].fracture)
+        check("material." + std::to_string(m) + ".fracture", "material[" + std::to_string(m) + "].fracture",
+              *config.materials[m].fracture);
+    for (size_t i = 0; i < config.interfaces.size(); ++i)
+      check("interface." + std::to_string(i), "interface[" + std::to_string(i) + "]", config.interfaces[i].fracture);
+  }
+  return out;
+}
+
+}  // namespace fdem

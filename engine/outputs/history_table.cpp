@@ -1,0 +1,190 @@
+#include "engine/outputs/history_table.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+
+namespace fdem {
+
+std::string netcdf_name(const std::string& region) {
+  std::string out;
+  for (char c : region) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "r_" + out;
+  return out;
+}
+
+const FragmentSummary& HistoryRow::fragments(const Model& model) {
+  if (!fragments_) fragments_ = summarise_fragments(model, snap.labels, snap.positions);
+  return *fragments_;
+}
+
+namespace {
+
+// Largest out-of-balance force component on a free degree of freedom, and the mean
+// internal-force magnitude per node (the out-of-balance force less gravity).
+struct Unbalance {
+  double largest = 0, mean_internal = 0;
+};
+Unbalance unbalance(const Model& model, const std::vector<double>& mass, HistoryRow& row) {
+  if (row.unbalance) return {(*row.unbalance)[0], (*row.unbalance)[1]};
+  const auto& f = row.snap.forces;
+  Unbalance u;
+  double internal_sum = 0;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const uint32_t mask = model.groups[model.node_group[i]].mask;
+    if (!(mask & 1u)) u.largest = std::max(u.largest, std::fabs(double(f[i].x)));
+    if (!(mask & 2u)) u.largest = std::max(u.largest, std::fabs(double(f[i].y)));
+    internal_sum += std::hypot(f[i].x - mass[i] * model.gravity[0], f[i].y - mass[i] * model.gravity[1]);
+  }
+  u.mean_internal = f.empty() ? 0 : internal_sum / f.size();
+  row.unbalance = std::array<double, 2>{u.largest, u.mean_internal};
+  return u;
+}
+
+}  // namespace
+
+Needs HistoryTable::needs(const Model& model, const PointProbes& probes) {
+  // The account; the out-of-balance force, reactions and mean displacements.
+  Needs needs = Need::Energy | Need::Forces | Need::Positions;
+  if (model.contact.enabled) needs |= Need::ContactCounts;
+  if (!model.ce4.empty()) needs |= Need::Ce4Flags | Need::FragmentLabels;
+  if (!probes.empty()) needs |= Need::Probes;
+  return needs;
+}
+
+HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses, const PointProbes& probes) {
+  auto add = [&](std::string name, std::string unit, std::string description, std::function<double(HistoryRow&)> f) {
+    columns_.push_back({{std::move(name), std::move(unit), std::move(description), {}}, std::move(f)});
+  };
+  // The energy account (docs/case-format.md defines each term). Its values are those of
+  // the row's last step's start, t - Δt: the positions that step's forces used.
+  add("kinetic_energy", "J", "kinetic energy, 1/2 m v(t-dt/2).v(t+dt/2) with the integrator's (scaled) masses",
+      [](HistoryRow& r) { return r.snap.energy.kinetic; });
+  add("strain_energy", "J", "hyperelastic potential of the triangles (Eq. 1 or Eqs. 2-3)",
+      [](HistoryRow& r) { return r.snap.energy.strain; });
+  add("cohesive_stored_energy", "J", "recoverable elastic energy held by the intact CE4s",
+      [](HistoryRow& r) { return r.snap.energy.cohesive_stored; });
+  add("contact_stored_energy", "J", "normal penalty potential and tangential springs of the contact couples",
+      [](HistoryRow& r) { return r.snap.energy.contact_stored; });
+  add("gravity_potential", "J", "-sum m g.(x - X), relative to the reference positions",
+      [](HistoryRow& r) { return r.snap.energy.gravity_potential; });
+  add("viscous_dissipation", "J", "work of the viscous stress eta D, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.viscous; });
+  add("local_damping_dissipation", "J", "work of the local (Cundall) damping forces, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.local_damping; });
+  add("friction_dissipation", "J", "contact friction work, cumulative", [](HistoryRow& r) { return r.snap.energy.friction; });
+  add("contact_damping_dissipation", "J", "work of the contact damping (Eq. 15), cumulative",
+      [](HistoryRow& r) { return r.snap.energy.contact_damping; });
+  add("fracture_dissipation", "J", "energy dissipated by CE4 softening and breaking, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.fracture; });
+  add("absorbed_energy", "J", "energy taken out by absorbing boundaries, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.absorbed; });
+  add("boundary_work", "J", "work of the reactions of prescribed velocities and fixed components, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.boundary_work; });
+  add("load_work", "J", "work of tractions, pressures and blast loads, cumulative",
+      [](HistoryRow& r) { return r.snap.energy.load_work; });
+  add("energy_error", "1", "(stored + dissipated - supplied - initial stored) / max(|supplied|, initial stored, peak kinetic)",
+      [](HistoryRow& r) { return r.snap.energy_error; });
+  add("energy_ratio", "1", "(stored + dissipated) / (initial stored + supplied)",
+      [](HistoryRow& r) { return r.snap.energy_ratio; });
+
+  std::vector<double> mass;
+  for (const auto& mk : masses) mass.push_back(mk.x);
+  add("max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom",
+      [&model, mass](HistoryRow& r) { return unbalance(model, mass, r).largest; });
+  add("unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node",
+      [&model, mass](HistoryRow& r) {
+        const Unbalance u = unbalance(model, mass, r);
+        return u.mean_internal > 0 ? u.largest / u.mean_internal : 0.0;
+      });
+
+  if (model.contact.enabled) {
+    add("contact_couples", "1", "triangle couples in contact (overlapping) in the last step",
+        [](HistoryRow& r) { return double(r.snap.contact_touching); });
+    add("contact_candidates", "1", "candidate couples from the last contact detection",
+        [](HistoryRow& r) { return double(r.snap.contact_candidates); });
+    add("contact_rebuilds", "1", "contact detections run since the start",
+        [](HistoryRow& r) { return double(r.snap.contact_rebuilds); });
+  }
+  if (!model.ce4.empty()) {
+    std::vector<double> length;  // initial length of each CE4 [m]
+    for (const auto& c : model.ce4) length.push_back(std::hypot(model.x[c[1]] - model.x[c[0]], model.y[c[1]] - model.y[c[0]]));
+    auto count = [](HistoryRow& r, int mode) {
+      const auto& broken = r.snap.broken;
+      const auto& modes = r.snap.mode;
+      double n = 0;
+      for (size_t e = 0; e < broken.size(); ++e) n += broken[e] && (mode == 0 || modes[e] == mode) ? 1 : 0;
+      return n;
+    };
+    add("broken_ce4", "1", "broken cohesive elements", [count](HistoryRow& r) { return count(r, 0); });
+    add("broken_mode1", "1", "CE4s broken in mode I", [count](HistoryRow& r) { return count(r, 1); });
+    add("broken_mode2", "1", "CE4s broken in mode II", [count](HistoryRow& r) { return count(r, 2); });
+    add("broken_mixed", "1", "CE4s broken in mixed mode I-II", [count](HistoryRow& r) { return count(r, 3); });
+    add("crack_length", "m", "total initial length of the broken CE4s", [length](HistoryRow& r) {
+      const auto& broken = r.snap.broken;
+      double sum = 0;
+      for (size_t e = 0; e < broken.size(); ++e) sum += broken[e] ? length[e] : 0.0;
+      return sum;
+    });
+    // The pieces: triangles joined by intact CE4s or shared nodes (FragmentLabels).
+    add("fragments", "1", "connected pieces of the body (triangles joined by intact CE4s or shared nodes)",
+        [&model](HistoryRow& r) { return double(r.fragments(model).fragments.size()); });
+    add("largest_fragment", "1", "area of the largest piece / total area (current areas)",
+        [&model](HistoryRow& r) { return r.fragments(model).largest_fraction(); });
+  }
+
+  for (const Region& region : model.regions) {
+    const std::string n = netcdf_name(region.name);
+    const Region* r = &region;
+    // Reaction on a prescribed component: minus the out-of-balance force there.
+    auto reaction = [&model, r](HistoryRow& row, uint32_t bit, int axis) {
+      const auto& f = row.snap.forces;
+      double sum = 0;
+      for (int node : r->nodes)
+        if (model.groups[model.node_group[node]].mask & bit) sum -= axis ? f[node].y : f[node].x;
+      return sum;
+    };
+    auto mean_displacement = [&model, r](HistoryRow& row, int axis) {
+      const auto& x = row.snap.positions;
+      double sum = 0;
+      for (int node : r->nodes) sum += axis ? x[node].y - model.y[node] : x[node].x - model.x[node];
+      return sum / double(r->nodes.size());
+    };
+    if (r->prescribed) {
+      add(n + "_force_x", "N", "reaction force on region " + r->name + ", x (prescribed components)",
+          [reaction](HistoryRow& row) { return reaction(row, 1u, 0); });
+      add(n + "_force_y", "N", "reaction force on region " + r->name + ", y (prescribed components)",
+          [reaction](HistoryRow& row) { return reaction(row, 2u, 1); });
+    }
+    add(n + "_disp_x", "m", "mean displacement of region " + r->name + ", x",
+        [mean_displacement](HistoryRow& row) { return mean_displacement(row, 0); });
+    add(n + "_disp_y", "m", "mean displacement of region " + r->name + ", y",
+        [mean_displacement](HistoryRow& row) { return mean_displacement(row, 1); });
+  }
+
+  const auto probe_variables = probes.variables(model);
+  for (size_t k = 0; k < probe_variables.size(); ++k)
+    columns_.push_back({probe_variables[k], [k](HistoryRow& r) { return r.snap.probes[k]; }});
+}
+
+std::vector<io::HistoryVariable> HistoryTable::variables() const {
+  std::vector<io::HistoryVariable> out;
+  for (const auto& c : columns_) out.push_back(c.variable);
+  return out;
+}
+
+std::vector<double> HistoryTable::values(HistoryRow& row) const {
+  std::vector<double> out;
+  out.reserve(columns_.size());
+  for (const auto& c : columns_) out.push_back(c.value(row));
+  return out;
+}
+
+int HistoryTable::index(const std::string& name) const {
+  for (size_t k = 0; k < columns_.size(); ++k)
+    if (columns_[k].variable.name == name) return static_cast<int>(k);
+  return -1;
+}
+
+}  // namespace fdem

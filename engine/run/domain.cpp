@@ -1,0 +1,31 @@
+#include "engine/run/domain.hpp"
+
+#include "engine/run/split_run.hpp"
+#include "engine/parallel/transport.hpp"
+
+namespace fdem {
+
+std::unique_ptr<Domain> make_whole_domain(const PreparedCase& p, ClContext& cl);
+std::unique_ptr<Domain> make_split_domain(const PreparedCase& p, ClContext& cl, Transport& transport,
+                                          PartitionMethod partition, double travel);
+
+std::unique_ptr<Domain> make_domain(const PreparedCase& p, ClContext& cl, Transport* transport,
+                                    PartitionMethod partition, double contact_travel, const std::function<void()>& setup) {
+  if (!transport || transport->size() <= 1) {
+    setup();
+    return make_whole_domain(p, cl);
+  }
+  // Every rank finds the same start-up errors, or agrees on the first.
+  std::unique_ptr<Domain> domain;
+  std::exception_ptr failure;
+  try {
+    setup();
+    domain = make_split_domain(p, cl, *transport, partition, contact_travel);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  agree(*transport, failure);
+  return domain;
+}
+
+}  // namespace fdem
