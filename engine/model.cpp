@@ -397,6 +397,41 @@ void set_heterogeneity(Model& model, const io::CaseConfig& config) {
   }
 }
 
+std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config) {
+  std::vector<std::string> out;
+  std::vector<int> own_set(config.materials.size(), -1);
+  for (size_t m = 0, k = 0; m < config.materials.size(); ++m)
+    if (config.materials[m].fracture) own_set[m] = static_cast<int>(k++);
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const auto& h = config.materials[m].heterogeneity;
+    if (!h) continue;
+    std::string line = "material '" + config.materials[m].name + "': Weibull m = " + format_number(h->homogeneity) +
+                       ", seed " + std::to_string(h->seed);
+    auto describe = [&](const char* what, const std::vector<double>& v) {
+      if (v.empty()) return;
+      const auto [low, high] = std::minmax_element(v.begin(), v.end());
+      double mean = 0;
+      for (double x : v) mean += x;
+      line += std::string("; ") + what + " x " + format_number(*low, 3) + " to " + format_number(*high, 3) + " (mean " +
+              format_number(mean / double(v.size()), 3) + ", " + std::to_string(v.size()) + " elements)";
+    };
+    std::vector<double> e, ts, c;
+    if (h->young && !model.young_factor.empty())
+      for (size_t t = model.block_start[m]; t < model.block_start[m + 1]; ++t) e.push_back(model.young_factor[t]);
+    if (!model.ce4_strength_factor.empty())
+      for (size_t k = 0; k < model.ce4.size(); ++k)
+        if (model.ce4_properties[k] == own_set[m]) {
+          if (h->tensile_strength) ts.push_back(model.ce4_strength_factor[k][0]);
+          if (h->cohesion) c.push_back(model.ce4_strength_factor[k][1]);
+        }
+    describe("E", e);
+    describe("T_s", ts);
+    describe("c", c);
+    out.push_back(line);
+  }
+  return out;
+}
+
 size_t Model::young_first() const {
   for (size_t t = 0; t < young_factor.size(); ++t)
     if (young_factor[t] != 1.0) return t;

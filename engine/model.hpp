@@ -179,6 +179,10 @@ std::vector<InSituGaps> in_situ_ce4_gaps(const Model& model);
 // the bottom of the mesh, and how many edges carry its traction; "" without one.
 std::string in_situ_summary(const Model& model);
 
+// What `fdem check` says of each heterogeneous material: its Weibull modulus and seed, and
+// per varying property the range and mean of the factors drawn; empty without any.
+std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config);
+
 // The mean edge length of the model's triangles [m] (every triangle, reference
 // positions): the element size h of the contact defaults below.
 double mean_edge_length(const Model& model);
