@@ -12,7 +12,14 @@
 //                  the adjacent material for the current normal n (isotropic:
 //                  Z = ρV_p nn + ρV_s ss). Each node gets the dashpot of half the
 //                  edge acting on its own velocity (a lumped dashpot).
-// Loads other than the absorbing one put half of f on each node. The force on each
+//   LOAD_IN_SITU   (σ₀xx, σ₀yy, σ₀xy at the datum) and, in the next row, (datum,
+//                  dσ₀/d depth for xx, yy, xy): the traction σ₀(y)·n of the in-situ field
+//                  on the reference edge (a dead load, built with IN_SITU_LOADS only). σ₀
+//                  is linear along the edge, so its consistent nodal forces are
+//                  L₀ t (2 T_a + T_b)/6 and L₀ t (T_a + 2 T_b)/6 (T the traction at the
+//                  node): exactly what the triangles' constant stresses at their
+//                  centroids and the lumped weight ask of the boundary.
+// Loads other than the absorbing and in-situ ones put half of f on each node. The force on each
 // node is written to the edge's two slots (the node gather sums them).
 // Energy account: before overwriting its slots the edge adds the work its forces did over
 // the last step, by the trapezoid rule in time, ½ (f_before + f_now)·(x_now - x_before)
@@ -92,6 +99,21 @@ inline real4 edge_load_forces(const uint e,
     edge_force[2 * e + 1] = fb;
     return (real4)(0, -work, 0, 0);
   }
+#ifdef IN_SITU_LOADS
+  if (kind == LOAD_IN_SITU) {
+    const real4 grad = load_table[edge_load[e] + 1];
+    const real2 ra = ref_position[ab.x], rb = ref_position[ab.y];
+    const real2 nl = (real2)(rb.y - ra.y, ra.x - rb.x);  // outward normal × L₀ (reference edge)
+    const real3 sa = load.yzw + (grad.x - ra.y) * grad.yzw, sb = load.yzw + (grad.x - rb.y) * grad.yzw;
+    const real2 ta = (real2)(sa.x * nl.x + sa.z * nl.y, sa.z * nl.x + sa.y * nl.y);
+    const real2 tb = (real2)(sb.x * nl.x + sb.z * nl.y, sb.z * nl.x + sb.y * nl.y);
+    const real2 fa = thickness / (real)6 * ((real)2 * ta + tb), fb = thickness / (real)6 * (ta + (real)2 * tb);
+    const real work = step > 0 ? edge_work(edge_force, e, fa, fb, velocity[ab.x], velocity[ab.y], dt) : (real)0;
+    edge_force[2 * e] = fa;
+    edge_force[2 * e + 1] = fb;
+    return (real4)(work, 0, 0, 0);
+  }
+#endif
   real2 f;
   if (kind == LOAD_TRACTION) {
     const real ramp = load.w > (real)0 ? fmin(time / load.w, (real)1) : (real)1;

@@ -58,6 +58,12 @@
 // intact CE4 (the blast's P-wave at 50 × E ran 1% faster than the rock's own 5,000 m/s)
 // and cost a full overlap evaluation per compressed CE4 (docs/energy-notes.md).
 // The time passed to the step is recorded when it breaks.
+// In-situ stress (define IN_SITU_GAPS, models with [in_situ]): the law takes o + o₀ and
+// s + s₀ at each Gauss point, with o₀ ≤ 0 on the compression branch and s₀ (with the
+// friction element's initial slip, gp_slip) set on the host so that at o = s = 0 the
+// tractions are the field's, n·σ₀·n and t·σ₀·n (engine/in_situ.cpp). The strengths are
+// the law's own: a crack under in-situ compression opens at T_s of total traction. The
+// forces stay the gradient of the CE4's potential (the offsets are constants).
 // Failure mode: at the step a point's D first reaches 1 it records the opening share of
 // Eq. 9, χ = a² / (a² + b²) (1: all opening, 0: all slip). The CE4's χ is the mean over
 // its points at D = 1 when it breaks: mode I if χ ≥ 0.9, mode II if χ ≤ 0.1, else mixed.
@@ -198,6 +204,9 @@ __kernel void cohesive_forces(const uint n_ce4,
                               , __global const uint2* restrict ce4_mesh_nodes,
                               __global int* restrict mesh_node_state
 #endif
+#ifdef IN_SITU_GAPS
+                              , __global const real* restrict in_situ_gaps
+#endif
                               ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -211,6 +220,19 @@ __kernel void cohesive_forces(const uint n_ce4,
   real2 t, n;
   real chord_length, mean_o, mean_s;  // the means are the output's (cohesive_output)
   coh_kinematics(gap_i, gap_j, chord, o, s, &t, &n, &chord_length, &mean_o, &mean_s);
+  // The law's opening and slip: the geometric ones, plus with IN_SITU_GAPS the CE4's
+  // initial ones (o₀, s₀ per Gauss point: what carries the in-situ field at o = s = 0).
+  // The frame's term (moment) and the sliding release use the geometric ones.
+#ifdef IN_SITU_GAPS
+  real lo[3], ls[3];
+  for (int g = 0; g < 3; ++g) {
+    lo[g] = o[g] + in_situ_gaps[6 * e + g];
+    ls[g] = s[g] + in_situ_gaps[6 * e + 3 + g];
+  }
+#else
+  const real* lo = o;
+  const real* ls = s;
+#endif
 
   const real r = (real)0.3872983346207417;  // √15 / 10
   const real gauss_xi[3] = {(real)0.5 - r, (real)0.5, (real)0.5 + r};
@@ -242,7 +264,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     for (int g = 0; g < 3; ++g) {
       const real4 gs_before = gp_state[3 * e + g];
       real4 gs = gs_before;
-      const real og = o[g], sa = fabs(s[g]);
+      const real og = lo[g], sa = fabs(ls[g]);
       const real over_o = fmax(og - op, (real)0), over_s = fmax(sa - sp, (real)0);
       real D = 0, share = 0;
       if (over_o > (real)0 || over_s > (real)0) {
@@ -263,7 +285,7 @@ __kernel void cohesive_forces(const uint n_ce4,
         ++at_one;
       }
       opened = opened && og >= (real)0;
-      slid = fmax(slid, sa);
+      slid = fmax(slid, fabs(s[g]));
 
       const real f = closed ? (real)0 : coh_softening(gs.x, A, B, C);
       real sigma, held_n;
@@ -296,21 +318,21 @@ __kernel void cohesive_forces(const uint n_ce4,
         tau = strength;
         held_s = (real)0.5 * tau * sa;
       }
-      if (s[g] < (real)0) tau = -tau;
+      if (ls[g] < (real)0) tau = -tau;
 
       // Friction part (the -σ tanφ of Eq. 5 under compression): an elastic stick spring of
       // stiffness k_fric on s - s_f, capped at tanφ |σ| (return to the cap moves s_f).
       const real cap = tanphi * fmax(-sigma, (real)0);
-      real tau_f = k_fric * (s[g] - sf[g]);
+      real tau_f = k_fric * (ls[g] - sf[g]);
       if (fabs(tau_f) > cap) {
         tau_f = tau_f > (real)0 ? cap : -cap;
-        sf[g] = s[g] - tau_f / k_fric;
+        sf[g] = ls[g] - tau_f / k_fric;
       }
       tau += tau_f;
       held_s += (real)0.5 * tau_f * tau_f / k_fric;
 
       held += gauss_w[g] * (held_n + held_s);
-      moment += gauss_w[g] * (tau * og - sigma * s[g]);
+      moment += gauss_w[g] * (tau * o[g] - sigma * s[g]);
       const real2 pg = (sigma * n + tau * t) * (gauss_w[g] * scale);
       f_i += ((real)1 - gauss_xi[g]) * pg;
       f_j += gauss_xi[g] * pg;
@@ -330,14 +352,14 @@ __kernel void cohesive_forces(const uint n_ce4,
       held = 0;
       moment = 0;
       for (int g = 0; g < 3; ++g) {
-        const real sigma = o[g] < (real)0 ? (real)2 * o[g] * Ts / oov : (real)0;
+        const real sigma = lo[g] < (real)0 ? (real)2 * lo[g] * Ts / oov : (real)0;
         const real cap = tanphi * fmax(-sigma, (real)0);
-        real tau_f = k_fric * (s[g] - sf[g]);
+        real tau_f = k_fric * (ls[g] - sf[g]);
         if (fabs(tau_f) > cap) {
           tau_f = tau_f > (real)0 ? cap : -cap;
-          sf[g] = s[g] - tau_f / k_fric;
+          sf[g] = ls[g] - tau_f / k_fric;
         }
-        held += gauss_w[g] * ((o[g] < (real)0 ? Ts * o[g] * o[g] / oov : (real)0) + (real)0.5 * tau_f * tau_f / k_fric);
+        held += gauss_w[g] * ((lo[g] < (real)0 ? Ts * lo[g] * lo[g] / oov : (real)0) + (real)0.5 * tau_f * tau_f / k_fric);
         moment += gauss_w[g] * (tau_f * o[g] - sigma * s[g]);
         const real2 pg = (sigma * n + tau_f * t) * (gauss_w[g] * scale);
         f_i += ((real)1 - gauss_xi[g]) * pg;
@@ -368,6 +390,11 @@ __kernel void cohesive_forces(const uint n_ce4,
     account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
                               dot(m_before + f_m, chord - chord_before));
     account.z = held * scale;
+#ifdef IN_SITU_GAPS
+    // The field's energy held at the start counts as work done on the CE4 before it (so
+    // its fracture dissipation W - stored starts at 0).
+    if (step == 0) account.x += account.z;
+#endif
     // Fracture dissipation: what the CE4 was given and does not hold. The law cannot
     // create energy (header), so this only moves up, except by the trapezoid rule's error
     // on the elastic curves; the max keeps it from ever moving down.

@@ -4,6 +4,7 @@
 // matrix in the rows of node a, K_ab = A₀ t B_aᵀ C B_b (C the material's Voigt
 // stiffness; Neo-Hookean uses its small-strain limit λ, μ). The node gather sums them
 // into (mass, Σk) per node: Σk bounds the assembled stiffness's row sums (Gershgorin).
+// With HETEROGENEOUS_YOUNG the row sums take the triangle's factor on E (as the forces do).
 // node_inertia: one work-item per node: the inertia used by the integrator, either the
 // true mass or, with mass scaling (Eq. 18), 0.3 Δt² Σk, so that ω²_max ≤ Σk/m and
 // ω_max Δt ≤ 1/√0.3 ≈ 1.83 < 2: any Δt is stable. (½ Δt² Σk, the textbook choice,
@@ -30,7 +31,12 @@ __kernel void triangle_mass(const uint n_triangles,
                             __global const real2* restrict ref_position,
                             __global const real4* restrict ref_inverse,
                             const real thickness,
-                            __global real2* restrict corner_mass) {
+                            __global real2* restrict corner_mass
+#ifdef HETEROGENEOUS_YOUNG
+                            , __global const real* restrict young_factor, const uint young_first,
+                            const uint young_count
+#endif
+                            ) {
   const uint t = get_global_id(0);
   if (t >= n_triangles) return;
   const real2 x0 = ref_position[tri_nodes[3 * t]];
@@ -48,6 +54,9 @@ __kernel void triangle_mass(const uint n_triangles,
   for (int a = 0; a < 3; ++a) {
     real2 rows = (real2)(0, 0);
     for (int b = 0; b < 3; ++b) rows += block_row_sums(g[a], g[b], m);
+#ifdef HETEROGENEOUS_YOUNG  // the triangle's own E (triangle_forces.cl)
+    if (t - young_first < young_count) rows *= young_factor[t - young_first];
+#endif
     corner_mass[3 * t + a] = (real2)(mass, area * thickness * fmax(rows.x, rows.y));
   }
 }

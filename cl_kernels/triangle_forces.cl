@@ -23,6 +23,18 @@
 //         (its Cauchy stress is exactly μ/J (B - I) + λ/2 (J - 1/J) I);
 //       Eqs. 2-3 (Saint Venant-Kirchhoff): W = ½ E:C:E (Voigt, engineering shear);
 //     the group's sum is written to its slot .x. A₀ = ½ det X (X⁻¹ is stored).
+// In-situ stress (define IN_SITU_STRESS, models with [in_situ] only; the argument
+// initial_stress exists only then): a reference stress S₀ per triangle (the field at its
+// reference centroid, as a second Piola-Kirchhoff stress; (S₀xx, S₀yy, S₀xy, 0)) added to
+// the material's: σ = σ_el(F) + F S₀ Fᵀ / J, the stress of the potential W_el(F) + S₀:E
+// with E = ½(FᵀF - I). At F = I it is S₀ exactly; a rigid turn rotates it with the body
+// (objective) and does no work. The strain energy on energy rows includes S₀:E A₀ t (0 at
+// the start; docs/energy-notes.md, "In-situ stress").
+// Heterogeneous E (define HETEROGENEOUS_YOUNG, models with [material.heterogeneity] on
+// "young" only; the arguments exist only then): triangles [young_first, young_first +
+// young_count) scale their material's elastic stress and strain energy by their factor
+// young_factor[t - young_first] (every elastic constant is proportional to E at a fixed
+// ν); the viscosity and the in-situ stress are not scaled.
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 
 inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
@@ -101,7 +113,14 @@ inline real4 triangle(const uint t,
                         __global int* restrict conditions,
                         const int energy_mode,
                         const real dt,
-                        __global real4* restrict viscous_stress) {
+                        __global real4* restrict viscous_stress
+#ifdef IN_SITU_STRESS
+                        , __global const real4* restrict initial_stress
+#endif
+#ifdef HETEROGENEOUS_YOUNG
+                        , __global const real* restrict young_factor, const uint young_first, const uint young_count
+#endif
+                        ) {
   const uint n0 = tri_nodes[3 * t], n1 = tri_nodes[3 * t + 1], n2 = tri_nodes[3 * t + 2];
   const real2 x0 = position[n0], x1 = position[n1], x2 = position[n2];
   const real2 e1 = x1 - x0, e2 = x2 - x0;
@@ -119,11 +138,20 @@ inline real4 triangle(const uint t,
 
   real4 sigma = (m[MAT_MODEL] == (real)0) ? neo_hookean_stress(F, J, m[MAT_LAMBDA], m[MAT_MU])
                                     : hyperelastic_stress(F, J, m);
+#ifdef HETEROGENEOUS_YOUNG
+  const real young = (t - young_first < young_count) ? young_factor[t - young_first] : (real)1;
+  sigma *= young;
+#endif
 
   // Current shape-function gradients: rows of Dx⁻¹ are ∇N1, ∇N2; ∇N0 = -(∇N1 + ∇N2).
   const real4 Dinv = inverse2(Dx);
   const real2 g1 = (real2)(Dinv.x, Dinv.y), g2 = (real2)(Dinv.z, Dinv.w);
   const real2 g0 = -(g1 + g2);
+
+#ifdef IN_SITU_STRESS
+  const real4 s0 = initial_stress[t];
+  sigma += mul2(mul2(F, (real4)(s0.x, s0.z, s0.z, s0.y)), transpose2(F)) / J;
+#endif
 
   const real eta = m[MAT_VISCOSITY];
   const real area_t = (real)0.5 * det2(Dx) * thickness;  // current area × thickness
@@ -131,6 +159,17 @@ inline real4 triangle(const uint t,
   if ((energy_mode & 2) != 0)
     energy.x = (real)0.5 / det2(ref_inverse[t]) * thickness *
                ((m[MAT_MODEL] == (real)0) ? neo_hookean_energy(F, m[MAT_LAMBDA], m[MAT_MU]) : hyperelastic_energy(F, m));
+#ifdef HETEROGENEOUS_YOUNG
+  energy.x *= young;
+#endif
+#ifdef IN_SITU_STRESS
+  if ((energy_mode & 2) != 0) {  // S₀:E A₀ t, E = ½(H + Hᵀ + HᵀH) from H = F - I
+    const real4 H = F - (real4)(1, 0, 0, 1);
+    const real4 HtH = mul2(transpose2(H), H);
+    const real exx = H.x + (real)0.5 * HtH.x, eyy = H.w + (real)0.5 * HtH.w, gxy = H.y + H.z + HtH.y;
+    energy.x += (real)0.5 / det2(ref_inverse[t]) * thickness * (s0.x * exx + s0.y * eyy + s0.z * gxy);
+  }
+#endif
   if (eta != (real)0) {
     // L = Σ v_a ⊗ ∇N_a; D = sym(L)
     const real2 v0 = velocity[n0], v1 = velocity[n1], v2 = velocity[n2];
@@ -188,13 +227,28 @@ __kernel void triangle_forces(const uint n_triangles,
                               const real dt,
                               __global real2* restrict group_energy,
                               __global real4* restrict viscous_stress,
-                              __global real2* restrict triangle_energy) {
+                              __global real2* restrict triangle_energy
+#ifdef IN_SITU_STRESS
+                              , __global const real4* restrict initial_stress
+#endif
+#ifdef HETEROGENEOUS_YOUNG
+                              , __global const real* restrict young_factor, const uint young_first,
+                              const uint young_count
+#endif
+                              ) {
   __local real4 energy_scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
   real4 energy = (real4)(0, 0, 0, 0);
   if (t < n_triangles)
     energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
-                      step, corner_force, stress, conditions, energy_mode, dt, viscous_stress);
+                      step, corner_force, stress, conditions, energy_mode, dt, viscous_stress
+#ifdef IN_SITU_STRESS
+                      , initial_stress
+#endif
+#ifdef HETEROGENEOUS_YOUNG
+                      , young_factor, young_first, young_count
+#endif
+                      );
   // Energy rows: the triangle's own (strain energy, viscous dissipation so far), summed
   // by the host in triangle order (rank-independent sums, engine/energy.hpp).
   if ((energy_mode & 2) && t < n_triangles) triangle_energy[t] = (real2)(energy.x, (energy_mode & 1) ? energy.y : (real)0);

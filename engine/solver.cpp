@@ -37,7 +37,7 @@ const std::vector<std::array<int, 2>>& detection_bonds(const Model& model) {
 // The CE4s as the stage takes them; with contact also each CE4's mesh nodes and the
 // bonded fans, for the corner couples contact leaves alone (Model::vertex_bonded).
 CohesiveModel cohesive_model(const Model& model) {
-  CohesiveModel m{model.ce4, model.ce4_properties, model.fracture, model.thickness, {}, {}};
+  CohesiveModel m{model.ce4, model.ce4_properties, model.fracture, model.thickness, {}, {}, model.ce4_strength_factor};
   if (model.contact.enabled && !model.node_origin.empty()) {
     m.vertices.reserve(model.ce4.size());
     for (const auto& e : model.ce4) m.vertices.push_back({model.node_origin[e[0]], model.node_origin[e[1]]});
@@ -90,7 +90,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
   MemoryPlan plan = DeviceArrays::plan(model);
   if (p.ce4)
-    plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0, model.fracture.size()));
+    plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0,
+                                  cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());
@@ -100,7 +101,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size(), !model.ce4_owned.empty()));
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
-  plan.add(TriangleForces::plan(triangles, group_size, p.viscous));
+  plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
   plan.add(LumpedMass::plan(nodes, p.ce4));
@@ -160,7 +161,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       cohesive_(build_if(parts_.ce4,
                          [&] {
                            return std::make_unique<CohesiveForces>(cl, cohesive_model(model), arrays_.position,
-                                                                   arrays_.ref_position);
+                                                                   arrays_.ref_position, in_situ_ce4_gaps(model));
                          })),
       fragments_(build_if(parts_.ce4,
                           [&] {
@@ -185,9 +186,9 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                                                  cohesive_ ? cohesive_->mesh_node_state() : nullptr,
                                                                  parts_.skin ? ring_.get() : nullptr, true);
                         })),
-      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous),
+      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model)),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
-      boundary_loads_(cl, arrays_, model.thickness, dt),
+      boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
                  step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get())),
       ordered_(cl, ordered_items(model)),
@@ -217,7 +218,9 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
 // rest holds ½ C (ε |x| / h)² A t of round-off strain energy per triangle, which must not
 // count as an unbalanced account when every energy is that small (a block at rest with
 // no load gave energy_error 0.23 and a stop). Bound: positions off by ε |x|max at each
-// corner, a strain error of 4 ε |x|max / h (h: the triangle's shortest height).
+// corner, a strain error of 4 ε |x|max / h (h: the triangle's shortest height). With an
+// in-situ stress S₀ the energy has the term S₀:E, linear in that error: max |S₀| × it × A t
+// (without it a column at rest in its in-situ state showed energy_error 0.06 of noise).
 double Solver::strain_round_off(const Model& model) {
   double total = 0;
   {
@@ -235,6 +238,11 @@ double Solver::strain_round_off(const Model& model) {
       if (area <= 0 || longest <= 0) continue;
       const double height = 2 * area / longest, strain = 4 * eps * reach / height;
       total += 0.5 * model.materials[model.triangle_material[t]].wave_modulus * strain * strain * area * model.thickness;
+      // An in-situ stress S₀ adds S₀:E, linear in that strain error (docs/energy-notes.md).
+      if (model.in_situ.enabled) {
+        const auto s = model.in_situ.at((model.y[v[0]] + model.y[v[1]] + model.y[v[2]]) / 3.0);
+        total += std::max({std::fabs(s[0]), std::fabs(s[1]), std::fabs(s[2])}) * strain * area * model.thickness;
+      }
     }
   }
   return total;

@@ -59,17 +59,20 @@ BoundaryConfig read_boundary(const TableReader& r) {
   b.traction = r.pair("traction");
   read_boundary_pressure(r, b);
   b.absorbing = r.boolean("absorbing").value_or(false);
-  const bool loads = b.traction || b.pressure || b.pressure_table || b.blast || b.absorbing;
+  b.in_situ = r.boolean("in_situ").value_or(false);
+  const bool loads = b.traction || b.pressure || b.pressure_table || b.blast || b.absorbing || b.in_situ;
   const bool motion = b.fix_x || b.fix_y || b.velocity;
   if (!loads && !motion)
     r.ctx().fail(r.table(), r.title() + " needs at least one of 'fix', 'velocity', 'traction', "
-                                    "'pressure', 'blast', 'absorbing = true'");
-  const char* kinds[] = {"traction", "pressure", "blast", "absorbing"};
-  const int count = b.absorbing ? 4 : 3;  // absorbing = false is no load
-  for (int i = 0; i < count; ++i)
-    for (int j = i + 1; j < count; ++j) r.exclusive(kinds[i], kinds[j]);
+                                    "'pressure', 'blast', 'absorbing = true', 'in_situ = true'");
+  // absorbing = false and in_situ = false are no load
+  std::vector<const char*> kinds = {"traction", "pressure", "blast"};
+  if (b.absorbing) kinds.push_back("absorbing");
+  if (b.in_situ) kinds.push_back("in_situ");
+  for (size_t i = 0; i < kinds.size(); ++i)
+    for (size_t j = i + 1; j < kinds.size(); ++j) r.exclusive(kinds[i], kinds[j]);
   if (loads && motion) {
-    const char* load = b.traction ? "traction" : b.blast ? "blast" : b.absorbing ? "absorbing" : "pressure";
+    const char* load = b.traction ? "traction" : b.blast ? "blast" : b.absorbing ? "absorbing" : b.in_situ ? "in_situ" : "pressure";
     r.fail(load, r.key_path(load) + " cannot be combined with fix or velocity in one [[boundary]]: use two entries");
   }
   for (int axis = 0; axis < 2; ++axis)

@@ -3,6 +3,7 @@
 // lists them).
 #pragma once
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <optional>
@@ -68,6 +69,16 @@ struct FractureConfig {
   double softening_a = 0.63, softening_b = 1.8, softening_c = 6.0;
 };
 
+// [material.heterogeneity]: per-element properties drawn from a Weibull distribution of
+// shape m (the homogeneity index) and scale the material's own value (RFPA's rule).
+struct HeterogeneityConfig {
+  double homogeneity = 0.0;  // m > 0
+  std::uint64_t seed = 0;
+  bool young = false;             // E per triangle
+  bool tensile_strength = false;  // T_s per CE4 of the material
+  bool cohesion = false;          // c per CE4 of the material
+};
+
 struct MaterialConfig {
   std::string name;
   std::vector<std::string> regions;  // Gmsh physical surfaces
@@ -80,6 +91,7 @@ struct MaterialConfig {
   bool viscosity_critical = false;     // viscosity = "critical": 2 h √(ρE)
   double viscosity = 0.0;              // [Pa·s] when not critical
   std::optional<FractureConfig> fracture;  // [material.fracture]: its regions can fracture
+  std::optional<HeterogeneityConfig> heterogeneity;  // [material.heterogeneity]
 };
 
 // One [[interface]]: the cohesive properties of the CE4s between two different
@@ -91,6 +103,17 @@ struct InterfaceConfig {
 
 struct GravityConfig {
   std::array<double, 2> g{0.0, 0.0};  // [m/s²]
+};
+
+// [in_situ]: the initial stress field (tension positive). σ₀(x, y) = stress + the depth
+// part: with `datum`, σ_yy = -ρ g (datum - y), σ_xx = k_x σ_yy, k_x = k_H cos²α + k_h sin²α
+// (α = azimuth, the angle from the model's x axis to σ_H), σ_xy = 0.
+struct InSituConfig {
+  std::array<double, 3> stress{0.0, 0.0, 0.0};  // uniform part (σxx, σyy, σxy) [Pa]
+  std::optional<double> datum;                  // y of the ground surface [m]: the depth part
+  std::optional<double> density;                // ρ of the overburden [kg/m³]; nullopt: the materials'
+  double k_H = 1.0, k_h = 1.0;                  // σ_H / σ_v, σ_h / σ_v
+  double azimuth = 0.0;                         // α [degrees]
 };
 
 struct DampingConfig {
@@ -123,6 +146,7 @@ struct BoundaryConfig {
   std::optional<PressureTable> pressure_table; // pressure given as a table instead of a number
   std::optional<BlastConfig> blast;            // Eq. 21 pressure on a blast hole
   bool absorbing = false;                      // viscous non-reflecting boundary (Eq. 20)
+  bool in_situ = false;                        // in_situ = true: the [in_situ] field's traction σ₀·n (dead load)
 };
 
 struct InitialConfig {
@@ -192,6 +216,7 @@ struct CaseConfig {
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
   std::vector<InterfaceConfig> interfaces;
   std::vector<ProbeConfig> probes;        // [[probe]] entries
+  std::optional<InSituConfig> in_situ;    // present when the case has an [in_situ] table
   // Every key of the case after --set, by dotted path ("material.0.young") → its TOML
   // value; checkpoints keep it so that a restart can name any key that changed.
   std::map<std::string, std::string> settings;

@@ -117,6 +117,33 @@ MaterialConfig read_material(const TableReader& r) {
     m.viscosity_critical = !*v;
     m.viscosity = v->value_or(0.0);
   }
+  if (const toml::table* t = subtable(r, "heterogeneity")) {
+    const TableReader h = subtable_reader(r, *t, "heterogeneity");
+    h.check_keys(kHeterogeneityKeys);
+    HeterogeneityConfig c;
+    c.homogeneity = h.required_number("homogeneity", kPositive);
+    if (!h.has("seed")) h.missing("seed");
+    c.seed = static_cast<std::uint64_t>(*h.integer<std::int64_t>("seed", 0));
+    if (!h.has("properties")) h.missing("properties");
+    const std::vector<std::string> names = *h.strings("properties");
+    for (const std::string& name : names) {
+      bool* flag = name == "young" ? &c.young : name == "tensile_strength" ? &c.tensile_strength
+                                               : name == "cohesion"       ? &c.cohesion
+                                                                          : nullptr;
+      if (!flag) {
+        const std::string guess = nearest_key(name, {"young", "tensile_strength", "cohesion"});
+        h.fail("properties", h.key_path("properties") + " lists \"" + name +
+                                 "\", not a property that can vary (allowed: \"young\", \"tensile_strength\", "
+                                 "\"cohesion\")" + (guess.empty() ? "" : " (did you mean \"" + guess + "\"?)"));
+      }
+      if (*flag) h.fail("properties", h.key_path("properties") + " lists \"" + name + "\" twice");
+      *flag = true;
+      if (name != "young" && !m.fracture)
+        h.fail("properties", h.key_path("properties") + " lists \"" + name + "\", a property of the CE4s: " +
+                                 r.path() + " ('" + m.name + "') has no [material.fracture]");
+    }
+    m.heterogeneity = c;
+  }
   return m;
 }
 

@@ -104,11 +104,19 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   c.interfaces = read_interfaces(top, c.materials);
   if (auto gravity = reader("gravity")) c.gravity = read_gravity(*gravity);
   if (auto damping = reader("damping")) c.damping = read_damping(*damping);
+  if (auto in_situ = reader("in_situ")) c.in_situ = read_in_situ(*in_situ);
 
   c.boundaries = read_entries(top, "boundary", "region", read_boundary);
   c.initials = read_entries(top, "initial", "region", read_initial);
   if (auto contact = reader("contact")) c.contact = read_contact(*contact, c.materials);
   c.probes = read_probes(top);
+  for (size_t i = 0; i < c.boundaries.size(); ++i)
+    if (c.boundaries[i].in_situ && !c.in_situ) {
+      const toml::table* entry = table_array(top, "boundary")[i];
+      ctx.fail(*entry->get("in_situ"), "boundary[" + std::to_string(i) +
+                                           "].in_situ = true needs an [in_situ] table: the traction it applies is "
+                                           "that field's σ₀·n");
+    }
   flatten(root, "", ctx, c);
   c.text = content.str();
   // With a numeric dt (or a step count) the run's length is known now: check it here,

@@ -36,17 +36,19 @@ const Schema kSofteningKeys{{{"a"}, {"b"}, {"c"}}};
 const Schema kFractureKeys{{{"tensile_strength"}, {"cohesion"}, {"friction_angle"}, {"gf1"},
                             {"gf2"}, {"penalty", Shape::Table, &kPenaltyKeys},
                             {"softening", Shape::Table, &kSofteningKeys}}};
+const Schema kHeterogeneityKeys{{{"homogeneity"}, {"seed"}, {"properties"}}};
 const Schema kMaterialKeys{{{"name"}, {"regions"}, {"density"}, {"young"}, {"poisson"},
                             {"elasticity"}, {"plane"}, {"viscosity"},
                             {"stiffness", Shape::Table, &kStiffnessKeys},
-                            {"fracture", Shape::Table, &kFractureKeys}}};
+                            {"fracture", Shape::Table, &kFractureKeys},
+                            {"heterogeneity", Shape::Table, &kHeterogeneityKeys}}};
 const Schema kInterfaceKeys = with_fields({{"materials"}}, kFractureKeys);
 const Schema kGravityKeys{{{"g"}}};
 const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
 const Schema kBlastKeys{{{"peak"}, {"rise"}, {"ratio"}}};
 const Schema kPressureTableKeys{{{"times"}, {"values"}}};
 const Schema kBoundaryKeys{{{"region"}, {"fix"}, {"velocity"}, {"rise"}, {"traction"}, {"pressure"},
-                            {"blast", Shape::Table, &kBlastKeys}, {"absorbing"}}};
+                            {"blast", Shape::Table, &kBlastKeys}, {"absorbing"}, {"in_situ"}}};
 const Schema kInitialKeys{{{"region"}, {"velocity"}}};
 const Schema kContactDampingKeys{{{"transition"}, {"exponent"}}};
 const Schema kContactPairKeys{{{"materials"}, {"normal_penalty"}, {"tangential_penalty"},
@@ -56,6 +58,8 @@ const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"frictio
                            {"regions"}, {"rebuild"}, {"skin"}, {"joins"},
                            {"pair", Shape::TableArray, &kContactPairKeys}}};
 const Schema kProbeKeys{{{"name"}, {"point"}}};
+const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
+                          {"azimuth"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -67,7 +71,8 @@ const Schema kRootKeys{{{"title"},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},
                         {"initial", Shape::TableArray, &kInitialKeys},
                         {"contact", Shape::Table, &kContactKeys},
-                        {"probe", Shape::TableArray, &kProbeKeys}}};
+                        {"probe", Shape::TableArray, &kProbeKeys},
+                        {"in_situ", Shape::Table, &kInSituKeys}}};
 
 std::string nearest_key(std::string_view name, const std::vector<std::string_view>& candidates) {
   return nearest_name(name, candidates, LetterCase::Ignored);

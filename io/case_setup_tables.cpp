@@ -1,5 +1,7 @@
-// [mesh], [time], [output], [gravity], [damping]: how the run is set up.
+// [mesh], [time], [output], [gravity], [damping], [in_situ]: how the run is set up.
 #include "io/case_tables.hpp"
+
+#include <cmath>
 
 #include <filesystem>
 
@@ -136,6 +138,46 @@ DampingConfig read_damping(const TableReader& r) {
   }
   d.mass_scaling = r.boolean("mass_scaling").value_or(false);
   return d;
+}
+
+// The initial stress field. A uniform part, as components (`stress`) or as principal
+// stresses and the angle of the first (`principal`, `angle`), and a part growing with depth
+// below `datum` (σ_v = ρ g z; σ_H = k_H σ_v, σ_h = k_h σ_v at `azimuth` from x). What
+// needs the mesh, the materials or gravity (tension on a CE4, a datum below the mesh, no
+// gravity) is checked by the model (engine/model.cpp, check_in_situ).
+InSituConfig read_in_situ(const TableReader& r) {
+  r.check_keys(kInSituKeys);
+  InSituConfig s;
+  if (!r.has("stress") && !r.has("principal") && !r.has("datum"))
+    r.ctx().fail(r.table(), "[in_situ] needs 'stress', 'principal' or 'datum' (a field that grows with depth)");
+  r.exclusive("stress", "principal");
+  if (r.has("stress")) {
+    const std::vector<double> v = read_numbers(r, "stress");
+    if (v.size() != 3)
+      r.fail("stress", r.key_path("stress") + " must hold 3 numbers [sxx, syy, sxy] (Pa, tension positive), found " +
+                           std::to_string(v.size()));
+    s.stress = {v[0], v[1], v[2]};
+  }
+  if (r.has("angle") && !r.has("principal"))
+    r.fail("angle", r.key_path("angle") + " is the direction of principal[0]: it needs 'principal'");
+  if (auto p = r.pair("principal")) {
+    const double a = r.number("angle").value_or(0.0) * std::acos(-1.0) / 180.0;
+    const double c = std::cos(a), sn = std::sin(a);
+    const double s1 = (*p)[0], s2 = (*p)[1];
+    s.stress = {s1 * c * c + s2 * sn * sn, s1 * sn * sn + s2 * c * c, (s1 - s2) * sn * c};
+  }
+  for (const char* key : {"density", "k_H", "k_h", "azimuth"})
+    if (r.has(key) && !r.has("datum"))
+      r.fail(key, r.key_path(key) + " belongs to the part that grows with depth: it needs 'datum' (the y of the surface)");
+  if (r.has("datum")) {
+    s.datum = r.number("datum");
+    s.density = r.number("density", kPositive);
+    if (!r.has("k_H")) r.missing("k_H");
+    s.k_H = r.required_number("k_H", kNonNegative);
+    s.k_h = r.number("k_h", kNonNegative).value_or(s.k_H);
+    s.azimuth = r.number("azimuth").value_or(0.0);
+  }
+  return s;
 }
 
 }  // namespace fdem::io::detail

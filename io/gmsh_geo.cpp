@@ -457,11 +457,14 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   const std::string part = final_path.string() + ".part" + std::to_string(::getpid());
   const fs::path temp_path = part + ".msh", driver_path = part + ".geo";
   const std::string geo_abs = fs::absolute(geo_path, ec).string();
+  // gmsh resolves the script's Save path against the script's own folder, so a relative
+  // cache folder (output.dir = "out/...") would put the mesh in out/.../out/...: absolute.
+  const std::string temp_abs = fs::absolute(temp_path, ec).string();
   check_geo_string(geo_path, geo_abs);
-  check_geo_string(geo_path, temp_path.string());
+  check_geo_string(geo_path, temp_abs);
   {
     std::ofstream driver(driver_path);
-    driver << driver_script(geo_abs, temp_path.string(), algorithm_number);
+    driver << driver_script(geo_abs, temp_abs, algorithm_number);
     if (!driver) throw InputError(geo_path + ": cannot write " + driver_path.string() + " in the mesh cache");
   }
   // What a user would type to see gmsh's own messages.

@@ -303,3 +303,44 @@ TEST_CASE("fracture errors: [[interface]]") {
 }
 
 }  // TEST_SUITE("case")
+
+TEST_SUITE("case") {
+
+TEST_CASE("[material.heterogeneity]: homogeneity, seed, properties; each error names the key") {
+  CaseDir d;
+  const std::string h = "[material.heterogeneity]\nhomogeneity = 3.0\nseed = 42\n";
+  const CaseConfig c = read_case(d.write("a.toml", kBase + kFracture + h +
+                                                       "properties = [\"young\", \"cohesion\"]\n"));
+  REQUIRE(c.materials[0].heterogeneity);
+  const auto& x = *c.materials[0].heterogeneity;
+  CHECK(x.homogeneity == 3.0);
+  CHECK(x.seed == 42);
+  CHECK(x.young);
+  CHECK_FALSE(x.tensile_strength);
+  CHECK(x.cohesion);
+  CHECK_FALSE(read_case(d.write("b.toml", kBase)).materials[0].heterogeneity);
+  // Only E varies in a material that does not fracture.
+  CHECK(read_case(d.write("c.toml", kBase + h + "properties = [\"young\"]\n")).materials[0].heterogeneity->young);
+  CHECK(error_of(kBase + h + "properties = [\"cohesion\"]\n") ==
+        contains("material[0].heterogeneity.properties lists \"cohesion\", a property of the CE4s: material[0] "
+                 "('rock') has no [material.fracture]"));
+  CHECK(error_of(kBase + kFracture + h + "properties = [\"youngs\"]\n") ==
+        contains("lists \"youngs\", not a property that can vary (allowed: \"young\", \"tensile_strength\", "
+                 "\"cohesion\") (did you mean \"young\"?)"));
+  CHECK(error_of(kBase + h + "properties = [\"young\", \"young\"]\n") == contains("lists \"young\" twice"));
+  CHECK(error_of(kBase + h + "properties = []\n") == contains("material[0].heterogeneity.properties must be a non-empty array of strings"));
+  CHECK(error_of(kBase + h) == contains("is missing required key 'properties'"));
+  CHECK(error_of(kBase + "[material.heterogeneity]\nseed = 1\nproperties = [\"young\"]\n") ==
+        contains("is missing required key 'homogeneity'"));
+  CHECK(error_of(kBase + "[material.heterogeneity]\nhomogeneity = 0\nseed = 1\nproperties = [\"young\"]\n") ==
+        contains("material[0].heterogeneity.homogeneity = 0 is out of range (allowed: "
+                 "material[0].heterogeneity.homogeneity > 0)"));
+  CHECK(error_of(kBase + "[material.heterogeneity]\nhomogeneity = 2\nseed = -1\nproperties = [\"young\"]\n") ==
+        contains("material[0].heterogeneity.seed = -1 is out of range"));
+  CHECK(error_of(kBase + "[material.heterogeneity]\nhomogeneity = 2\nseed = 1.5\nproperties = [\"young\"]\n") ==
+        contains("material[0].heterogeneity.seed must be an integer"));
+  CHECK(error_of(kBase + "[material.heterogeneity]\nhomogeneity = 2\nsed = 1\nproperties = [\"young\"]\n") ==
+        contains("unknown key 'sed' in material[0].heterogeneity (did you mean 'seed'?)"));
+}
+
+}  // TEST_SUITE

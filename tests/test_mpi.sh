@@ -7,7 +7,8 @@
 # run as one process and over 1, 2 and 4 ranks give byte-identical .exo, history,
 # fragments and events files; a failure on the ranks ends every rank with one rank's exit
 # code and message; checkpoints continue at any number of ranks, with contact too; a node
-# travelling beyond the contact ghosts stops every rank with exit 2.
+# travelling beyond the contact ghosts stops every rank with exit 2; the column in its
+# in-situ state with a heterogeneous E over 2 ranks.
 # Usage: test_mpi.sh FDEM [MPIRUN]
 set -u
 fdem=$(readlink -f "$1")
@@ -189,6 +190,19 @@ done
 check "travel beyond the contact ghosts: exit 2" test $? -eq 2
 check "... saying so" grep -q "more than 0.001 m from its start" itravel.log
 check "... once" test "$(grep -c '^error:' itravel.log)" -eq 1
+
+# The column started in its in-situ state ([in_situ] growing with depth below its top) with
+# a heterogeneous E ([material.heterogeneity]): each rank computes its elements' initial
+# stress and draws from its local model, so 2 ranks give one process's bytes.
+hset=(--set 'in_situ.datum=100.0' --set 'in_situ.k_H=0.5'
+      --set 'material.0.heterogeneity={homogeneity=3.0, seed=7, properties=["young"]}')
+"$fdem" run column_small.toml "${hset[@]}" --quiet --set 'output.dir="hs1"' > hs1.log 2>&1
+check "one process runs the column in situ, heterogeneous" test $? -eq 0
+"$mpirun" --oversubscribe -np 2 "$fdem" run column_small.toml "${hset[@]}" --set 'output.dir="hs2"' > hs2.log 2>&1
+check "... and over 2 ranks" test $? -eq 0
+for f in column.exo column_history.nc; do
+  check "hs2/$f byte-identical to one process" cmp -s "hs1/$f" "hs2/$f"
+done
 
 if [ "$fails" -ne 0 ]; then
   echo "$fails check(s) failed"

@@ -11,6 +11,14 @@ namespace {
 
 // The (time, pressure) points of every pressure table, one after another; one dummy
 // point when there are none.
+// Rows of the load table: one per load, two for an in-situ traction (the field's datum
+// row follows its kind row: boundary_loads.cl).
+size_t load_rows(const Model& model) {
+  size_t rows = 0;
+  for (const auto& l : model.loads) rows += l.kind == LoadKind::InSitu ? 2 : 1;
+  return rows;
+}
+
 size_t pressure_point_count(const Model& model) {
   size_t points = 0;
   for (const auto& l : model.loads)
@@ -41,7 +49,7 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("corner_slot", 3 * t * u)
       .add("edge_nodes", 2 * e * u)
       .add("edge_load", e * u)
-      .add("load_table", std::max<size_t>(1, model.loads.size()) * sizeof(real4))
+      .add("load_table", std::max<size_t>(1, load_rows(model)) * sizeof(real4))
       .add("pressure_points", pressure_point_count(model) * sizeof(real2))
       .add("edge_force", 2 * e * sizeof(real2))
       .add("edge_start", (n + 1) * u)
@@ -50,6 +58,8 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("ce4_slot", std::max<size_t>(1, 4 * model.ce4.size()) * u)  // 4 slots per CE4
       .add("contact_acc", (model.contact.enabled ? n : 1) * 2 * sizeof(cl_long))
       .add("conditions", layout::CONDITION_WORDS * sizeof(int));
+  // A varying E: one factor per triangle of the materials that vary it.
+  if (model.young_count() > 0) p.add("young_factor", model.young_count() * sizeof(real));
   return p;
 }
 
@@ -97,6 +107,14 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   ce4_slot = plan.allocate(cl, "ce4_slot");
   contact_acc = plan.allocate(cl, "contact_acc");
   conditions = plan.allocate(cl, "conditions");
+  young_count = model.young_count();
+  if (young_count > 0) {
+    young_first = model.young_first();
+    young_factor = plan.allocate(cl, "young_factor");
+    std::vector<real> factor(young_count);
+    for (size_t k = 0; k < young_count; ++k) factor[k] = real(model.young_factor[young_first + k]);
+    upload(cl, young_factor, factor);
+  }
   const SlotMap ce4 = build_slot_map(n, model.ce4);
   upload(cl, ce4_start, ce4.start);
   upload(cl, ce4_slot, ce4.slot);
@@ -137,11 +155,16 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
 
   std::vector<uint32_t> en(2 * e), el(e);
   std::vector<std::array<int, 2>> edge_items(e);
+  std::vector<uint32_t> row_of(model.loads.size());  // a load's first row in load_table
+  for (size_t k = 0, row = 0; k < model.loads.size(); ++k) {
+    row_of[k] = static_cast<uint32_t>(row);
+    row += model.loads[k].kind == LoadKind::InSitu ? 2 : 1;
+  }
   for (size_t k = 0; k < e; ++k) {
     const auto& edge = model.loaded_edges[k];
     en[2 * k] = static_cast<uint32_t>(edge.a);
     en[2 * k + 1] = static_cast<uint32_t>(edge.b);
-    el[k] = static_cast<uint32_t>(edge.load);
+    el[k] = row_of[edge.load];
     edge_items[k] = {edge.a, edge.b};
   }
   upload(cl, edge_nodes, en);
@@ -163,6 +186,12 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
         for (size_t k = 0; k < l.times.size(); ++k) points.push_back({real(l.times[k]), real(l.values[k])});
         break;
       case LoadKind::Absorbing: loads.push_back({kind, real(l.material), 0, 0}); break;
+      case LoadKind::InSitu: {
+        const InSituField& f = model.in_situ;
+        loads.push_back({kind, real(f.uniform[0]), real(f.uniform[1]), real(f.uniform[2])});
+        loads.push_back({real(f.datum), real(f.gradient[0]), real(f.gradient[1]), real(f.gradient[2])});
+        break;
+      }
     }
   }
   upload(cl, load_table, loads);

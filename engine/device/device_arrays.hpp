@@ -32,6 +32,10 @@ struct DeviceArrays {
   compute::buffer ref_inverse;   // real4: inverse reference edge matrix, row-major
   compute::buffer tri_material;  // uint
   compute::buffer materials;     // real, MATERIAL_STRIDE per material
+  // [material.heterogeneity] on E only (else none allocated, young_count 0): the factor on
+  // E of triangles [young_first, young_first + young_count) (Model::young_factor).
+  compute::buffer young_factor;  // real
+  size_t young_first = 0, young_count = 0;
   compute::buffer corner_force;  // real2 ×3 per triangle [N] (also the corner masses at set-up)
   compute::buffer stress;        // real4: σxx, σyy, σxy [Pa], J; output only: allocated by
                                  // output_stress(), null between output steps

@@ -81,4 +81,10 @@ std::string softening_curve_problem(double a, double b, double c) {
   return "";
 }
 
+size_t cohesive_property_sets(const CohesiveModel& model) {
+  size_t sets = model.fracture.size();
+  for (const auto& f : model.strength_factor) sets += (f[0] != 1.0 || f[1] != 1.0) ? 1 : 0;
+  return sets;
+}
+
 }  // namespace fdem

@@ -45,6 +45,14 @@ struct CohesiveModel {
   // broke, -1 for a node whose fan is not bonded (corner couples there are contact couples).
   std::vector<std::array<int, 2>> vertices;
   std::vector<int> vertex_bonded;
+  // [material.heterogeneity] (else empty): per CE4 the factors on T_s and c of its set
+  // (Model::ce4_strength_factor). A CE4 whose factors are not (1, 1) gets a property set of
+  // its own, with the same fracture energies.
+  std::vector<std::array<double, 2>> strength_factor;
 };
+
+// The property sets the stage holds for `model`'s CE4s: one per set of `fracture`, plus
+// one per CE4 whose strength factors are not (1, 1).
+size_t cohesive_property_sets(const CohesiveModel& model);
 
 }  // namespace fdem

@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "engine/model/heterogeneity.hpp"
 #include "io/mesh.hpp"
 #include "io/suggest.hpp"
 
@@ -287,6 +288,213 @@ std::vector<uint32_t> initial_candidates(const Model& model, const io::ContactCo
 
 }  // namespace
 
+// The [in_situ] field of the model, checked against what the model can hold: a field that
+// grows with depth needs gravity along -y (the field is then in equilibrium with the
+// rock's weight when its ρ is the rock's) and a datum on or above the mesh; a CE4 holds
+// it only in compression and below its peak shear (in_situ_gaps). Messages name the key.
+FractureProperties ce4_fracture(const Model& model, size_t e);
+
+void set_in_situ(Model& model, const io::CaseConfig& config) {
+  const io::InSituConfig& c = *config.in_situ;
+  const std::string table_key = c.datum ? "in_situ.datum" : config.settings.count("in_situ.principal") ? "in_situ.principal" : "in_situ.stress";
+  auto fail = [&](const std::string& key, const std::string& what) -> void {
+    throw InputError(io::origin_of(config, key) + ": " + what);
+  };
+  InSituField& f = model.in_situ;
+  f.enabled = true;
+  f.uniform = c.stress;
+  if (c.datum) {
+    f.datum = *c.datum;
+    if (model.gravity[0] != 0.0 || !(model.gravity[1] < 0.0))
+      fail("in_situ.datum", "in_situ.datum: a stress that grows with depth needs [gravity] g = [0, -g] (depth is "
+                            "along -y; the field is held by the rock's weight), found g = [" +
+                                format_number(model.gravity[0], 6) + ", " + format_number(model.gravity[1], 6) + "]");
+    double density = 0;
+    if (c.density) {
+      density = *c.density;
+    } else {
+      for (const auto& m : config.materials)
+        if (density != 0 && m.density != density)
+          fail("in_situ.datum", "in_situ.density is needed: the materials have different densities (" +
+                                    format_number(density, 6) + " and " + format_number(m.density, 6) + " kg/m³)");
+        else
+          density = m.density;
+    }
+    const double alpha = c.azimuth * std::acos(-1.0) / 180.0;
+    const double k_x = c.k_H * std::cos(alpha) * std::cos(alpha) + c.k_h * std::sin(alpha) * std::sin(alpha);
+    const double unit_weight = density * -model.gravity[1];
+    f.gradient = {-unit_weight * k_x, -unit_weight, 0.0};
+    double top = -std::numeric_limits<double>::infinity();
+    for (double y : model.y) top = std::max(top, y);
+    double extent = 0;
+    for (double y : model.y) extent = std::max(extent, std::fabs(y));
+    if (top > f.datum + 1e-9 * std::max(1.0, extent))
+      fail("in_situ.datum", "in_situ.datum = " + format_number(f.datum, 9) + " m is below the top of the mesh (y = " +
+                                format_number(top, 9) + " m): the field would be tension above the surface");
+  }
+  for (double v : f.uniform)
+    if (!std::isfinite(v)) fail(table_key, "[in_situ]: the stress is not finite");
+  // The CE4s must carry it from the start.
+  for (size_t e = 0; e < model.ce4.size(); ++e) {
+    const auto& ce = model.ce4[e];
+    std::string problem;
+    in_situ_gaps(f, ce4_fracture(model, e), {model.x[ce[0]], model.y[ce[0]]},
+                 {model.x[ce[1]], model.y[ce[1]]}, problem);
+    if (!problem.empty()) {
+      const int tri = model.ce4_triangles[e][0];
+      fail(table_key, "[in_situ]: " + problem + " (material '" +
+                          config.materials[model.triangle_material[tri]].name + "')");
+    }
+  }
+}
+
+// CE4 e's fracture properties, with its own strengths where they vary.
+FractureProperties ce4_fracture(const Model& model, size_t e) {
+  FractureProperties f = model.fracture[model.ce4_properties[e]];
+  if (!model.ce4_strength_factor.empty()) {
+    f.tensile_strength *= model.ce4_strength_factor[e][0];
+    f.cohesion *= model.ce4_strength_factor[e][1];
+  }
+  return f;
+}
+
+// The Weibull draws of [material.heterogeneity] (engine/heterogeneity.hpp): E per
+// triangle by its rank within its material's block, T_s and c per CE4 of the material's
+// own fracture set by its rank among those CE4s. Any other material's elements keep
+// factor 1. Nothing is drawn when no material asks for it.
+void set_heterogeneity(Model& model, const io::CaseConfig& config) {
+  bool any_young = false, any_strength = false;
+  for (const auto& m : config.materials)
+    if (m.heterogeneity) {
+      any_young |= m.heterogeneity->young;
+      any_strength |= m.heterogeneity->tensile_strength || m.heterogeneity->cohesion;
+    }
+  if (any_young) {
+    model.young_factor.assign(model.num_triangles(), 1.0);
+    for (size_t m = 0; m < config.materials.size(); ++m) {
+      const auto& h = config.materials[m].heterogeneity;
+      if (!h || !h->young) continue;
+      for (size_t t = model.block_start[m]; t < model.block_start[m + 1]; ++t)
+        model.young_factor[t] = weibull_factor(h->homogeneity, h->seed, WeibullProperty::Young, t - model.block_start[m]);
+    }
+  }
+  if (any_strength && !model.ce4.empty()) {
+    model.ce4_strength_factor.assign(model.ce4.size(), {1.0, 1.0});
+    // The fracture set of each fracturable material (split_fracturable's order).
+    std::vector<int> own_set(config.materials.size(), -1);
+    for (size_t m = 0, k = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].fracture) own_set[m] = static_cast<int>(k++);
+    for (size_t m = 0; m < config.materials.size(); ++m) {
+      const auto& h = config.materials[m].heterogeneity;
+      if (!h || !(h->tensile_strength || h->cohesion)) continue;
+      std::uint64_t rank = 0;
+      for (size_t e = 0; e < model.ce4.size(); ++e) {
+        if (model.ce4_properties[e] != own_set[m]) continue;
+        auto& f = model.ce4_strength_factor[e];
+        if (h->tensile_strength) f[0] = weibull_factor(h->homogeneity, h->seed, WeibullProperty::TensileStrength, rank);
+        if (h->cohesion) f[1] = weibull_factor(h->homogeneity, h->seed, WeibullProperty::Cohesion, rank);
+        ++rank;
+      }
+    }
+  }
+}
+
+std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config) {
+  std::vector<std::string> out;
+  std::vector<int> own_set(config.materials.size(), -1);
+  for (size_t m = 0, k = 0; m < config.materials.size(); ++m)
+    if (config.materials[m].fracture) own_set[m] = static_cast<int>(k++);
+  for (size_t m = 0; m < config.materials.size(); ++m) {
+    const auto& h = config.materials[m].heterogeneity;
+    if (!h) continue;
+    std::string line = "material '" + config.materials[m].name + "': Weibull m = " + format_number(h->homogeneity) +
+                       ", seed " + std::to_string(h->seed);
+    auto describe = [&](const char* what, const std::vector<double>& v) {
+      if (v.empty()) return;
+      const auto [low, high] = std::minmax_element(v.begin(), v.end());
+      double mean = 0;
+      for (double x : v) mean += x;
+      line += std::string("; ") + what + " x " + format_number(*low, 3) + " to " + format_number(*high, 3) + " (mean " +
+              format_number(mean / double(v.size()), 3) + ", " + std::to_string(v.size()) + " elements)";
+    };
+    std::vector<double> e, ts, c;
+    if (h->young && !model.young_factor.empty())
+      for (size_t t = model.block_start[m]; t < model.block_start[m + 1]; ++t) e.push_back(model.young_factor[t]);
+    if (!model.ce4_strength_factor.empty())
+      for (size_t k = 0; k < model.ce4.size(); ++k)
+        if (model.ce4_properties[k] == own_set[m]) {
+          if (h->tensile_strength) ts.push_back(model.ce4_strength_factor[k][0]);
+          if (h->cohesion) c.push_back(model.ce4_strength_factor[k][1]);
+        }
+    describe("E", e);
+    describe("T_s", ts);
+    describe("c", c);
+    out.push_back(line);
+  }
+  return out;
+}
+
+size_t Model::young_first() const {
+  for (size_t t = 0; t < young_factor.size(); ++t)
+    if (young_factor[t] != 1.0) return t;
+  return 0;
+}
+
+size_t Model::young_count() const {
+  size_t last = 0;
+  bool any = false;
+  for (size_t t = 0; t < young_factor.size(); ++t)
+    if (young_factor[t] != 1.0) last = t, any = true;
+  return any ? last + 1 - young_first() : 0;
+}
+
+std::vector<std::array<double, 3>> in_situ_triangle_stress(const Model& model) {
+  std::vector<std::array<double, 3>> out;
+  if (!model.in_situ.enabled) return out;
+  out.reserve(model.num_triangles());
+  // The field is linear in y, so its value at the centroid is its mean over the triangle:
+  // the triangle's nodal forces are then exactly those of the field (docs/energy-notes.md).
+  for (const auto& tri : model.triangles)
+    out.push_back(model.in_situ.at((model.y[tri[0]] + model.y[tri[1]] + model.y[tri[2]]) / 3.0));
+  return out;
+}
+
+std::string in_situ_summary(const Model& model) {
+  const InSituField& f = model.in_situ;
+  if (!f.enabled) return "";
+  auto triple = [](const std::array<double, 3>& v) {
+    return "(" + format_number(v[0], 6) + ", " + format_number(v[1], 6) + ", " + format_number(v[2], 6) + ")";
+  };
+  std::string out = "stress (sxx, syy, sxy) = " + triple(f.uniform) + " Pa";
+  const bool depth = f.gradient != std::array<double, 3>{0.0, 0.0, 0.0};
+  if (depth) out += " + (" + format_number(f.datum, 9) + " m - y) x " + triple(f.gradient) + " Pa/m";
+  if (depth && model.num_nodes() > 0) {
+    const auto [low, high] = std::minmax_element(model.y.begin(), model.y.end());
+    out += "; at the top (y = " + format_number(*high, 6) + " m) " + triple(f.at(*high)) + " Pa, at the bottom (y = " +
+           format_number(*low, 6) + " m) " + triple(f.at(*low)) + " Pa";
+  }
+  long edges = 0;
+  for (const auto& e : model.loaded_edges) edges += model.loads[e.load].kind == LoadKind::InSitu;
+  out += "; on " + std::to_string(model.num_triangles()) + " TRI3" +
+         (model.ce4.empty() ? "" : " and " + std::to_string(model.ce4.size()) + " CE4s") + ", its traction on " +
+         std::to_string(edges) + " boundary edges";
+  return out;
+}
+
+std::vector<InSituGaps> in_situ_ce4_gaps(const Model& model) {
+  std::vector<InSituGaps> out;
+  if (!model.in_situ.enabled) return out;
+  out.reserve(model.ce4.size());
+  for (size_t e = 0; e < model.ce4.size(); ++e) {
+    const auto& c = model.ce4[e];
+    std::string problem;
+    out.push_back(in_situ_gaps(model.in_situ, ce4_fracture(model, e), {model.x[c[0]], model.y[c[0]]},
+                               {model.x[c[1]], model.y[c[1]]}, problem));
+    if (!problem.empty()) throw InputError("[in_situ]: CE4 " + std::to_string(e) + ": " + problem);
+  }
+  return out;
+}
+
 Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
                   std::vector<std::string>& notes) {
   io::Mesh mesh = source_mesh;
@@ -499,7 +707,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
     }
 
-    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing) {
+    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing || bc.in_situ) {
       if (dim != 1)
         throw InputError(where + ": loads and absorbing boundaries act on a physical curve; '" + bc.region +
                          "' is a " + dim_word(dim));
@@ -520,6 +728,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
         load.ratio = bc.blast->ratio;
       }
       if (bc.absorbing) load.kind = LoadKind::Absorbing;
+      if (bc.in_situ) load.kind = LoadKind::InSitu;
       // An absorbing edge needs the impedance of its own material: one load per
       // material along the curve.
       std::map<int, int> load_of_material;
@@ -598,6 +807,8 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   }
   split_fracturable(model, config, notes);
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
+  set_heterogeneity(model, config);
+  if (config.in_situ) set_in_situ(model, config);
   return model;
 }
 
@@ -635,9 +846,11 @@ StableStep stable_time_step(const Model& model) {
     // Contact springs: two triangles of height H overlapping by d over L push back with
     // about 6 P_n d L / H, a modulus of about 6 P_n; the friction spring P_tan × L is
     // a modulus of about P_tan × h.
-    double modulus = model.contact.enabled ? std::max({m.wave_modulus, 6.0 * model.contact.max_normal_penalty,
+    // A heterogeneous E scales the triangle's own wave modulus (young_factor).
+    const double wave_modulus = m.wave_modulus * (model.young_factor.empty() ? 1.0 : model.young_factor[t]);
+    double modulus = model.contact.enabled ? std::max({wave_modulus, 6.0 * model.contact.max_normal_penalty,
                                                         model.contact.max_tangential_penalty * h})
-                                           : m.wave_modulus;
+                                           : wave_modulus;
     // Intact CE4s: the traction slope at the origin is P/h on an element of size h, a
     // modulus of about P (the largest of the opening, sliding and overlap penalties). In
     // shear under compression the cohesive part and the friction element's stick spring
@@ -756,6 +969,50 @@ std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig
               *config.materials[m].fracture);
     for (size_t i = 0; i < config.interfaces.size(); ++i)
       check("interface." + std::to_string(i), "interface[" + std::to_string(i) + "]", config.interfaces[i].fracture);
+  }
+  // An in-situ field that grows with depth at another ρ than the rock's is not in
+  // equilibrium with the rock's weight: the body settles (or heaves) from the start.
+  if (config.in_situ && config.in_situ->datum && config.in_situ->density)
+    for (size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].density != *config.in_situ->density)
+        out.push_back(where("in_situ.density") + "in_situ.density = " + format_number(*config.in_situ->density) +
+                      " kg/m³ differs from material[" + std::to_string(m) + "].density = " +
+                      format_number(config.materials[m].density) +
+                      " kg/m³: the field is not in equilibrium with that rock's weight, so the body moves from the "
+                      "start");
+  // Free boundary edges across which the field has a traction: nothing holds it there.
+  if (model.in_situ.enabled) {
+    std::map<std::pair<int, int>, int> count;
+    for (const auto& tri : model.triangles)
+      for (int k = 0; k < 3; ++k) ++count[edge_key(tri[k], tri[(k + 1) % 3])];
+    for (const auto& c : model.ce4) ++count[edge_key(c[0], c[1])], ++count[edge_key(c[2], c[3])];  // bonded faces
+    std::map<std::pair<int, int>, bool> loaded;
+    for (const auto& e : model.loaded_edges)
+      if (model.loads[e.load].kind == LoadKind::InSitu) loaded[edge_key(e.a, e.b)] = true;
+    long unheld = 0;
+    std::string example;
+    for (const auto& tri : model.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = tri[k], b = tri[(k + 1) % 3];
+        if (count[edge_key(a, b)] != 1 || loaded.count(edge_key(a, b))) continue;
+        const auto& ga = model.groups[model.node_group[a]];
+        const auto& gb = model.groups[model.node_group[b]];
+        const double ex = model.x[b] - model.x[a], ey = model.y[b] - model.y[a];
+        const auto s = model.in_situ.at(0.5 * (model.y[a] + model.y[b]));
+        const double tx = s[0] * ey - s[2] * ex, ty = s[2] * ey - s[1] * ex;  // σ₀ (n L), n L = (e.y, -e.x)
+        const double scale = std::max({std::fabs(s[0]), std::fabs(s[1]), std::fabs(s[2])}) * std::hypot(ex, ey);
+        const bool held_x = std::fabs(tx) <= 1e-9 * scale || ((ga.mask & 1u) && (gb.mask & 1u));
+        const bool held_y = std::fabs(ty) <= 1e-9 * scale || ((ga.mask & 2u) && (gb.mask & 2u));
+        if (held_x && held_y) continue;
+        if (unheld++ == 0)
+          example = " (e.g. the edge from (" + format_number(model.x[a]) + ", " + format_number(model.y[a]) + ") to (" +
+                    format_number(model.x[b]) + ", " + format_number(model.y[b]) + ") m)";
+      }
+    if (unheld > 0)
+      out.push_back(where(config.in_situ->datum ? "in_situ.datum" : "in_situ.stress") + "[in_situ]: " +
+                    std::to_string(unheld) + " boundary edges" + example +
+                    " have a traction σ₀·n that nothing holds (no `in_situ = true` load, no fixity on that axis): "
+                    "the body moves there from the start");
   }
   return out;
 }

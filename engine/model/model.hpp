@@ -15,6 +15,7 @@
 
 #include "engine/model/cohesive_model.hpp"
 #include "engine/model/materials.hpp"
+#include "engine/model/in_situ.hpp"
 #include "io/case_config.hpp"
 #include "io/mesh.hpp"
 
@@ -37,7 +38,8 @@ enum class LoadKind {
   Pressure = layout::LOAD_PRESSURE,
   Blast = layout::LOAD_BLAST,
   Table = layout::LOAD_TABLE,
-  Absorbing = layout::LOAD_ABSORBING
+  Absorbing = layout::LOAD_ABSORBING,
+  InSitu = layout::LOAD_IN_SITU  // the in-situ field's traction σ₀·n on the reference edge (Model::in_situ)
 };
 
 struct EdgeLoad {
@@ -143,6 +145,18 @@ struct Model {
   std::vector<int> vertex_bonded;
 
   std::array<double, 2> gravity{0, 0};
+  // [in_situ]: the initial stress of every triangle (at its reference centroid) and of
+  // every CE4 (at its Gauss points); not enabled without the table.
+  InSituField in_situ;
+  // [material.heterogeneity] (engine/heterogeneity.hpp; both empty when no material has
+  // it): per triangle the factor on its material's elastic constants (1 for the other
+  // materials' triangles), per CE4 the factors on T_s and c (1, 1 for the others).
+  std::vector<double> young_factor;
+  std::vector<std::array<double, 2>> ce4_strength_factor;
+  // The triangles [first, first + count) that young_factor's device copy holds: from the
+  // first to the last triangle of the materials with a varying E (count 0: none).
+  size_t young_first() const;
+  size_t young_count() const;
   double local_damping = 0;  // Cundall α (0: none)
   bool mass_scaling = false;
 
@@ -157,6 +171,21 @@ struct Model {
 // prescribed velocities on one node. Notes (re-oriented triangles, dropped nodes) go to
 // `notes`.
 Model build_model(const io::Mesh& mesh, const io::CaseConfig& config, std::vector<std::string>& notes);
+
+// The in-situ field of `model` (Model::in_situ) at each triangle's reference centroid,
+// (σxx, σyy, σxy) [Pa]; empty when the model has none.
+std::vector<std::array<double, 3>> in_situ_triangle_stress(const Model& model);
+// The gaps each CE4 needs to carry it (in_situ_gaps); empty when the model has none.
+// Throws InputError where a CE4 cannot (build_model refuses such a case first).
+std::vector<InSituGaps> in_situ_ce4_gaps(const Model& model);
+
+// What `fdem check` says of the in-situ field: the formula and its value at the top and
+// the bottom of the mesh, and how many edges carry its traction; "" without one.
+std::string in_situ_summary(const Model& model);
+
+// What `fdem check` says of each heterogeneous material: its Weibull modulus and seed, and
+// per varying property the range and mean of the factors drawn; empty without any.
+std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config);
 
 // The mean edge length of the model's triangles [m] (every triangle, reference
 // positions): the element size h of the contact defaults below.

@@ -432,6 +432,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
   m.loads = g.loads;
   m.fracture = g.fracture;
   m.gravity = g.gravity;
+  m.in_situ = g.in_situ;
   m.local_damping = g.local_damping;
   m.mass_scaling = g.mass_scaling;
   m.contact = g.contact;
@@ -462,6 +463,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.triangle_material.push_back(g.triangle_material[t]);
       m.triangle_tags.push_back(g.triangle_tags[t]);
       if (!g.triangle_fracturable.empty()) m.triangle_fracturable.push_back(g.triangle_fracturable[t]);
+      if (!g.young_factor.empty()) m.young_factor.push_back(g.young_factor[t]);
       if (!g.contact_active.empty()) m.contact_active.push_back(g.contact_active[t]);
       if (g.contact.enabled) m.triangle_owned.push_back(partition.triangle_part[t] == rank ? 1 : 0);
       ++m.block_start[g.triangle_material[t] + 1];
@@ -474,6 +476,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.ce4.push_back({local_node[n[0]], local_node[n[1]], local_node[n[2]], local_node[n[3]]});
       m.ce4_triangles.push_back({local_tri[g.ce4_triangles[c][0]], local_tri[g.ce4_triangles[c][1]]});
       m.ce4_properties.push_back(g.ce4_properties[c]);
+      if (!g.ce4_strength_factor.empty()) m.ce4_strength_factor.push_back(g.ce4_strength_factor[c]);
       if (g.contact.enabled) m.ce4_owned.push_back(partition.triangle_part[g.ce4_triangles[c][0]] == rank ? 1 : 0);
     }
   for (size_t k = 0; k < g.loaded_edges.size(); ++k) {

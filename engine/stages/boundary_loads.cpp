@@ -1,5 +1,6 @@
 #include "engine/stages/boundary_loads.hpp"
 
+#include <map>
 #include <string>
 
 #include "engine/device/kernel_args.hpp"
@@ -12,10 +13,11 @@ MemoryPlan BoundaryLoads::plan(size_t loaded_edges, size_t group_size) {
   return MemoryPlan().add("boundary_loads edge_energy", std::max<size_t>(1, loaded_edges) * sizeof(real2));
 }
 
-BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt)
+BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool in_situ)
     : cl_(cl), count_(a.num_loaded_edges), groups_(work_groups(cl, a.num_loaded_edges)) {
-  kernel_ = compute::kernel(cl.build(kernel_source::boundary_loads, {{"GROUP_SIZE", std::to_string(cl.group_size())}}),
-                            "boundary_loads");
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
+  if (in_situ) defines["IN_SITU_LOADS"] = "1";  // a model without them builds the kernel it always had
+  kernel_ = compute::kernel(cl.build(kernel_source::boundary_loads, defines), "boundary_loads");
   edge_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads edge_energy");
   upload(cl, edge_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
   KernelArgs args(kernel_);

@@ -10,7 +10,9 @@ namespace fdem {
 
 class BoundaryLoads {
  public:
-  BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness, double dt);
+  // `in_situ`: the model has in-situ tractions (LoadKind::InSitu); without, the kernel is
+  // built without their branch.
+  BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool in_situ = false);
   // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
   static MemoryPlan plan(size_t loaded_edges, size_t group_size);
   // Edge forces at time `time` (absorbing edges use the current velocities) of step

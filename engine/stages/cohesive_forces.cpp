@@ -38,8 +38,10 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 
 }  // namespace
 
-MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets) {
+MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ) {
   MemoryPlan p;
+  // The openings and slips that carry the in-situ field, only in models with [in_situ].
+  if (in_situ) p.add("ce4_in_situ_gaps", 6 * std::max<size_t>(1, ce4) * sizeof(real));
   p.add("ce4_property_rows", layout::COHP_STRIDE * std::max<size_t>(1, property_sets) * sizeof(real));
   if (mesh_nodes > 0)
     p.add("ce4_mesh_nodes", 2 * ce4 * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
@@ -64,8 +66,12 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
 }
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
-                               compute::buffer& ref_position)
+                               compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ)
     : cl_(cl), count_(model.ce4.size()), partials_(energy_partials(count_)) {
+  const bool with_in_situ = !in_situ.empty();
+  if (with_in_situ && in_situ.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(in_situ.size()) +
+                     " in-situ gap sets");
   if (model.properties.size() != count_)
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
                      std::to_string(model.properties.size()) + " property indices");
@@ -76,6 +82,26 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     const auto& f = model.fracture[k];
     check_properties(f, k);
     integral[k] = softening_integral(f.a, f.b, f.c);
+  }
+  // Heterogeneous strengths: a set of its own for each CE4 whose factors are not (1, 1),
+  // after the shared sets (T_s and c scaled, fracture energies and softening the same).
+  if (!model.strength_factor.empty() && model.strength_factor.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
+                     std::to_string(model.strength_factor.size()) + " strength factors");
+  std::vector<FractureProperties> sets = model.fracture;
+  std::vector<int> own_set(count_, -1);
+  for (size_t e = 0; e < model.strength_factor.size(); ++e) {
+    const auto& factor = model.strength_factor[e];
+    const int prop = model.properties[e];
+    if ((factor[0] == 1.0 && factor[1] == 1.0) || prop < 0 || static_cast<size_t>(prop) >= model.fracture.size())
+      continue;
+    FractureProperties f = model.fracture[prop];
+    f.tensile_strength *= factor[0];
+    f.cohesion *= factor[1];
+    check_properties(f, sets.size());
+    own_set[e] = static_cast<int>(sets.size());
+    sets.push_back(f);
+    integral.push_back(integral[prop]);
   }
 
   const size_t num_nodes = ref_position.size() / sizeof(real2);
@@ -96,7 +122,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     const int prop = model.properties[e];
     if (prop < 0 || static_cast<size_t>(prop) >= model.fracture.size())
       throw InputError("CE4 " + std::to_string(e) + " names fracture properties " + std::to_string(prop) + ", out of range");
-    const auto& f = model.fracture[prop];
+    const int set = own_set[e] >= 0 ? own_set[e] : prop;
+    const auto& f = sets[set];
     const real2 a = ref[model.ce4[e][0]], b = ref[model.ce4[e][1]];
     const double h = std::hypot(double(b.x) - double(a.x), double(b.y) - double(a.y));
     if (!(h > 0.0)) throw InputError("CE4 " + std::to_string(e) + " has a zero-length edge");
@@ -108,11 +135,11 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     row[layout::COH_SP] = real(2.0 * h * f.cohesion / f.penalty_sliding);
     row[layout::COH_OOV] = real(2.0 * h * f.tensile_strength / f.penalty_overlap);
     row[layout::COH_H] = real(h);
-    property[e] = static_cast<cl_uint>(prop);
+    property[e] = static_cast<cl_uint>(set);
   }
-  std::vector<real> property_rows(layout::COHP_STRIDE * std::max<size_t>(1, model.fracture.size()), real(0));
-  for (size_t k = 0; k < model.fracture.size(); ++k) {
-    const auto& f = model.fracture[k];
+  std::vector<real> property_rows(layout::COHP_STRIDE * std::max<size_t>(1, sets.size()), real(0));
+  for (size_t k = 0; k < sets.size(); ++k) {
+    const auto& f = sets[k];
     real* row = &property_rows[layout::COHP_STRIDE * k];
     row[layout::COHP_OT] = real(f.gf1 / (f.tensile_strength * integral[k]));
     row[layout::COHP_ST] = real(f.gf2 / (f.cohesion * integral[k]));
@@ -129,7 +156,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.vertices.size()) +
                      " mesh node pairs");
   mesh_nodes_ = model.vertex_bonded.size();
-  const MemoryPlan arrays = plan(count_, mesh_nodes_, model.fracture.size());
+  const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ);
   if (fans_) {
     std::vector<cl_uint> pairs(2 * count_);
     for (size_t e = 0; e < count_; ++e)
@@ -168,7 +195,19 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, property_, property);
   upload(cl, property_rows_, property_rows);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
-  upload(cl, gp_slip_, std::vector<real4>(count_, real4{0, 0, 0, real(-1)}));  // w: break time, -1 intact
+  std::vector<real4> slips(count_, real4{0, 0, 0, real(-1)});  // w: break time, -1 intact
+  if (with_in_situ) {
+    // The friction elements start where the field's shear has put them (InSituGaps).
+    std::vector<real> gaps(6 * std::max<size_t>(1, count_), real(0));
+    for (size_t e = 0; e < count_; ++e) {
+      const InSituGaps& g = in_situ[e];
+      for (int k = 0; k < 3; ++k) gaps[6 * e + k] = real(g.opening[k]), gaps[6 * e + 3 + k] = real(g.slip[k]);
+      slips[e] = real4{real(g.friction_slip[0]), real(g.friction_slip[1]), real(g.friction_slip[2]), real(-1)};
+    }
+    in_situ_gaps_ = arrays.allocate(cl, "ce4_in_situ_gaps");
+    upload(cl, in_situ_gaps_, gaps);
+  }
+  upload(cl, gp_slip_, slips);
   upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
   upload(cl, slots_, std::vector<real2>(4 * count_));
   upload(cl, last_gap_, gaps);
@@ -177,6 +216,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
 
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
+  if (with_in_situ) defines["IN_SITU_GAPS"] = "1";
   // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
   // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
   // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
@@ -191,6 +231,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
       "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
       "break_ids", break_ids_)("break_records", break_records_);
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
+  if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(

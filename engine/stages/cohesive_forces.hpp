@@ -9,6 +9,7 @@
 #include "engine/device/kernel_args.hpp"
 #include "engine/device/memory_plan.hpp"
 #include "engine/model/real.hpp"
+#include "engine/model/in_situ.hpp"
 #include "io/events_writer.hpp"
 
 namespace fdem {
@@ -19,12 +20,14 @@ class CohesiveForces {
   // from ref_position), uploads them, the connectivity and the zeroed state, compiles the
   // stage and binds everything once. Throws InputError for bad properties or a
   // zero-length edge.
+  // `in_situ`: per CE4 the gaps that carry the in-situ field (in_situ_ce4_gaps), or empty
+  // for none: then the kernel has no such argument and the stage no such array.
   CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
-                 compute::buffer& ref_position);
+                 compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ = {});
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
-  // bonded fans' state: CohesiveModel::vertex_bonded).
+  // bonded fans' state: CohesiveModel::vertex_bonded; with `in_situ` the initial gaps).
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
-  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1);
+  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -97,6 +100,7 @@ class CohesiveForces {
   bool fans_ = false;
   size_t mesh_nodes_ = 0;
   compute::buffer mesh_pairs_, mesh_state_;
+  compute::buffer in_situ_gaps_;  // real ×6 per CE4 (o₀ at the 3 Gauss points, then s₀), [in_situ] only
   KernelArg<cl_int> step_;
   compute::program program_;  // for cohesive_output, built per output_column read
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "engine/device/kernel_args.hpp"
 
@@ -31,12 +33,18 @@ MemoryPlan LumpedMass::plan(size_t nodes, bool ce4) {
 LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, double dt)
     : cl_(cl), triangles_(a.num_triangles), nodes_(a.num_nodes) {
   const bool ce4 = !model.ce4.empty();
-  const auto program = cl.build(kernel_source::lumped_mass, {{"CE4_STIFFNESS", ce4 ? "1" : "0"}});
+  std::map<std::string, std::string> defines{{"CE4_STIFFNESS", ce4 ? "1" : "0"}};
+  if (a.young_count > 0) defines["HETEROGENEOUS_YOUNG"] = "1";
+  const auto program = cl.build(kernel_source::lumped_mass, defines);
   corner_ = compute::kernel(program, "triangle_mass");
-  bind_args(corner_)("n_triangles", static_cast<cl_uint>(triangles_))("tri_nodes", a.tri_nodes)(
-      "tri_material", a.tri_material)("materials", a.materials)("ref_position", a.ref_position)(
-      "ref_inverse", a.ref_inverse)("thickness", static_cast<real>(model.thickness))("corner_mass", a.corner_force)
-      .done();
+  KernelArgs corner(corner_);
+  corner("n_triangles", static_cast<cl_uint>(triangles_))("tri_nodes", a.tri_nodes)("tri_material", a.tri_material)(
+      "materials", a.materials)("ref_position", a.ref_position)("ref_inverse", a.ref_inverse)(
+      "thickness", static_cast<real>(model.thickness))("corner_mass", a.corner_force);
+  if (a.young_count > 0)
+    corner("young_factor", a.young_factor)("young_first", static_cast<cl_uint>(a.young_first))(
+        "young_count", static_cast<cl_uint>(a.young_count));
+  corner.done();
   inertia_ = compute::kernel(program, "node_inertia");
   KernelArgs inertia(inertia_);
   inertia("n_nodes", static_cast<cl_uint>(nodes_))("mass_scaling", cl_int(model.mass_scaling ? 1 : 0))(

@@ -1,14 +1,19 @@
 #include "engine/stages/triangle_forces.hpp"
 
+#include <map>
 #include <string>
+
+#include "base/errors.hpp"
 
 #include "engine/device/kernel_args.hpp"
 #include <vector>
 
 namespace fdem {
 
-MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous) {
+MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous, bool in_situ) {
   MemoryPlan p;
+  // The in-situ reference stress S₀ per triangle, only in models with [in_situ].
+  if (in_situ) p.add("triangle initial_stress", std::max<size_t>(1, triangles) * sizeof(real4));
   p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, group_size)) * sizeof(real2));
   // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
   p.add("triangle viscous_stress", (viscous ? std::max<size_t>(1, triangles) : 1) * sizeof(real4));
@@ -20,14 +25,20 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
   return p;
 }
 
-TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous)
+TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous,
+                               const std::vector<std::array<double, 3>>& initial_stress)
     : cl_(cl), arrays_(a), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
+  const bool in_situ = !initial_stress.empty();
+  if (in_situ && initial_stress.size() != count_)
+    throw InputError("triangle forces: " + std::to_string(initial_stress.size()) + " in-situ stresses for " +
+                     std::to_string(count_) + " triangles");
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
+  if (in_situ) defines["IN_SITU_STRESS"] = "1";
+  if (a.young_count > 0) defines["HETEROGENEOUS_YOUNG"] = "1";
   // NVIDIA: 96 registers a work-item fit two work-groups of 256 per SM, 80 three. H200,
   // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
-  kernel_ = compute::kernel(
-      cl.build(kernel_source::triangle_forces, {{"GROUP_SIZE", std::to_string(cl.group_size())}}, {}, 80),
-      "triangle_forces");
-  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_);
+  kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, {}, 80), "triangle_forces");
+  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ);
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
@@ -47,7 +58,19 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   stress_ = args.later("stress", stress_placeholder_);
   args("conditions", a.conditions);
   energy_mode_ = args.later("energy_mode", cl_int(0));
-  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_)("triangle_energy", triangle_energy_).done();
+  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_)("triangle_energy", triangle_energy_);
+  if (in_situ) {
+    std::vector<real4> s0(std::max<size_t>(1, count_));
+    for (size_t t = 0; t < count_; ++t)
+      s0[t] = real4{real(initial_stress[t][0]), real(initial_stress[t][1]), real(initial_stress[t][2]), 0};
+    initial_stress_ = arrays.allocate(cl, "triangle initial_stress");
+    upload(cl, initial_stress_, s0);
+    args("initial_stress", initial_stress_);
+  }
+  if (a.young_count > 0)
+    args("young_factor", a.young_factor)("young_first", static_cast<cl_uint>(a.young_first))(
+        "young_count", static_cast<cl_uint>(a.young_count));
+  args.done();
 }
 
 void TriangleForces::enqueue(int step, bool energy_row) {

@@ -1,6 +1,9 @@
 // Stage: TRI3 internal forces (cl_kernels/triangle_forces.cl), with the strain energy and
 // viscous dissipation of the energy account.
 #pragma once
+#include <array>
+#include <vector>
+
 #include "engine/device/device_arrays.hpp"
 #include "engine/device/kernel_args.hpp"
 #include "engine/device/checkpoint.hpp"
@@ -12,9 +15,13 @@ class TriangleForces {
  public:
   // Compiles the stage and binds its arrays once. `viscous`: some material has η > 0
   // (then every step accounts the viscous dissipation).
-  TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous);
+  // `initial_stress`: per triangle the in-situ reference stress (σxx, σyy, σxy) [Pa]
+  // (in_situ_triangle_stress), or empty for none: then the kernel has no such argument
+  // and the stage holds no such array.
+  TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous,
+                 const std::vector<std::array<double, 3>>& initial_stress = {});
   // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
-  static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous);
+  static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous, bool in_situ = false);
   // One step's corner forces; with energy_row also the strain energy of the current shape
   // for energy(). Never waits.
   void enqueue(int step, bool energy_row = false);
@@ -49,6 +56,7 @@ class TriangleForces {
   // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
   compute::buffer viscous_stress_;
   compute::buffer triangle_energy_;  // real2 per triangle at the last energy row: (strain energy, viscous dissipation)
+  compute::buffer initial_stress_;   // real4 per triangle (S₀xx, S₀yy, S₀xy, 0), models with [in_situ] only
 };
 
 }  // namespace fdem
