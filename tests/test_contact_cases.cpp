@@ -298,12 +298,13 @@ TEST_CASE("with couples listed ahead of joins the skin does not change the physi
 }
 
 TEST_CASE("fdem check warns when a case's own skin is crossed in a few steps") {
-  // The blasting case: a 0.1 mm skin, a 1 GPa blast (particle speed ~ 1e9 / (2880 x 5000)
-  // ≈ 69 m/s) and dt ~ 0.1 µs: a few steps. Without its skin key: no warning about it.
+  // The blasting case with the 0.1 mm skin it had until 2026-12-03: a 1 GPa blast
+  // (particle speed ~ 1e9 / (2880 x 5000) ≈ 69 m/s) and dt ~ 0.1 µs: a few steps. With a
+  // wide skin or "auto" (the case's own now): no warning about it.
   test::TempDir dir;
   const std::string blasting = test::source_path("cases/blasting/case.toml");
   const std::string out = "output.dir=\"" + dir.str() + "\"";
-  const PreparedCase own = prepare_case(blasting, {"mesh.size=0.04", out});
+  const PreparedCase own = prepare_case(blasting, {"mesh.size=0.04", out, "contact.skin=1e-4"});
   CHECK(speed_scale(own.model, own.config) == doctest::Approx(1e9 / std::sqrt(2880.0 * own.model.materials[0].wave_modulus)));
   auto mentions_skin = [](const std::vector<std::string>& warnings) {
     return std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("contact.skin =") != std::string::npos; });
@@ -311,6 +312,9 @@ TEST_CASE("fdem check warns when a case's own skin is crossed in a few steps") {
   CHECK(mentions_skin(model_warnings(own.model, own.config, own.dt)));
   const PreparedCase wide = prepare_case(blasting, {"mesh.size=0.04", out, "contact.skin=0.02"});
   CHECK(!mentions_skin(model_warnings(wide.model, wide.config, wide.dt)));
+  const PreparedCase adaptive = prepare_case(blasting, {"mesh.size=0.04", out});
+  CHECK(adaptive.model.contact.skin_auto);
+  CHECK(!mentions_skin(model_warnings(adaptive.model, adaptive.config, adaptive.dt)));
 }
 
 }  // TEST_SUITE
