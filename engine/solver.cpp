@@ -111,7 +111,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
 
 size_t Solver::expected_couples(const Model& model) {
   if (!model.contact.enabled) return 0;
-  if (model.contact_active.empty()) return 8 * model.num_triangles();
+  // Listed ahead of joins ("fractured" with a skin), a list holds every triangle's couples.
+  if (model.contact_active.empty() || model.contact.list_ahead) return 8 * model.num_triangles();
   const size_t active = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
                                                           [](uint32_t a) { return a != 0; }));
   return 8 * active + model.ce4.size();
@@ -507,7 +508,7 @@ void Solver::load_state(StateReader& in) {
     detection_->load_state(in);
     // A checkpoint of a list that held only the couples of active triangles (before
     // couples were listed ahead of joins, 2026-12-03): the next step lists them all.
-    detect_after_load_ = list_ahead_ && !in.has("skin_current");
+    detect_after_load_ = list_ahead_ && !in.has_number("skin_current");
     if (skin_) {
       skin_->load_state(in);
       // The list and the last detection's grid as the run had them, so that a join is met

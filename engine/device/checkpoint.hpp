@@ -54,7 +54,8 @@ class StateReader {
   void host(const std::string& name, T* values, size_t count, size_t width = 1);
   std::int64_t integer(const std::string& name) const;
   double number(const std::string& name) const;
-  bool has(const std::string& name) const { return data_.find(name) != nullptr; }
+  bool has(const std::string& name) const { return data_.find(name) != nullptr; }  // an array
+  bool has_number(const std::string& name) const { return data_.numbers.count(name) != 0; }
 
  private:
   const io::CheckpointArray& array(const std::string& name, io::ArrayType type, size_t items, size_t width) const;

@@ -181,7 +181,7 @@ void ContactSkin::load_state(StateReader& in) {
   largest_speed_ = in.number("skin_largest_speed");
   synchronous_ = static_cast<long>(in.integer("skin_synchronous"));
   // Checkpoints written before adaptive skins: the skin was fixed, the model's own.
-  if (in.has("skin_current")) {
+  if (in.has_number("skin_current")) {
     const double current = in.number("skin_current");
     if (!(current > 0) || !std::isfinite(current))
       throw InputError("checkpoint: skin_current = " + std::to_string(current) + " is not a length above 0");
