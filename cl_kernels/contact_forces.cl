@@ -282,16 +282,20 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
   const bool carried_by_ce4 = false;
 #endif
   if (!carried_by_ce4) {
-    uint tri[2], nodes[2][3];
-    real2 x[2][3];
-    couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
+    const ulong key = keys[c];
 #ifdef PRELISTED
-    // Not a couple until both of its triangles take part (listed ahead of a join).
-    const bool both_take_part = active[tri[0]] != 0u && active[tri[1]] != 0u;
+    // Not a couple until both of its triangles take part (listed ahead of a join): asked
+    // before the nodes' positions are gathered, which most such couples never need.
+    const bool both_take_part = active[(uint)(key >> 32)] != 0u && active[(uint)(key & 0xffffffffUL)] != 0u;
 #else
     const bool both_take_part = true;
 #endif
-    if (both_take_part && !separated(x)) return true;
+    if (both_take_part) {
+      uint tri[2], nodes[2][3];
+      real2 x[2][3];
+      couple_nodes(key, tri_nodes, position, tri, nodes, x);
+      if (!separated(x)) return true;
+    }
   }
   if (fresh || live[c]) {  // in place and already forgotten: nothing to read or write
     const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);

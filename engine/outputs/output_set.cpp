@@ -1,6 +1,7 @@
 #include "engine/outputs/output_set.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -36,7 +37,7 @@ std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt
 }  // namespace
 
 OutputSet::OutputSet(const PreparedCase& p, ClContext& cl, long first_step, bool writes_files)
-    : p_(p), writes_files_(writes_files) {
+    : p_(p), cl_(cl), writes_files_(writes_files) {
   const auto& out = p.config.output;
   const bool ce4 = !p.model.ce4.empty();
   const long history_stride =
@@ -129,7 +130,13 @@ void OutputSet::write(const Due& due, const Snapshot& snap) {
   for (Output* o : due.outputs) {
     if (o->role() != Output::Role::Record) sync();  // every row up to a frame or checkpoint is on disk
     if (o->role() == Output::Role::Checkpoint) place();  // the files it continues are in place
-    if (open_) o->write(snap);
+    if (open_) {
+      const auto began = std::chrono::steady_clock::now();
+      o->write(snap);
+      if (cl_.profiling())
+        cl_.add_host_time("output write (host wall): " + std::filesystem::path(o->path()).filename().string(),
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+    }
     frame = frame || o->role() == Output::Role::Frame;
     o->trigger().passed(snap.time);
   }

@@ -61,6 +61,7 @@ class OutputSet {
   void place();
   void sync();
   const PreparedCase& p_;
+  ClContext& cl_;  // its profile books each output's host time
   std::vector<std::unique_ptr<Output>> outputs_;  // in writing order
   Output* checkpoints_ = nullptr;
   Trigger breaks_at_stop_ = Trigger::never();

@@ -92,7 +92,9 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
     const bool stopping = stop.any() && s < p.steps;
     if (stopping) due = outputs.due(s, s * p.dt, true);
     if (due.any() || check || stopping) {
+      const auto began = std::chrono::steady_clock::now();
       Snapshot snap = domain->read(due.needs | Need::Conditions);
+      if (cl.profiling()) cl.add_host_time("output step: snapshot read (host wall, incl. the wait for the queue)", seconds_since(began));
       guard.check(snap, *domain, outputs, due);
       outputs.write(due, snap);
       // The copy a failure rolls back to: at the checks and at frames and checkpoints, not

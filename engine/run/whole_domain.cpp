@@ -31,6 +31,22 @@ std::vector<double> probe_values(Solver& solver, const PointProbes& probes) {
   return row;
 }
 
+// The profile's split of a snapshot read (host wall between laps; nothing when not profiling).
+class Laps {
+ public:
+  explicit Laps(ClContext& cl) : cl_(cl), last_(std::chrono::steady_clock::now()) {}
+  void operator()(const char* what) {
+    if (!cl_.profiling()) return;
+    const auto now = std::chrono::steady_clock::now();
+    cl_.add_host_time(std::string("  snapshot read: ") + what, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  ClContext& cl_;
+  std::chrono::steady_clock::time_point last_;
+};
+
 class WholeDomain : public Domain {
  public:
   WholeDomain(const PreparedCase& p, ClContext& cl) : p_(p), cl_(cl), probes_(p.probes) {
@@ -64,6 +80,7 @@ Snapshot WholeDomain::read(Needs needs) {
   CohesiveForces* const ce4 = solver.cohesive();
   Snapshot s;
   s.step = solver.steps_done(), s.time = solver.time(), s.has = needs;
+  Laps lap(cl_);
   RowReads& reads = solver.row_reads();
   reads.begin();
   std::function<Conditions()> conditions;
@@ -75,6 +92,7 @@ Snapshot WholeDomain::read(Needs needs) {
   if (needs.has(Need::Forces)) forces = solver.queue_forces();
   if (conditions) {
     s.conditions = conditions();
+    lap("conditions (the wait for the queue)");
     if (!s.passed()) return s;
   }
   if (ce4 && needs.has(Need::Breaks)) {
@@ -85,20 +103,24 @@ Snapshot WholeDomain::read(Needs needs) {
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   }
   if (ce4 && needs.has(Need::Catalogue)) s.breaks = with_triangles(ce4->catalogue());
+  lap("breaks");
   if (energy) {
     s.energy = energy();
     s.energy_error = solver.balance().error(s.energy);
     s.energy_ratio = solver.balance().ratio(s.energy);
     s.energy_time = solver.energy_time();
   }
+  lap("energy");
   if (positions) s.positions = positions();
   if (forces) s.forces = forces();
+  lap("positions and forces");
   if (needs.has(Need::Velocities)) s.velocities = solver.velocities();
   if (needs.has(Need::ContactCounts)) {
     s.contact_touching = solver.contact_touching();
     s.contact_candidates = solver.contact_candidates();
     s.contact_rebuilds = solver.contact_rebuilds();
   }
+  lap("velocities, contact counts");
   bool stress_current = false;  // the probes evaluate the stress of this state
   if (needs.has(Need::Probes)) s.probes = probe_values(solver, probes_), stress_current = !probes_.empty();
   if (needs.has(Need::Stress)) {
@@ -107,10 +129,13 @@ Snapshot WholeDomain::read(Needs needs) {
   }
   if (needs.has(Need::ContactForces) && solver.has_contact()) s.contact_forces = solver.contact_forces();
   if (ce4 && needs.has(Need::Ce4State)) s.damage = ce4->damage(), s.opening = ce4->opening(), s.slip = ce4->slip();
+  lap("probes, stress, contact forces, CE4 state");
   if (ce4 && (needs.has(Need::Ce4Flags) || needs.has(Need::FragmentLabels))) s.broken = ce4->broken(), s.mode = ce4->mode();
+  lap("CE4 flags");
   // The pieces, reused while no CE4 broke since the last labelling.
   if (ce4 && needs.has(Need::FragmentLabels))
     s.labels = solver.fragment_labels(static_cast<long>(std::count_if(s.broken.begin(), s.broken.end(), [](int b) { return b != 0; })));
+  lap("fragment labels");
   if (needs.has(Need::State)) {
     const auto began = std::chrono::steady_clock::now();
     StateWriter out(cl_, s.state);
