@@ -255,8 +255,15 @@ inline bool shares_node(const uint i, const uint j, __global const uint* tri_nod
 // around its entries (3x3 around a small triangle's, the covered ones and a ring around
 // them for a large one): a small j is there once, at its centre's cell; a large j may be
 // in several of them, and counts in the first (row-major) cell of the two ranges' overlap.
-// With `keys` the keys go to keys[0 ..), in scan order; returns the number of couples.
+// `part` of `parts` (GPUs: several work-items per triangle, for the latency of the cell
+// walks; CPUs: one): the cells of i's range in row-major order number 0, 1, ...; this part
+// walks cells part, part + parts, ... (a small triangle's 3x3 cells: one each with 9 parts).
+// With `keys` each key goes to keys[atomic_inc(cursor)] (the order of the parts' writes
+// depends on scheduling; sort_segments puts each triangle's segment in order after);
+// returns the number of couples found by this part.
 inline uint triangle_couples(const uint i,
+                             const uint part,
+                             const uint parts,
                              const uint covered,
                              __global const uint* tri_nodes,
                              __global const real4* boxes,
@@ -272,7 +279,8 @@ inline uint triangle_couples(const uint i,
 #ifdef OWNED_FIRST
                              __global const uchar* owned_first,
 #endif
-                             __global ulong* keys) {
+                             __global ulong* keys,
+                             __global uint* cursor) {
   const bool extension = covered != 0xffffffffu;
 #ifdef LIST_INACTIVE
   // Couples listed ahead of their triangles' joins (activation "fractured" with a skin):
@@ -296,18 +304,17 @@ inline uint triangle_couples(const uint i,
 #endif
     if (stamp_i == 0) {
       // Not a candidate itself: only its bonded partners j > i, looked at directly (no
-      // cells; in an intact fracture model that is nearly every triangle).
+      // cells; in an intact fracture model that is nearly every triangle), by part 0.
+      if (part != 0) return 0;
       const real4 box = boxes[i];
       const uint partner[3] = {p0, p1, p2};
       uint found = 0;
       for (int k = 0; k < 3; ++k) {
         const uint j = partner[k];
         if (j == NO_PARTNER || j <= i || !boxes_overlap(box, boxes[j]) || shares_node(i, j, tri_nodes)) continue;
-        if (keys) keys[found] = ((ulong)i << 32) | (ulong)j;
+        if (keys) keys[atomic_inc(cursor)] = ((ulong)i << 32) | (ulong)j;
         ++found;
       }
-      // Ascending j, as a scan's segment is after its sort (at most three: sort here).
-      if (keys) sort_segment(keys, found);
       return found;
     }
   }
@@ -318,8 +325,10 @@ inline uint triangle_couples(const uint i,
   const int x_lo = max(mine.x - 1, 0), x_hi = min(mine.z + 1, (int)d.x - 1);
   const int y_lo = max(mine.y - 1, 0), y_hi = min(mine.w + 1, (int)d.y - 1);
   uint found = 0;
-  for (int cy = y_lo; cy <= y_hi; ++cy) {
-    for (int cx = x_lo; cx <= x_hi; ++cx) {
+  const uint width = (uint)(x_hi - x_lo + 1), cells = width * (uint)(y_hi - y_lo + 1);
+  for (uint cell = part; cell < cells; cell += parts) {
+    {
+      const int cy = y_lo + (int)(cell / width), cx = x_lo + (int)(cell % width);
       const uint h = (uint)cy * d.x + (uint)cx;
       // (min: after an overflow of the entries the host sorts again; read nothing past them)
       const uint end = min(cell_start[h + 1], n_entries);
@@ -343,7 +352,7 @@ inline uint triangle_couples(const uint i,
           if (cy != max(y_lo, theirs.y) || cx != max(x_lo, theirs.x)) continue;
         }
         if (shares_node(i, j, tri_nodes)) continue;
-        if (keys) keys[found] = i < j ? ((ulong)i << 32) | (ulong)j : ((ulong)j << 32) | (ulong)i;
+        if (keys) keys[atomic_inc(cursor)] = i < j ? ((ulong)i << 32) | (ulong)j : ((ulong)j << 32) | (ulong)i;
         ++found;
       }
     }
@@ -366,11 +375,14 @@ inline uint triangle_couples(const uint i,
 #define OWNED_PARAM
 #endif
 
-// One work-item per triangle i (and one more): the number of its couples
+// One work-item per part p of triangle i (global id p·n + i, so that neighbouring
+// work-items read neighbouring triangles): adds the couples that part finds
 // (triangle_couples; covered = 0xffffffff for a detection, the list's covered join stamp
-// for an extension) in couple_offset[i]. The prefix sum over the triangles then makes
-// them the segments' starts, and entry n_triangles, zero here, the total.
+// for an extension) to couple_offset[i], zeroed before. Integer sums: the same total in
+// any order. The prefix sum over the triangles then makes them the segments' starts, and
+// entry n_triangles (zero) the total.
 __kernel void couple_count(const uint n_triangles,
+                           const uint parts,
                            const uint covered,
                            __global const uint* restrict tri_nodes,
                            __global const real4* restrict boxes,
@@ -381,19 +393,23 @@ __kernel void couple_count(const uint n_triangles,
                            __global const uint* restrict sorted_tri,
                            const uint n_entries,
                            __global uint* restrict couple_offset BOND_PARAM OWNED_PARAM) {
-  const uint i = get_global_id(0);
-  if (i > n_triangles) return;
-  couple_offset[i] = i == n_triangles ? 0u
-                                      : triangle_couples(i, covered, tri_nodes, boxes, active, grid, dims, cell_start,
-                                                         sorted_tri, n_entries BOND_ARG OWNED_ARG, (__global ulong*)0);
+  const uint id = get_global_id(0);
+  if (id >= n_triangles * parts) return;
+  const uint i = id % n_triangles, part = id / n_triangles;
+  const uint found = triangle_couples(i, part, parts, covered, tri_nodes, boxes, active, grid, dims, cell_start,
+                                      sorted_tri, n_entries BOND_ARG OWNED_ARG, (__global ulong*)0, (__global uint*)0);
+  if (found) atomic_add(&couple_offset[i], found);
 }
 
-// One work-item per triangle i: writes its couples to keys[listed + couple_offset[i] ..
-// listed + couple_offset[i + 1]) and sorts that segment ascending (insertion sort: a few
-// entries). `listed`: 0 for a detection; for an extension the couples already listed (the
-// new ones follow them, by joining triangle, then key). The host has grown `keys` to the
-// total before.
+// One work-item per part p of triangle i (as couple_count): writes the couples it finds
+// into i's segment keys[listed + start_i ..) at places taken by atomic_inc on
+// couple_offset[i], which holds start_i (after the prefix sum) and ends at start_i +
+// count_i = start_{i+1}: afterwards couple_offset[i] is i's segment's end and
+// couple_offset[i - 1] its start (0 for i = 0). `listed`: 0 for a detection; for an
+// extension the couples already listed (the new ones follow them, by joining triangle).
+// The host has grown `keys` to the total before.
 __kernel void couple_write(const uint n_triangles,
+                           const uint parts,
                            const uint covered,
                            __global const uint* restrict tri_nodes,
                            __global const real4* restrict boxes,
@@ -403,15 +419,25 @@ __kernel void couple_write(const uint n_triangles,
                            __global const uint* restrict cell_start,
                            __global const uint* restrict sorted_tri,
                            const uint n_entries,
-                           __global const uint* restrict couple_offset,
+                           __global uint* restrict couple_offset,
                            const uint listed,
                            __global ulong* restrict keys BOND_PARAM OWNED_PARAM) {
+  const uint id = get_global_id(0);
+  if (id >= n_triangles * parts) return;
+  const uint i = id % n_triangles, part = id / n_triangles;
+  triangle_couples(i, part, parts, covered, tri_nodes, boxes, active, grid, dims, cell_start, sorted_tri, n_entries
+                   BOND_ARG OWNED_ARG, keys + listed, &couple_offset[i]);
+}
+
+// One work-item per triangle i: sorts its segment of couple_write's keys ascending
+// (insertion sort: a few entries), so that the list's order does not depend on the
+// order the parts wrote in. couple_offset[i] is the segment's end (see couple_write).
+__kernel void sort_segments(const uint n_triangles,
+                            __global const uint* restrict couple_offset,
+                            const uint listed,
+                            __global ulong* restrict keys) {
   const uint i = get_global_id(0);
   if (i >= n_triangles) return;
-  const uint first = couple_offset[i], end = couple_offset[i + 1];
-  if (first == end) return;
-  __global ulong* segment = keys + listed + first;
-  triangle_couples(i, covered, tri_nodes, boxes, active, grid, dims, cell_start, sorted_tri, n_entries
-                   BOND_ARG OWNED_ARG, segment);
-  sort_segment(segment, end - first);
+  const uint first = i ? couple_offset[i - 1] : 0u, end = couple_offset[i];
+  if (end - first > 1) sort_segment(keys + listed + first, end - first);
 }

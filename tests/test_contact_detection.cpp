@@ -168,6 +168,13 @@ TEST_CASE("couples of a random soup equal the brute force, also after bodies mov
     const auto expected = brute_force(m, pos, skin);
     CHECK(expected.size() > 20000);  // heavy overlap: the test means something
     CHECK(detect(cl, stage) == expected);
+    // The GPU's way (nine work-items per triangle, writes in any order, then sorted) and
+    // the CPU's (one) give the same list, on any device.
+    for (size_t parts : {9, 1, 4}) {
+      stage.set_parts(parts);
+      CAPTURE(parts);
+      CHECK(detect(cl, stage) == expected);
+    }
     check_grid(stage, m, pos, skin);
     const double first_cell = stage.grid().cell_size;
 
@@ -274,12 +281,15 @@ TEST_CASE("an extension by joined triangles lists what a detection with them wou
   // extensions = that detection, as sets; old list unchanged; each extension's own
   // segments sorted per joining triangle.
   auto& cl = test::context();
+  for (size_t parts : {1, 9}) {
+  CAPTURE(parts);
   std::mt19937 rng(83);
   const Model m = varied_soup(3000, rng);
   const auto at_detection = model_positions(m);
   DeviceArrays arrays(cl, m);
   const double skin = 0.004;
   ContactDetection stage(cl, arrays, skin, 1000);  // a list that must grow, keeping its couples
+  stage.set_parts(parts);
   std::vector<uint32_t> mask(m.num_triangles(), 0);
   for (size_t t = 0; t < mask.size(); ++t) mask[t] = t % 3 == 0 ? 1u : 0u;
   stage.set_active(mask);
@@ -322,6 +332,7 @@ TEST_CASE("an extension by joined triangles lists what a detection with them wou
     if (mask[t] == 0) mask[t] = 7;
   stage.set_active(mask);
   CHECK(stage.extend_joined(listed, listed, 7) == 0);
+  }
 }
 
 TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times larger): the brute force's couples") {
@@ -341,6 +352,8 @@ TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times
   ContactDetection stage(cl, arrays, 0.001);
   const auto a = detect(cl, stage);
   CHECK(a == brute_force(m, model_positions(m), 0.001));
+  stage.set_parts(9);  // a large triangle's cells shared by nine work-items
+  CHECK(detect(cl, stage) == a);
   const auto g = stage.grid();
   CHECK(g.small_side < 0.1);  // not the large triangles' size (about 0.55 m)
   check_grid(stage, m, model_positions(m), 0.001);
@@ -348,7 +361,7 @@ TEST_CASE("a graded soup (small triangles by the thousand, a few a hundred times
 
 TEST_CASE("a pile of triangles in one cell: every couple listed once, each triangle's segment sorted") {
   // 60 triangles with no node in common over nearly the same place: 1,770 couples, 59 for
-  // the first triangle, written by one work-item into its segment in cell order and sorted there.
+  // the first triangle, written into its segment in any order and sorted there.
   auto& cl = test::context();
   std::mt19937 rng(5);
   std::vector<double> x, y;
@@ -360,6 +373,8 @@ TEST_CASE("a pile of triangles in one cell: every couple listed once, each trian
   const auto a = detect(cl, stage);
   CHECK(a.size() == 60 * 59 / 2);
   CHECK(a == brute_force(m, model_positions(m), 0.0));
+  stage.set_parts(9);
+  CHECK(detect(cl, stage) == a);
 }
 
 TEST_CASE("two runs, and two stages, give identical couple lists") {

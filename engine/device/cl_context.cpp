@@ -188,18 +188,18 @@ compute::program ClContext::build(const KernelSource& stage, const std::map<std:
   return program;
 }
 
-void ClContext::enqueue(const compute::kernel& kernel, std::size_t n) {
+void ClContext::enqueue(const compute::kernel& kernel, std::size_t n, std::size_t group) {
   if (n == 0) return;
-  const std::size_t global = (n + group_size_ - 1) / group_size_ * group_size_;
+  const std::size_t local = group ? group : group_size_;
+  const std::size_t global = (n + local - 1) / local * local;
   try {
     if (profiling_) {
-      compute::event done = queue_.enqueue_1d_range_kernel(kernel, 0, global, group_size_);
+      compute::event done = queue_.enqueue_1d_range_kernel(kernel, 0, global, local);
       pending_.emplace_back(kernel.name(), done);
       return;
     }
     // Without profiling no event is asked for: the driver then creates and releases none,
     // which a small model, bound by launches (a few µs each), notices.
-    const std::size_t local = group_size_;
     const cl_int status = clEnqueueNDRangeKernel(queue_.get(), kernel.get(), 1, nullptr, &global, &local, 0, nullptr, nullptr);
     if (status != CL_SUCCESS) throw compute::opencl_error(status);
   } catch (const compute::opencl_error& e) {

@@ -63,9 +63,10 @@ class ClContext {
   // Work-group size used for 1D launches; global sizes are rounded up to it.
   std::size_t group_size() const { return group_size_; }
 
-  // Enqueues a 1D kernel over `n` work-items (rounded up; kernels guard their index).
-  // Never waits. Throws DeviceError naming the kernel on failure.
-  void enqueue(const compute::kernel& kernel, std::size_t n);
+  // Enqueues a 1D kernel over `n` work-items (rounded up; kernels guard their index), in
+  // work-groups of `local` items (0: group_size(); only for kernels without __local
+  // arrays sized by GROUP_SIZE). Never waits. Throws DeviceError naming the kernel on failure.
+  void enqueue(const compute::kernel& kernel, std::size_t n, std::size_t local = 0);
 
   // Allocates a device buffer; `what` names it in the error when allocation fails.
   // Stages allocate through their MemoryPlan (engine/device/memory_plan.hpp), which calls this.

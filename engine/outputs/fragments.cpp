@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -13,13 +14,56 @@ double FragmentSummary::largest_fraction() const {
   return total_area > 0 ? largest / total_area : 0.0;
 }
 
+namespace {
+
+// Triangle t's current area [m²] (positive counter-clockwise), as every fragment sum takes it.
+inline double current_area(const Model& model, const std::vector<real2>& positions, size_t t) {
+  const auto& tri = model.triangles[t];
+  const real2 a = positions[tri[0]], b = positions[tri[1]], c = positions[tri[2]];
+  return 0.5 * ((double(b.x) - a.x) * (double(c.y) - a.y) - (double(c.x) - a.x) * (double(b.y) - a.y));
+}
+
+void check_sizes(const char* who, const Model& model, const std::vector<int>& labels, const std::vector<real2>& positions) {
+  if (labels.size() != model.num_triangles() || positions.size() != model.num_nodes())
+    throw std::logic_error(std::string(who) + ": " + std::to_string(labels.size()) + " labels for " +
+                           std::to_string(model.num_triangles()) + " triangles, " + std::to_string(positions.size()) +
+                           " positions for " + std::to_string(model.num_nodes()) + " nodes");
+}
+
+}  // namespace
+
+PieceAreas piece_areas(const Model& model, const std::vector<int>& labels, const std::vector<real2>& positions) {
+  check_sizes("piece_areas", model, labels, positions);
+  const size_t n = model.num_triangles();
+  // area_of[id]: the running area of the piece whose smallest triangle is id (NaN: none
+  // seen yet); ids are at most their triangle's index, so one array of n does.
+  std::vector<double> area_of(n, std::numeric_limits<double>::quiet_NaN());
+  PieceAreas out;
+  double total = 0;
+  for (size_t t = 0; t < n; ++t) {
+    const int id = labels[t];
+    if (id < 0 || size_t(id) > t)
+      throw std::logic_error("piece_areas: triangle " + std::to_string(t) + " has label " + std::to_string(id));
+    const double area = current_area(model, positions, t);
+    double& sum = area_of[id];
+    if (std::isnan(sum)) {
+      sum = 0;
+      ++out.count;
+    }
+    sum += area;
+    total += area;
+  }
+  double largest = 0;
+  for (size_t t = 0; t < n; ++t)
+    if (!std::isnan(area_of[t])) largest = std::max(largest, area_of[t]);
+  out.largest_fraction = total > 0 ? largest / total : 0.0;
+  return out;
+}
+
 FragmentSummary summarise_fragments(const Model& model, const std::vector<int>& labels,
                                     const std::vector<real2>& positions) {
+  check_sizes("summarise_fragments", model, labels, positions);
   const size_t n = model.num_triangles();
-  if (labels.size() != n || positions.size() != model.num_nodes())
-    throw std::logic_error("summarise_fragments: " + std::to_string(labels.size()) + " labels for " +
-                           std::to_string(n) + " triangles, " + std::to_string(positions.size()) +
-                           " positions for " + std::to_string(model.num_nodes()) + " nodes");
   // slot[id] = index into the summary of the piece whose smallest triangle is id
   std::vector<int> slot(n, -1);
   FragmentSummary out;
@@ -40,7 +84,7 @@ FragmentSummary summarise_fragments(const Model& model, const std::vector<int>& 
     const double x0 = model.x[tri[0]], y0 = model.y[tri[0]];
     const double ref_area = 0.5 * ((model.x[tri[1]] - x0) * (model.y[tri[2]] - y0) - (model.x[tri[2]] - x0) * (model.y[tri[1]] - y0));
     const real2 a = positions[tri[0]], b = positions[tri[1]], c = positions[tri[2]];
-    const double area = 0.5 * ((double(b.x) - a.x) * (double(c.y) - a.y) - (double(c.x) - a.x) * (double(b.y) - a.y));
+    const double area = current_area(model, positions, t);
     const double mass = model.materials[model.triangle_material[t]].density * ref_area * model.thickness;
     const int k = slot[labels[t]];
     Fragment& f = out.fragments[k];

@@ -24,13 +24,13 @@ class HistoryRow {
  public:
   explicit HistoryRow(const Snapshot& snap) : snap(snap) {}
   // The pieces of the body (the snapshot's fragment labels and positions); models with CE4s.
-  const FragmentSummary& fragments(const Model& model);
+  const PieceAreas& pieces(const Model& model);
 
   const Snapshot& snap;
   std::optional<std::array<double, 2>> unbalance;  // (largest free component, mean internal), once computed
 
  private:
-  std::optional<FragmentSummary> fragments_;
+  std::optional<PieceAreas> pieces_;
 };
 
 struct HistoryColumn {

@@ -380,6 +380,13 @@ std::vector<int> CohesiveForces::mode() {
   return out;
 }
 
+void CohesiveForces::flags(std::vector<int>& broken, std::vector<int>& mode) {
+  const auto s = download<cl_int>(cl_, status_, 2 * count_);
+  broken.resize(count_);
+  mode.resize(count_);
+  for (size_t e = 0; e < count_; ++e) broken[e] = s[2 * e] != 0 ? 1 : 0, mode[e] = s[2 * e + 1];
+}
+
 std::vector<real> CohesiveForces::energy_column(int k) {
   const auto rows = download<real4>(cl_, energy_, count_);
   std::vector<real> column(count_);

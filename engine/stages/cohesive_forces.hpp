@@ -52,6 +52,7 @@ class CohesiveForces {
   std::vector<real> slip();         // mean slip s [m]
   std::vector<int> broken();        // 0/1
   std::vector<int> mode();          // 0 intact, 1 mode I, 2 mode II, 3 mixed
+  void flags(std::vector<int>& broken, std::vector<int>& mode);  // both, from one read
   std::vector<real> broken_time();  // [s]; -1 while intact
   size_t count_broken();
   std::vector<real> work();         // work done on each CE4 so far [J]

@@ -61,6 +61,10 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   if (group == 0 || (group & (group - 1)) != 0)
     throw DeviceError("contact detection needs a power-of-two work-group size, not " + std::to_string(group));
   if (count_ > 0xffffffffu) throw DeviceError("contact detection: more than 2^32 triangles");
+  // A GPU walks a triangle's cells with nine work-items (a small triangle's 3x3: one cell
+  // each), so that enough are in flight to hide the memory latency of the walks; a CPU
+  // with one (its few threads gain nothing from more).
+  parts_ = cl.info().is_gpu && count_ * 9 <= 0xffffffffu ? 9 : 1;
   groups_ = (count_ + group - 1) / group;
   max_cells_ = cell_limit(count_);
   capacity_ = first_capacity(count_, initial_capacity);
@@ -147,6 +151,7 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   auto couples_common = [&](compute::kernel& k, Couples& bound, bool write) {
     KernelArgs args(k);
     args("n_triangles", nt);
+    bound.parts = args.later("parts", static_cast<cl_uint>(parts_));
     bound.covered = args.later("covered", kDetection);
     args("tri_nodes", a.tri_nodes)("boxes", boxes_)("active", active_)("grid", grid_)("dims", dims_)(
         "cell_start", cell_start_);
@@ -165,6 +170,14 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
   couples_common(couple_count_kernel_, count_args_, false);
   couple_write_kernel_ = compute::kernel(program, "couple_write");
   couples_common(couple_write_kernel_, write_args_, true);
+  sort_kernel_ = compute::kernel(program, "sort_segments");
+  {
+    KernelArgs k(sort_kernel_);
+    k("n_triangles", nt)("couple_offset", offsets_);
+    sort_listed_ = k.later("listed", cl_uint(0));
+    sort_keys_ = k.later("keys", keys_);
+    k.done();
+  }
   // Extensions by joined triangles: one rank only (a split run's couples are placed by
   // their rank in the whole sorted list; it detects again instead).
   split_ = !owned_first.empty();
@@ -175,6 +188,15 @@ void ContactDetection::grow(size_t needed) {
   keys_ = couple_list(capacity).allocate(cl_, "contact couples");
   capacity_ = capacity;
   write_args_.keys.set(keys_);
+  sort_keys_.set(keys_);
+}
+
+void ContactDetection::set_parts(size_t parts) {
+  if (parts == 0 || parts > 64) throw DeviceError("contact detection: " + std::to_string(parts) + " parts per triangle (1 to 64)");
+  if (count_ * parts > 0xffffffffu) throw DeviceError("contact detection: too many work-items for the couple search");
+  parts_ = parts;
+  count_args_.parts.set(static_cast<cl_uint>(parts));
+  write_args_.parts.set(static_cast<cl_uint>(parts));
 }
 
 void ContactDetection::exclusive_scan(const compute::buffer& data, size_t entries) {
@@ -202,7 +224,9 @@ void ContactDetection::bin_triangles(bool boxes) {
 
 void ContactDetection::count_couples(cl_uint covered) {
   count_args_.covered.set(covered);
-  cl_.enqueue(couple_count_kernel_, count_ + 1);
+  const cl_uint zero = 0;
+  cl_.queue().enqueue_fill_buffer(offsets_, &zero, sizeof(zero), 0, (count_ + 1) * sizeof(cl_uint));
+  cl_.enqueue(couple_count_kernel_, count_ * parts_);
   exclusive_scan(offsets_, count_ + 1);
 }
 
@@ -241,7 +265,9 @@ size_t ContactDetection::bin_and_count(bool boxes, cl_uint covered) {
 void ContactDetection::write_couples(cl_uint covered, size_t listed) {
   write_args_.covered.set(covered);
   write_args_.listed.set(static_cast<cl_uint>(listed));
-  cl_.enqueue(couple_write_kernel_, count_);
+  cl_.enqueue(couple_write_kernel_, count_ * parts_);
+  sort_listed_.set(static_cast<cl_uint>(listed));
+  cl_.enqueue(sort_kernel_, count_);
 }
 
 void ContactDetection::rebuild_grid(const compute::buffer& positions_at_run) {

@@ -74,6 +74,10 @@ class ContactDetection {
   bool restore_list(StateReader& in);
   size_t capacity() const;
   size_t last_count() const;
+  // Work-items per triangle in the couple search (GPU 9, CPU 1; the list does not depend
+  // on it). For tests of the GPU's way on a CPU.
+  void set_parts(size_t parts);
+  size_t parts() const { return parts_; }
   struct Grid { double cell_size, x0, y0; unsigned nx, ny; double small_side; };  // small_side: the largest box side entered in one cell
   Grid grid();                           // the grid of the last run (host read; for `fdem check` and tests)
   // Optional candidate mask for later (fracture activation): one cl_uint per triangle, nonzero =
@@ -108,6 +112,7 @@ class ContactDetection {
   size_t capacity_ = 0;
   size_t entries_capacity_ = 0;
   size_t last_count_ = 0;
+  size_t parts_ = 1;    // work-items per triangle in couple_count and couple_write
   bool split_ = false;
   bool can_extend_ = false;    // a run's grid is in place (and not a split run)
   bool stamp_loaded_ = true;   // false after loading a checkpoint without covered_
@@ -116,19 +121,21 @@ class ContactDetection {
   compute::buffer boxes_, partial_bounds_, partial_side_, grid_, dims_;
   compute::buffer cell_start_;   // max_cells + 1: the cells' counts (at c + 1), then their starts and ends
   compute::buffer sorted_tri_;   // the cells' entries (triangles), cell after cell
-  compute::buffer offsets_;      // triangles + 1: each one's couple count, then its segment's start
+  compute::buffer offsets_;      // triangles + 1: each one's couple count, then its segment's start (after couple_write its end)
   compute::buffer scan_blocks_;  // the prefix sums' block totals
   compute::buffer active_, keys_, owned_first_;
   compute::buffer bond_partners_;  // 3 cl_uint per triangle (only when bonds are given)
   compute::buffer positions_;      // the node positions the boxes are taken from (rebuild_grid binds others for a while)
   compute::kernel boxes_kernel_, grid_kernel_, cell_count_kernel_, cell_scatter_kernel_;
   compute::kernel scan_blocks_kernel_, scan_sums_kernel_, scan_add_kernel_;
-  compute::kernel couple_count_kernel_, couple_write_kernel_;
+  compute::kernel couple_count_kernel_, couple_write_kernel_, sort_kernel_;
+  KernelArg<cl_uint> sort_listed_;
+  KernelArg<compute::buffer> sort_keys_;
   KernelArg<compute::buffer> box_positions_, scatter_entries_;
   KernelArg<real> half_skin_;
   KernelArg<cl_uint> scatter_capacity_;
   struct Couples {
-    KernelArg<cl_uint> covered, listed, n_entries;
+    KernelArg<cl_uint> parts, covered, listed, n_entries;
     KernelArg<compute::buffer> entries, keys;
   } count_args_, write_args_;
 };

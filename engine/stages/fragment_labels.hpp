@@ -23,7 +23,8 @@ class FragmentLabels {
   static MemoryPlan plan(size_t triangles, size_t nodes, size_t ce4);
 
   // Labels the pieces now: per triangle, the smallest triangle index of its piece.
-  // Waits: one flag read per round (rounds() says how many the last call took).
+  // Waits: a flag read per round on a CPU, every second round from the fourth on a GPU
+  // (rounds() says how many the last call took).
   std::vector<int> labels();
   int rounds() const { return rounds_; }
 
