@@ -35,7 +35,27 @@
 // young_count) scale their material's elastic stress and strain energy by their factor
 // young_factor[t - young_first] (every elastic constant is proportional to E at a fixed
 // ν); the viscosity and the in-situ stress are not scaled.
+// Excavation (define EXCAVATION, models with [[excavation]] only; the arguments exist
+// only then): triangle t belongs to excavation excavation_of[t] (-1: none), whose factor
+// k(time) falls from 1 at start to 0 at start + duration (excavation_time: (start,
+// duration) [s] per excavation; duration 0: at once). The triangle's whole stress
+// (elastic, in-situ and viscous) is scaled by k, and so is its strain energy; once k is 0
+// at this step and the last one the triangle is gone: no force, no energy, and its shape
+// no longer matters (it may invert: no inverted-triangle stop). The strain energy that
+// leaves with the factor is accounted by the trapezoid rule in time: every step while
+// the triangle is still there, excavation_energy[t] = (W A₀ t at this step, Σ (k_before -
+// k_now) ½ (W_before + W_now) so far), W the full potential (elastic and in-situ); the
+// host sums .y as the account's `excavated` term (docs/energy-notes.md, "Excavation").
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
+
+#ifdef EXCAVATION
+inline real excavation_factor(__global const real* restrict excavation_time, const int i, const real time) {
+  const real start = excavation_time[2 * i], duration = excavation_time[2 * i + 1];
+  if (time < start) return (real)1;
+  if (!(duration > (real)0) || time >= start + duration) return (real)0;
+  return (real)1 - (time - start) / duration;
+}
+#endif
 
 inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
   // σ = λ/2 (J - 1/J) I + μ/J (F Fᵀ - I)
@@ -120,6 +140,10 @@ inline real4 triangle(const uint t,
 #ifdef HETEROGENEOUS_YOUNG
                         , __global const real* restrict young_factor, const uint young_first, const uint young_count
 #endif
+#ifdef EXCAVATION
+                        , __global const int* restrict excavation_of, __global const real* restrict excavation_time,
+                        __global real2* restrict excavation_energy
+#endif
                         ) {
   const uint n0 = tri_nodes[3 * t], n1 = tri_nodes[3 * t + 1], n2 = tri_nodes[3 * t + 2];
   const real2 x0 = position[n0], x1 = position[n1], x2 = position[n2];
@@ -128,6 +152,23 @@ inline real4 triangle(const uint t,
   const real4 F = mul2(Dx, ref_inverse[t]);
   const real J = det2(F);
   __global const real* m = materials + MATERIAL_STRIDE * tri_material[t];
+
+#ifdef EXCAVATION
+  const int dig = excavation_of[t];
+  real keep = (real)1, keep_before = (real)1;
+  if (dig >= 0) {
+    keep = excavation_factor(excavation_time, dig, (real)step * dt);
+    keep_before = step > 0 ? excavation_factor(excavation_time, dig, (real)(step - 1) * dt) : keep;
+    if (keep == (real)0 && keep_before == (real)0) {  // gone
+      corner_force[3 * t] = corner_force[3 * t + 1] = corner_force[3 * t + 2] = (real2)(0, 0);
+      if (write_stress) stress[t] = (real4)(0, 0, 0, J);
+      return (real4)(0, 0, 0, 0);
+    }
+  }
+  const bool excavating = dig >= 0;  // still there, maybe on its way out
+#else
+  const bool excavating = false;
+#endif
 
   if (!(J > (real)0)) {  // inverted, degenerate, or NaN
     atomic_min(&conditions[COND_INVERTED_TRI], (int)t);
@@ -153,22 +194,36 @@ inline real4 triangle(const uint t,
   sigma += mul2(mul2(F, (real4)(s0.x, s0.z, s0.z, s0.y)), transpose2(F)) / J;
 #endif
 
-  const real eta = m[MAT_VISCOSITY];
   const real area_t = (real)0.5 * det2(Dx) * thickness;  // current area × thickness
   real4 energy = (real4)(0, 0, 0, 0);
-  if ((energy_mode & 2) != 0)
+  if ((energy_mode & 2) != 0 || excavating)
     energy.x = (real)0.5 / det2(ref_inverse[t]) * thickness *
                ((m[MAT_MODEL] == (real)0) ? neo_hookean_energy(F, m[MAT_LAMBDA], m[MAT_MU]) : hyperelastic_energy(F, m));
 #ifdef HETEROGENEOUS_YOUNG
   energy.x *= young;
 #endif
 #ifdef IN_SITU_STRESS
-  if ((energy_mode & 2) != 0) {  // S₀:E A₀ t, E = ½(H + Hᵀ + HᵀH) from H = F - I
+  if ((energy_mode & 2) != 0 || excavating) {  // S₀:E A₀ t, E = ½(H + Hᵀ + HᵀH) from H = F - I
     const real4 H = F - (real4)(1, 0, 0, 1);
     const real4 HtH = mul2(transpose2(H), H);
     const real exx = H.x + (real)0.5 * HtH.x, eyy = H.w + (real)0.5 * HtH.w, gxy = H.y + H.z + HtH.y;
     energy.x += (real)0.5 / det2(ref_inverse[t]) * thickness * (s0.x * exx + s0.y * eyy + s0.z * gxy);
   }
+#endif
+#ifdef EXCAVATION
+  if (excavating) {
+    if (!write_stress) {  // a force step (the output's stress pass repeats a step: no account)
+      real2 out = excavation_energy[t];  // (W of the step before, released so far)
+      if (step > 0) out.y += (keep_before - keep) * (real)0.5 * (out.x + energy.x);
+      out.x = energy.x;
+      excavation_energy[t] = out;
+    }
+    energy.x *= keep;
+    sigma *= keep;
+  }
+  const real eta = keep * m[MAT_VISCOSITY];
+#else
+  const real eta = m[MAT_VISCOSITY];
 #endif
   if (eta != (real)0) {
     // L = Σ v_a ⊗ ∇N_a; D = sym(L)
@@ -235,6 +290,10 @@ __kernel void triangle_forces(const uint n_triangles,
                               , __global const real* restrict young_factor, const uint young_first,
                               const uint young_count
 #endif
+#ifdef EXCAVATION
+                              , __global const int* restrict excavation_of,
+                              __global const real* restrict excavation_time, __global real2* restrict excavation_energy
+#endif
                               ) {
   __local real4 energy_scratch[GROUP_SIZE];
   const uint t = get_global_id(0);
@@ -247,6 +306,9 @@ __kernel void triangle_forces(const uint n_triangles,
 #endif
 #ifdef HETEROGENEOUS_YOUNG
                       , young_factor, young_first, young_count
+#endif
+#ifdef EXCAVATION
+                      , excavation_of, excavation_time, excavation_energy
 #endif
                       );
   // Energy rows: the triangle's own (strain energy, viscous dissipation so far), summed

@@ -46,6 +46,14 @@ CohesiveModel cohesive_model(const Model& model) {
   return m;
 }
 
+// [[excavation]] as TriangleForces takes it (empty without).
+TriangleExcavation triangle_excavation(const Model& model) {
+  TriangleExcavation e;
+  e.of = model.triangle_excavation;
+  for (const auto& x : model.excavations) e.times.push_back({x.start, x.duration});
+  return e;
+}
+
 // Whether the step's integration gathers the nodes' forces itself (Integrate::Gather),
 // and from what (the sources of NodeGather::enqueue_forces). Measured on the H200
 // (docs/performance-notes.md): the fused kernel saves a launch, which models up to a few
@@ -101,7 +109,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size(), !model.ce4_owned.empty()));
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
-  plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled));
+  plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled, model.excavations.size()));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
   plan.add(LumpedMass::plan(nodes, p.ce4));
@@ -187,7 +195,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                                                  cohesive_ ? cohesive_->mesh_node_state() : nullptr,
                                                                  parts_.skin ? ring_.get() : nullptr, true);
                         })),
-      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model)),
+      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
+                       triangle_excavation(model)),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),

@@ -116,6 +116,16 @@ struct InSituConfig {
   double azimuth = 0.0;                         // α [degrees]
 };
 
+// One [[excavation]]: the triangles of a physical surface removed from the model. Their
+// internal forces (and stored strain energy) are scaled by a factor that falls linearly
+// from 1 at `start` to 0 at `start + duration` (duration 0: at once, at the first step at
+// or after `start`).
+struct ExcavationConfig {
+  std::string region;     // Gmsh physical surface
+  double start = 0.0;     // [s]
+  double duration = 0.0;  // [s]
+};
+
 struct DampingConfig {
   bool local_enabled = false;  // [damping] local given
   double local = 0.0;          // Cundall α
@@ -217,6 +227,7 @@ struct CaseConfig {
   std::vector<InterfaceConfig> interfaces;
   std::vector<ProbeConfig> probes;        // [[probe]] entries
   std::optional<InSituConfig> in_situ;    // present when the case has an [in_situ] table
+  std::vector<ExcavationConfig> excavations;  // [[excavation]] entries
   // Every key of the case after --set, by dotted path ("material.0.young") → its TOML
   // value; checkpoints keep it so that a restart can name any key that changed.
   std::map<std::string, std::string> settings;

@@ -110,6 +110,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   c.initials = read_entries(top, "initial", "region", read_initial);
   if (auto contact = reader("contact")) c.contact = read_contact(*contact, c.materials);
   c.probes = read_probes(top);
+  c.excavations = read_excavations(top);
   for (size_t i = 0; i < c.boundaries.size(); ++i)
     if (c.boundaries[i].in_situ && !c.in_situ) {
       const toml::table* entry = table_array(top, "boundary")[i];

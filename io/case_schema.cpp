@@ -60,6 +60,7 @@ const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"frictio
 const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
                           {"azimuth"}}};
+const Schema kExcavationKeys{{{"region"}, {"start"}, {"duration"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -72,7 +73,8 @@ const Schema kRootKeys{{{"title"},
                         {"initial", Shape::TableArray, &kInitialKeys},
                         {"contact", Shape::Table, &kContactKeys},
                         {"probe", Shape::TableArray, &kProbeKeys},
-                        {"in_situ", Shape::Table, &kInSituKeys}}};
+                        {"in_situ", Shape::Table, &kInSituKeys},
+                        {"excavation", Shape::TableArray, &kExcavationKeys}}};
 
 std::string nearest_key(std::string_view name, const std::vector<std::string_view>& candidates) {
   return nearest_name(name, candidates, LetterCase::Ignored);

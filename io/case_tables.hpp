@@ -57,6 +57,9 @@ InitialConfig read_initial(const TableReader& r);
 // io/case_contact_table.cpp: [contact] with its [[contact.pair]] entries.
 ContactConfig read_contact(const TableReader& r, const std::vector<MaterialConfig>& materials);
 
+// io/case_excavation_table.cpp: [[excavation]] entries.
+std::vector<ExcavationConfig> read_excavations(const TableReader& top);
+
 // io/case_probe_table.cpp: [[probe]] entries.
 std::vector<ProbeConfig> read_probes(const TableReader& top);
 

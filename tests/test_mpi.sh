@@ -8,7 +8,8 @@
 # fragments and events files; a failure on the ranks ends every rank with one rank's exit
 # code and message; checkpoints continue at any number of ranks, with contact too; a node
 # travelling beyond the contact ghosts stops every rank with exit 2; the column in its
-# in-situ state with a heterogeneous E over 2 ranks.
+# in-situ state with a heterogeneous E over 2 ranks; a tunnel excavated over 2 ranks and
+# across a restart from 2 ranks to one.
 # Usage: test_mpi.sh FDEM [MPIRUN]
 set -u
 fdem=$(readlink -f "$1")
@@ -203,6 +204,23 @@ check "one process runs the column in situ, heterogeneous" test $? -eq 0
 check "... and over 2 ranks" test $? -eq 0
 for f in column.exo column_history.nc; do
   check "hs2/$f byte-identical to one process" cmp -s "hs1/$f" "hs2/$f"
+done
+
+# A tunnel excavated from a plate in situ ([[excavation]], tests/data/cases/tunnel_small.*):
+# 2 ranks give one process's bytes, and a checkpoint written by 2 ranks inside the ramp
+# continues on one process to the same bytes (the released-energy array is per triangle).
+cp "$src/data/cases/tunnel_small.msh" "$src/data/cases/tunnel_small.toml" .
+"$fdem" run tunnel_small.toml --quiet --set 'output.dir="tun1"' > tun1.log 2>&1
+check "one process runs the tunnel excavation" test $? -eq 0
+"$mpirun" --oversubscribe -np 2 "$fdem" run tunnel_small.toml --set 'output.dir="tun2"' > tun2.log 2>&1
+check "... and over 2 ranks" test $? -eq 0
+"$mpirun" --oversubscribe -np 2 "$fdem" run tunnel_small.toml --set 'output.dir="tunr"' --set 'time.end=4.0e-3' > tunr.log 2>&1
+check "2 ranks to the middle of the ramp" test $? -eq 0
+"$fdem" run tunnel_small.toml --quiet --set 'output.dir="tunr"' --restart > tunr1.log 2>&1
+check "one process continues it" test $? -eq 0
+for f in tunnel.exo tunnel_history.nc; do
+  check "tun2/$f byte-identical to one process" cmp -s "tun1/$f" "tun2/$f"
+  check "tunr/$f (2 ranks, then one) byte-identical to one process" cmp -s "tun1/$f" "tunr/$f"
 done
 
 if [ "$fails" -ne 0 ]; then

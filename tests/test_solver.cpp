@@ -73,6 +73,7 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
        {"mesh.size=4e-3"}},
       {"pressure tables and contact \"fractured\" (blasting)", test::source_path("cases/blasting/case.toml"),
        {"mesh.size=0.1"}},
+      {"in situ, excavation (tunnel)", test::source_path("tests/data/cases/tunnel_small.toml"), {}},
   };
   ClContext& cl = test::context();
   for (const auto& sample : samples) {

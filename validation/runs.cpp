@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "case_measures.hpp"
+#include "kirsch_measure.hpp"
 #include "validation.hpp"
 
 namespace fdem::validation {
@@ -219,6 +220,23 @@ Measured wave_penalty(const Results& r) {
   return m;
 }
 
+// ---- cases/tunnel-kirsch: hoop stress at the wall against Kirsch -----------------------
+
+Measured tunnel_kirsch(const Results& r) {
+  const std::string exo = r.dir("tunnel-kirsch") + "/tunnel.exo";
+  const RunSummary& s = r.summaries.at("tunnel-kirsch");
+  Measured m;
+  for (double angle : {0.0, 90.0}) {
+    // cases/tunnel-kirsch/README.md, "How it is measured": σ_H 20 MPa, σ_h 12 MPa, a = 1 m.
+    const test::WallHoop h = test::wall_hoop(exo, 1.0, 20e6, 12e6, angle, 0.1, 4.0);
+    m.values[angle == 0 ? "theta0" : "theta90"] = std::fabs(h.error());
+    m.notes.push_back(text("θ = ", angle, "°: σ_θθ at the wall ", h.measured / 1e6, " MPa, Kirsch ", h.kirsch / 1e6,
+                           " MPa, error ", 100 * h.error(), "% (", h.triangles, " triangles)"));
+  }
+  m.values["energy"] = s.worst_energy_error;
+  return m;
+}
+
 }  // namespace
 
 const std::vector<Entry>& entries() {
@@ -324,6 +342,16 @@ const std::vector<Entry>& entries() {
         {"10E-1E", "V_p at 10 × E minus at 1 × E [m/s]", above(0),
          "cases/wave-penalty/README.md: the speed falls with the penalty (seed paper Fig. 19: 4,858 and 4,660 m/s)"}},
        wave_penalty},
+
+      {"tunnel-kirsch",
+       "circular tunnel excavated under σ_H 20 MPa, σ_h 12 MPa: the hoop stress at the wall against Kirsch",
+       {{"tunnel-kirsch", "cases/tunnel-kirsch/case.toml", {}}},
+       {{"theta0", "|σ_θθ / Kirsch − 1| at θ = 0° (Kirsch: 16 MPa)", below(0.03),
+         "cases/tunnel-kirsch/README.md, Expected: within 3% (issue 31, Verification)"},
+        {"theta90", "|σ_θθ / Kirsch − 1| at θ = 90° (Kirsch: 48 MPa)", below(0.03),
+         "cases/tunnel-kirsch/README.md, Expected: within 3% (issue 31, Verification)"},
+        {"energy", "worst |energy_error| of the run", below(1e-3), "cases/tunnel-kirsch/README.md, Energy"}},
+       tunnel_kirsch},
   };
   return table;
 }

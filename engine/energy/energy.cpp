@@ -47,6 +47,7 @@ std::string EnergyBalance::largest_change(const EnergyTotals& a, const EnergyTot
       {"contact_damping_dissipation", b.contact_damping - a.contact_damping},
       {"fracture_dissipation", b.fracture - a.fracture},
       {"absorbed_energy", b.absorbed - a.absorbed},
+      {"excavated_energy", b.excavated - a.excavated},
       {"boundary_work", b.boundary_work - a.boundary_work},
       {"load_work", b.load_work - a.load_work}};
   const auto* best = &changes[0];

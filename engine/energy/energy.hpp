@@ -25,6 +25,9 @@ struct EnergyTotals {
   double kinetic = 0, strain = 0, cohesive_stored = 0, contact_stored = 0, gravity_potential = 0;
   // Dissipated [J], cumulative from t = 0.
   double viscous = 0, local_damping = 0, friction = 0, contact_damping = 0, fracture = 0, absorbed = 0;
+  // Strain energy carried out of the model by excavated triangles as their forces ramp
+  // to zero [J], cumulative ([[excavation]]; docs/energy-notes.md, "Excavation").
+  double excavated = 0;
   // Supplied [J], cumulative from t = 0.
   double boundary_work = 0, load_work = 0;
   // Round-off of the stored terms [J]: the strain energy and the contact potentials are
@@ -33,7 +36,9 @@ struct EnergyTotals {
   double resolution = 0;
 
   double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential; }
-  double dissipated() const { return viscous + local_damping + friction + contact_damping + fracture + absorbed; }
+  double dissipated() const {
+    return viscous + local_damping + friction + contact_damping + fracture + absorbed + excavated;
+  }
   double supplied() const { return boundary_work + load_work; }
 };
 

@@ -597,8 +597,10 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
 
   model.block_start.assign(config.materials.size() + 1, 0);
   std::vector<double> edge_sum(config.materials.size(), 0.0);
+  std::vector<int> triangle_group;  // the mesh's physical group of each model triangle
   for (size_t k : order) {
     const auto& tri = mesh.triangles[k];
+    triangle_group.push_back(mesh.triangle_group[k]);
     const int mat = group_material[mesh.triangle_group[k]];
     model.triangles.push_back({new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]});
     model.triangle_material.push_back(mat);
@@ -809,6 +811,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   set_heterogeneity(model, config);
   if (config.in_situ) set_in_situ(model, config);
+  set_excavations(model, mesh, triangle_group, config);
   return model;
 }
 

@@ -15,6 +15,7 @@
 
 #include "engine/model/cohesive_model.hpp"
 #include "engine/model/materials.hpp"
+#include "engine/model/excavation.hpp"
 #include "engine/model/in_situ.hpp"
 #include "io/case_config.hpp"
 #include "io/mesh.hpp"
@@ -157,6 +158,10 @@ struct Model {
   // first to the last triangle of the materials with a varying E (count 0: none).
   size_t young_first() const;
   size_t young_count() const;
+  // [[excavation]] (engine/model/excavation.hpp; both empty without any): per triangle
+  // the index of the excavation that removes it (-1: none), and the excavations.
+  std::vector<int> triangle_excavation;
+  std::vector<Excavation> excavations;
   double local_damping = 0;  // Cundall α (0: none)
   bool mass_scaling = false;
 

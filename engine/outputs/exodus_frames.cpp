@@ -14,6 +14,9 @@ namespace {
 std::vector<std::string> element_names(const Model& model) {
   std::vector<std::string> names = {"SXX", "SYY", "SXY", "PS1", "PS2"};
   if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP", "FRAGMENT"});
+  // [[excavation]]: how much of each triangle is removed, 0 (whole) to 1 (gone); a
+  // Threshold EXCAVATED < 1 in ParaView shows the hole.
+  if (!model.excavations.empty()) names.push_back("EXCAVATED");
   return names;
 }
 
@@ -123,6 +126,17 @@ void ExodusFrames::write(const Snapshot& f) {
       elem[8].back()[e] = f.opening[e];
       elem[9].back()[e] = f.slip[e];
       elem[10].back()[e] = f.broken[e] ? 0 : labels[model.ce4_triangles[e][0]] + 1;
+    }
+  }
+  if (!model.excavations.empty()) {  // the last variable; 0 on the CE4 block
+    const size_t k = elem.size() - 1;
+    const std::vector<double> keep = excavation_factors(model, f.time);
+    for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
+      const size_t begin = model.block_start[m], end = model.block_start[m + 1];
+      if (begin == end) continue;
+      elem[k][b].assign(end - begin, 0.0);
+      for (size_t t = begin; t < end; ++t) elem[k][b][t - begin] = 1.0 - keep[t];
+      ++b;
     }
   }
   const auto began = std::chrono::steady_clock::now();

@@ -86,6 +86,9 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
       [](HistoryRow& r) { return r.snap.energy.fracture; });
   add("absorbed_energy", "J", "energy taken out by absorbing boundaries, cumulative",
       [](HistoryRow& r) { return r.snap.energy.absorbed; });
+  if (!model.excavations.empty())
+    add("excavated_energy", "J", "strain energy carried out by excavated triangles as their forces ramp to zero, cumulative",
+        [](HistoryRow& r) { return r.snap.energy.excavated; });
   add("boundary_work", "J", "work of the reactions of prescribed velocities and fixed components, cumulative",
       [](HistoryRow& r) { return r.snap.energy.boundary_work; });
   add("load_work", "J", "work of tractions, pressures and blast loads, cumulative",

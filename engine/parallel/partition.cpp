@@ -433,6 +433,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
   m.fracture = g.fracture;
   m.gravity = g.gravity;
   m.in_situ = g.in_situ;
+  m.excavations = g.excavations;
   m.local_damping = g.local_damping;
   m.mass_scaling = g.mass_scaling;
   m.contact = g.contact;
@@ -464,6 +465,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.triangle_tags.push_back(g.triangle_tags[t]);
       if (!g.triangle_fracturable.empty()) m.triangle_fracturable.push_back(g.triangle_fracturable[t]);
       if (!g.young_factor.empty()) m.young_factor.push_back(g.young_factor[t]);
+      if (!g.triangle_excavation.empty()) m.triangle_excavation.push_back(g.triangle_excavation[t]);
       if (!g.contact_active.empty()) m.contact_active.push_back(g.contact_active[t]);
       if (g.contact.enabled) m.triangle_owned.push_back(partition.triangle_part[t] == rank ? 1 : 0);
       ++m.block_start[g.triangle_material[t] + 1];

@@ -176,6 +176,7 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"edge_force", {ItemKind::LoadedEdge, 2}},
       {"load_edge_energy", {ItemKind::LoadedEdge, 1}},
       {"triangle_viscous_stress", {ItemKind::Triangle, 1}},
+      {"triangle_excavation_energy", {ItemKind::Triangle, 1}},
       {"ce4_gauss_state", {ItemKind::Ce4, 3}},
       {"ce4_status", {ItemKind::Ce4, 1}},
       {"ce4_force", {ItemKind::Ce4, 4}},

@@ -10,8 +10,14 @@
 
 namespace fdem {
 
-MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous, bool in_situ) {
+MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous, bool in_situ,
+                                size_t excavations) {
   MemoryPlan p;
+  if (excavations > 0) {
+    p.add("triangle excavation_of", std::max<size_t>(1, triangles) * sizeof(cl_int));
+    p.add("triangle excavation_time", excavations * sizeof(real2));
+    p.add("triangle excavation_energy", std::max<size_t>(1, triangles) * sizeof(real2));
+  }
   // The in-situ reference stress S₀ per triangle, only in models with [in_situ].
   if (in_situ) p.add("triangle initial_stress", std::max<size_t>(1, triangles) * sizeof(real4));
   p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, group_size)) * sizeof(real2));
@@ -26,8 +32,17 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
 }
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous,
-                               const std::vector<std::array<double, 3>>& initial_stress)
-    : cl_(cl), arrays_(a), count_(a.num_triangles), groups_(work_groups(cl, a.num_triangles)), viscous_(viscous) {
+                               const std::vector<std::array<double, 3>>& initial_stress,
+                               const TriangleExcavation& excavation)
+    : cl_(cl),
+      arrays_(a),
+      count_(a.num_triangles),
+      groups_(work_groups(cl, a.num_triangles)),
+      viscous_(viscous),
+      excavation_(!excavation.of.empty()) {
+  if (excavation_ && excavation.of.size() != count_)
+    throw InputError("triangle forces: " + std::to_string(excavation.of.size()) + " excavation indices for " +
+                     std::to_string(count_) + " triangles");
   const bool in_situ = !initial_stress.empty();
   if (in_situ && initial_stress.size() != count_)
     throw InputError("triangle forces: " + std::to_string(initial_stress.size()) + " in-situ stresses for " +
@@ -35,10 +50,11 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
   if (in_situ) defines["IN_SITU_STRESS"] = "1";
   if (a.young_count > 0) defines["HETEROGENEOUS_YOUNG"] = "1";
+  if (excavation_) defines["EXCAVATION"] = "1";
   // NVIDIA: 96 registers a work-item fit two work-groups of 256 per SM, 80 three. H200,
   // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, {}, 80), "triangle_forces");
-  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ);
+  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size());
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
@@ -70,6 +86,19 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   if (a.young_count > 0)
     args("young_factor", a.young_factor)("young_first", static_cast<cl_uint>(a.young_first))(
         "young_count", static_cast<cl_uint>(a.young_count));
+  if (excavation_) {
+    excavation_of_ = arrays.allocate(cl, "triangle excavation_of");
+    std::vector<cl_int> of(excavation.of.begin(), excavation.of.end());
+    upload(cl, excavation_of_, of);
+    excavation_time_ = arrays.allocate(cl, "triangle excavation_time");
+    std::vector<real2> times;
+    for (const auto& e : excavation.times) times.push_back(real2{real(e[0]), real(e[1])});
+    upload(cl, excavation_time_, times);
+    excavation_energy_ = arrays.allocate(cl, "triangle excavation_energy");
+    upload(cl, excavation_energy_, std::vector<real2>(count_));
+    args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("excavation_energy",
+                                                                                excavation_energy_);
+  }
   args.done();
 }
 
@@ -91,10 +120,18 @@ void TriangleForces::enqueue_stress(int step) {
 
 EnergyPart TriangleForces::queue_energy(const ItemSums& sums) {
   PendingSums pending = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
-  return [pending](EnergyTotals& e) {
+  if (!excavation_)
+    return [pending](EnergyTotals& e) {
+      const auto sum = pending();
+      e.strain += sum[0];
+      e.viscous += sum[1];
+    };
+  PendingSums released = sums(cl_, excavation_energy_, count_, 2, 1, 1, ItemKind::Triangle);
+  return [pending, released](EnergyTotals& e) {
     const auto sum = pending();
     e.strain += sum[0];
     e.viscous += sum[1];
+    e.excavated += released()[0];
   };
 }
 

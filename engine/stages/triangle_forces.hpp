@@ -11,6 +11,14 @@
 
 namespace fdem {
 
+// [[excavation]] as the stage takes it (cl_kernels/triangle_forces.cl, EXCAVATION): per
+// triangle the excavation that removes it (-1: none) and per excavation (start,
+// duration) [s]. Empty: no excavation (the kernel has no such arguments).
+struct TriangleExcavation {
+  std::vector<int> of;
+  std::vector<std::array<double, 2>> times;
+};
+
 class TriangleForces {
  public:
   // Compiles the stage and binds its arrays once. `viscous`: some material has η > 0
@@ -19,9 +27,11 @@ class TriangleForces {
   // (in_situ_triangle_stress), or empty for none: then the kernel has no such argument
   // and the stage holds no such array.
   TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous,
-                 const std::vector<std::array<double, 3>>& initial_stress = {});
+                 const std::vector<std::array<double, 3>>& initial_stress = {},
+                 const TriangleExcavation& excavation = {});
   // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
-  static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous, bool in_situ = false);
+  static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous, bool in_situ = false,
+                         size_t excavations = 0);
   // One step's corner forces; with energy_row also the strain energy of the current shape
   // for energy(). Never waits.
   void enqueue(int step, bool energy_row = false);
@@ -37,10 +47,12 @@ class TriangleForces {
   void save_state(StateWriter& out) const {
     out.group_slots("triangle_energy", group_energy_, groups_, 2);
     if (viscous_) out.buffer<real>("triangle_viscous_stress", viscous_stress_, count_, 4);
+    if (excavation_) out.buffer<real>("triangle_excavation_energy", excavation_energy_, count_, 2);
   }
   void load_state(StateReader& in) {
     in.group_slots("triangle_energy", group_energy_, groups_, 2);
     if (viscous_) in.buffer<real>("triangle_viscous_stress", viscous_stress_, count_, 4);
+    if (excavation_) in.buffer<real>("triangle_excavation_energy", excavation_energy_, count_, 2);
   }
 
  private:
@@ -48,6 +60,7 @@ class TriangleForces {
   DeviceArrays& arrays_;
   size_t count_, groups_;
   bool viscous_;
+  bool excavation_ = false;
   compute::kernel kernel_;
   KernelArg<cl_int> write_stress_, step_, energy_mode_;
   KernelArg<compute::buffer> stress_;  // the output stress, or the placeholder on force steps
@@ -57,6 +70,10 @@ class TriangleForces {
   compute::buffer viscous_stress_;
   compute::buffer triangle_energy_;  // real2 per triangle at the last energy row: (strain energy, viscous dissipation)
   compute::buffer initial_stress_;   // real4 per triangle (S₀xx, S₀yy, S₀xy, 0), models with [in_situ] only
+  // Models with [[excavation]] only: per triangle its excavation (int, -1 none), per
+  // excavation (start, duration) (real2), per triangle (W of the last step, strain energy
+  // released so far) (real2).
+  compute::buffer excavation_of_, excavation_time_, excavation_energy_;
 };
 
 }  // namespace fdem
