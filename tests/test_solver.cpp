@@ -156,11 +156,11 @@ TEST_CASE("memory plan: the bench model's planned bytes match what it holds afte
 // mass-scaled and no reference position without gravity; a CE4 its length alone (o_p, s_p
 // and o_overlap come from its property row). With mass scaling or gravity the arrays are back.
 TEST_CASE("memory plan: node_mass, ref_position and the CE4 parameters hold what the step reads") {
-  const std::string blasting = test::source_path("cases/blasting/case.toml");
+  const std::string bar = test::source_path("cases/wave-bar/ce4.toml");  // CE4s, no contact
   const auto planned = [&](const std::vector<std::string>& overrides) {
-    std::vector<std::string> all{"mesh.size=0.1"};
+    std::vector<std::string> all{"mesh.size=0.05"};
     all.insert(all.end(), overrides.begin(), overrides.end());
-    const PreparedCase p = prepare_case(blasting, all);
+    const PreparedCase p = prepare_case(bar, all);
     return std::make_pair(Solver::plan(p.model, 64), p.model.num_nodes());
   };
   const auto has = [](const MemoryPlan& plan, const std::string& name) {
