@@ -73,7 +73,7 @@ inline real4 edge_load_forces(const uint e,
                                    __global const real4* restrict load_table,
                                    __global const real2* restrict pressure_points,
                                    __global const real* restrict materials,
-                                   __global const real2* restrict ref_position,
+                                   __global const real2* restrict edge_ref_position,
                                    __global const real2* restrict position,
                                    __global const real2* restrict velocity,
                                    const real thickness,
@@ -102,7 +102,7 @@ inline real4 edge_load_forces(const uint e,
 #ifdef IN_SITU_LOADS
   if (kind == LOAD_IN_SITU) {
     const real4 grad = load_table[edge_load[e] + 1];
-    const real2 ra = ref_position[ab.x], rb = ref_position[ab.y];
+    const real2 ra = edge_ref_position[2 * e], rb = edge_ref_position[2 * e + 1];
     const real2 nl = (real2)(rb.y - ra.y, ra.x - rb.x);  // outward normal × L₀ (reference edge)
     const real3 sa = load.yzw + (grad.x - ra.y) * grad.yzw, sb = load.yzw + (grad.x - rb.y) * grad.yzw;
     const real2 ta = (real2)(sa.x * nl.x + sa.z * nl.y, sa.z * nl.x + sa.y * nl.y);
@@ -117,7 +117,7 @@ inline real4 edge_load_forces(const uint e,
   real2 f;
   if (kind == LOAD_TRACTION) {
     const real ramp = load.w > (real)0 ? fmin(time / load.w, (real)1) : (real)1;
-    const real2 e0 = ref_position[ab.y] - ref_position[ab.x];
+    const real2 e0 = edge_ref_position[2 * e + 1] - edge_ref_position[2 * e];
     f = ramp * thickness * length(e0) * (real2)(load.y, load.z);
   } else {
     real p;
@@ -143,7 +143,7 @@ __kernel void boundary_loads(const uint n_edges,
                              __global const real4* restrict load_table,
                              __global const real2* restrict pressure_points,
                              __global const real* restrict materials,
-                             __global const real2* restrict ref_position,
+                             __global const real2* restrict edge_ref_position,
                              __global const real2* restrict position,
                              __global const real2* restrict velocity,
                              const real thickness,
@@ -154,7 +154,7 @@ __kernel void boundary_loads(const uint n_edges,
                              __global real2* restrict edge_energy) {
   const uint e = get_global_id(0);
   if (e >= n_edges) return;
-  const real4 energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, ref_position,
+  const real4 energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position,
                                         position, velocity, thickness, time, edge_force, dt, step);
   edge_energy[e] += energy.xy;
 }

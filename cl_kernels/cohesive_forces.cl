@@ -183,7 +183,7 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
-                              __global const real* restrict params,
+                              __global const real* restrict ce4_length,
                               __global const uint* restrict property,
                               __global const real* restrict property_rows,
                               __global const real2* restrict position,
@@ -244,13 +244,17 @@ __kernel void cohesive_forces(const uint n_ce4,
   // Intact (0) or closed (1): the law below. Released (≥ 2): no force.
   if (st.x <= 1) {
     const bool closed = st.x == 1;
-    __global const real* p = params + COH_STRIDE * e;
     __global const real* q = property_rows + COHP_STRIDE * property[e];
-    const real op = p[COH_OP], sp = p[COH_SP], oov = p[COH_OOV], ot = q[COHP_OT], stl = q[COHP_ST];
+    const real h = ce4_length[e];
+    const real ot = q[COHP_OT], stl = q[COHP_ST];
     const real Ts = q[COHP_TS], coh = q[COHP_C], tanphi = q[COHP_TANPHI];
+    // Eqs. 6-8 as the host wrote them into CohesiveForces::parameters (2 h T_s / P_f, ...):
+    // the same operations in the same order, so the same bits (layouts.hpp, COH_*).
+    const real op = (real)2 * h * Ts / q[COHP_PO], sp = (real)2 * h * coh / q[COHP_PS];
+    const real oov = (real)2 * h * Ts / q[COHP_POV];
     const real A = q[COHP_A], B = q[COHP_B], C = q[COHP_CEXP];
     // Reference area h t: tractions are per unit reference area (see the header).
-    const real scale = p[COH_H] * thickness;
+    const real scale = h * thickness;
     const real k_fric = (real)2 * coh / sp;  // stiffness of the friction element = P_tan / h [Pa/m]
     int at_one = 0;
     real share_sum = 0;
@@ -372,7 +376,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     if (coh_differ4(slip_now, slip_f)) gp_slip[e] = slip_now;
     // A closed CE4 (or one breaking now) lets go when all its points have opened (no force,
     // nothing held) or one has slid past half its length (what it holds is dissipated).
-    if (st.x == 1 && (opened || slid > (real)0.5 * p[COH_H])) {
+    if (st.x == 1 && (opened || slid > (real)0.5 * h)) {
       st.x = 2 + step;
       f_i = f_j = f_m = (real2)(0, 0);
       held = 0;

@@ -36,8 +36,11 @@
 // gather_node_sums wrote: one launch less a step, and no round trip of node_force through
 // memory between the two. The sum and everything after it are the same expressions, so
 // the result is the same bits.
+// node_mass: with MASS_SCALING 1 real2 (true mass, inertia); with 0 one real, the mass,
+// which is also the inertia (LumpedMass: half the bytes when nothing is scaled).
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST,
-// GATHER_IN_STEP.
+// GATHER_IN_STEP, MASS_SCALING, GRAVITY_POTENTIAL (1: the model has gravity, and
+// ref_position is the reference positions; 0: ref_position is a placeholder, not read).
 __kernel void integrate(const uint n_nodes,
 #if GATHER_IN_STEP
                         GATHER_ARGS,
@@ -45,7 +48,11 @@ __kernel void integrate(const uint n_nodes,
                         __global real2* restrict position,
                         __global real2* restrict velocity,
                         __global real2* restrict node_force,
+#if MASS_SCALING
                         __global const real2* restrict node_mass,
+#else
+                        __global const real* restrict node_mass,
+#endif
                         __global const uint* restrict bc_group,
                         __global const real4* restrict bc_table,
                         const real gx, const real gy,
@@ -81,7 +88,11 @@ __kernel void integrate(const uint n_nodes,
   real4 work = (real4)(0, 0, 0, 0);  // (damping work, reaction work) this step; forward halves
   real4 row = (real4)(0, 0, 0, 0);   // (kinetic, gravity potential) on energy rows
   if (i < n_nodes) {
+#if MASS_SCALING
     const real2 mass = node_mass[i];  // (true mass, inertia)
+#else
+    const real2 mass = (real2)(node_mass[i], node_mass[i]);
+#endif
     const real2 v_before = velocity[i];
     real2 v = v_before;
 #if GATHER_IN_STEP
@@ -126,7 +137,11 @@ __kernel void integrate(const uint n_nodes,
     }
     if (energy_row) {
       row.x = (real)0.5 * mass.y * dot(v_before, v);
+#if GRAVITY_POTENTIAL
       row.y = -mass.x * dot((real2)(gx, gy), x_now - ref_position[i]);
+#else
+      row.y = (real)0;  // no gravity: ±0 per node, and the ordered sums of ±0 are +0
+#endif
       // The node's own terms, summed by the host in node order (rank-independent sums):
       // (kinetic, gravity potential, damping and reaction work up to t).
       node_energy[i] = (real4)(row.x, row.y, work.x - work.z, work.y - work.w);

@@ -61,22 +61,31 @@ __kernel void triangle_mass(const uint n_triangles,
   }
 }
 
-// node_mass in: (mass, Σk); out: (mass, inertia). One work-item per node. With
-// CE4_STIFFNESS (a define from the host, 0 or 1), extra_stiffness is the CE4s' share of
-// Σk, computed on the host (LumpedMass).
-__kernel void node_inertia(const uint n_nodes, const int mass_scaling, const real dt,
+// node_sums: (mass, Σk) per node; node_mass out: with MASS_SCALING 1 (mass, inertia),
+// with 0 the mass alone (the inertia is the mass: one real per node). One work-item per
+// node. With CE4_STIFFNESS (a define from the host, 0 or 1), extra_stiffness is the CE4s'
+// share of Σk, computed on the host (LumpedMass).
+__kernel void node_inertia(const uint n_nodes, const real dt, __global const real2* restrict node_sums,
+#if MASS_SCALING
                            __global real2* restrict node_mass
+#else
+                           __global real* restrict node_mass
+#endif
 #if CE4_STIFFNESS
                            , __global const real* restrict extra_stiffness
 #endif
                            ) {
   const uint i = get_global_id(0);
   if (i >= n_nodes) return;
-  const real2 mk = node_mass[i];
+  const real2 mk = node_sums[i];
+#if MASS_SCALING
 #if CE4_STIFFNESS
   const real k = mk.y + extra_stiffness[i];
 #else
   const real k = mk.y;
 #endif
-  node_mass[i] = (real2)(mk.x, mass_scaling ? (real)0.3 * dt * dt * k : mk.x);
+  node_mass[i] = (real2)(mk.x, (real)0.3 * dt * dt * k);
+#else
+  node_mass[i] = mk.x;
+#endif
 }

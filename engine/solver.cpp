@@ -170,7 +170,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       cohesive_(build_if(parts_.ce4,
                          [&] {
                            return std::make_unique<CohesiveForces>(cl, cohesive_model(model), arrays_.position,
-                                                                   arrays_.ref_position, in_situ_ce4_gaps(model));
+                                                                   DeviceArrays::reference_positions(model),
+                                                                   in_situ_ce4_gaps(model));
                          })),
       fragments_(build_if(parts_.ce4,
                           [&] {
@@ -564,7 +565,12 @@ void Solver::enqueue_stress() { triangle_forces_.enqueue_stress(static_cast<int>
 std::vector<real2> Solver::positions() { return download<real2>(cl_, arrays_.position, arrays_.num_nodes); }
 std::vector<real2> Solver::velocities() { return download<real2>(cl_, arrays_.velocity, arrays_.num_nodes); }
 std::vector<real2> Solver::forces() { return download<real2>(cl_, arrays_.node_force, arrays_.num_nodes); }
-std::vector<real2> Solver::masses() { return download<real2>(cl_, arrays_.node_mass, arrays_.num_nodes); }
+std::vector<real2> Solver::masses() {
+  if (arrays_.mass_scaling) return download<real2>(cl_, arrays_.node_mass, arrays_.num_nodes);
+  std::vector<real2> out;  // without mass scaling the device holds the mass once (LumpedMass)
+  for (const real m : download<real>(cl_, arrays_.node_mass, arrays_.num_nodes)) out.push_back(real2{m, m});
+  return out;
+}
 std::vector<real4> Solver::stresses() {
   if (arrays_.stress.get() == nullptr) throw DeviceError("Solver::stresses: no stress evaluated since the last output");
   return download<real4>(cl_, arrays_.stress, arrays_.num_triangles);

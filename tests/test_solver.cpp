@@ -153,6 +153,35 @@ TEST_CASE("memory plan: the bench model's planned bytes match what it holds afte
   CHECK(settled_bytes(cl, before) == before);
 }
 
+// Session 10 (issue 29, device memory): a node holds its mass once when nothing is
+// mass-scaled and no reference position without gravity; a CE4 its length alone (o_p, s_p
+// and o_overlap come from its property row). With mass scaling or gravity the arrays are back.
+TEST_CASE("memory plan: node_mass, ref_position and the CE4 parameters hold what the step reads") {
+  const std::string bar = test::source_path("cases/wave-bar/ce4.toml");  // CE4s, no contact
+  const auto planned = [&](const std::vector<std::string>& overrides) {
+    std::vector<std::string> all{"mesh.size=0.05"};
+    all.insert(all.end(), overrides.begin(), overrides.end());
+    const PreparedCase p = prepare_case(bar, all);
+    return std::make_pair(Solver::plan(p.model, 64), p.model.num_nodes());
+  };
+  const auto has = [](const MemoryPlan& plan, const std::string& name) {
+    for (const auto& a : plan.arrays())
+      if (a.name == name) return true;
+    return false;
+  };
+  const auto [plain, nodes] = planned({});
+  CHECK(plain.bytes("node_mass") == nodes * sizeof(real));
+  CHECK_FALSE(has(plain, "ref_position"));
+  CHECK_FALSE(has(plain, "ce4_params"));
+  CHECK(plain.bytes("ce4_length") == plain.bytes("ce4_property") / sizeof(cl_uint) * sizeof(real));  // one real a CE4
+  const auto [scaled, nodes_scaled] = planned({"damping.mass_scaling=true"});
+  CHECK(scaled.bytes("node_mass") == nodes_scaled * sizeof(real2));
+  CHECK_FALSE(has(scaled, "ref_position"));
+  const auto [heavy, nodes_heavy] = planned({"gravity.g=[0.0, -9.8]"});
+  CHECK(heavy.bytes("ref_position") == nodes_heavy * sizeof(real2));
+  CHECK(heavy.bytes("node_mass") == nodes_heavy * sizeof(real));
+}
+
 // The contact history pool (ContactForces::pool_arrays) on the bench model: a pool that
 // starts small and grows during the run (from the rows taken that the monitor ring shows)
 // gives the same run, bit for bit, as the default one; one that cannot hold the couples

@@ -28,15 +28,27 @@ size_t pressure_point_count(const Model& model) {
 
 }  // namespace
 
+bool DeviceArrays::has_gravity(const Model& model) { return model.gravity[0] != 0.0 || model.gravity[1] != 0.0; }
+
+std::vector<real2> DeviceArrays::reference_positions(const Model& model) {
+  std::vector<real2> pos(model.num_nodes());
+  for (size_t i = 0; i < pos.size(); ++i) pos[i] = {real(model.x[i]), real(model.y[i])};
+  return pos;
+}
+
 MemoryPlan DeviceArrays::plan(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
   const size_t u = sizeof(uint32_t);
   MemoryPlan p;
-  p.add("position", n * sizeof(real2))
-      .add("velocity", n * sizeof(real2))
-      .add("ref_position", n * sizeof(real2))
+  p.add("position", n * sizeof(real2)).add("velocity", n * sizeof(real2));
+  // The reference positions: on the device only for the gravity potential of the energy
+  // rows; the set-up (LumpedMass, CohesiveForces) takes them from the host
+  // (reference_positions), the loads their edges' own (edge_ref_position).
+  if (has_gravity(model)) p.add("ref_position", n * sizeof(real2));
+  p
       .add("node_force", n * sizeof(real2))
-      .add("node_mass", n * sizeof(real2))
+      // (mass, inertia) with mass scaling; the mass alone without (LumpedMass)
+      .add("node_mass", n * (model.mass_scaling ? sizeof(real2) : sizeof(real)))
       .add("node_group", n * u)
       .add("group_table", model.groups.size() * sizeof(real4))
       .add("tri_nodes", 3 * t * u)
@@ -48,6 +60,7 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("corner_start", (n + 1) * u)
       .add("corner_slot", 3 * t * u)
       .add("edge_nodes", 2 * e * u)
+      .add("edge_ref_position", 2 * e * sizeof(real2))
       .add("edge_load", e * u)
       .add("load_table", std::max<size_t>(1, load_rows(model)) * sizeof(real4))
       .add("pressure_points", pressure_point_count(model) * sizeof(real2))
@@ -78,12 +91,13 @@ compute::buffer& DeviceArrays::output_stress(ClContext& cl) {
 DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
     : num_nodes(model.num_nodes()),
       num_triangles(model.num_triangles()),
-      num_loaded_edges(model.loaded_edges.size()) {
+      num_loaded_edges(model.loaded_edges.size()),
+      mass_scaling(model.mass_scaling) {
   const size_t n = num_nodes, t = num_triangles, e = num_loaded_edges;
   const MemoryPlan plan = DeviceArrays::plan(model);
   position = plan.allocate(cl, "position");
   velocity = plan.allocate(cl, "velocity");
-  ref_position = plan.allocate(cl, "ref_position");
+  if (has_gravity(model)) ref_position = plan.allocate(cl, "ref_position");
   node_force = plan.allocate(cl, "node_force");
   node_mass = plan.allocate(cl, "node_mass");
   node_group = plan.allocate(cl, "node_group");
@@ -97,6 +111,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   corner_start = plan.allocate(cl, "corner_start");
   corner_slot = plan.allocate(cl, "corner_slot");
   edge_nodes = plan.allocate(cl, "edge_nodes");
+  edge_ref_position = plan.allocate(cl, "edge_ref_position");
   edge_load = plan.allocate(cl, "edge_load");
   load_table = plan.allocate(cl, "load_table");
   pressure_points = plan.allocate(cl, "pressure_points");
@@ -119,13 +134,11 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   upload(cl, ce4_start, ce4.start);
   upload(cl, ce4_slot, ce4.slot);
 
-  std::vector<real2> pos(n), vel(n);
-  for (size_t i = 0; i < n; ++i) {
-    pos[i] = {real(model.x[i]), real(model.y[i])};
-    vel[i] = {real(model.vx0[i]), real(model.vy0[i])};
-  }
+  const std::vector<real2> pos = reference_positions(model);
+  std::vector<real2> vel(n);
+  for (size_t i = 0; i < n; ++i) vel[i] = {real(model.vx0[i]), real(model.vy0[i])};
   upload(cl, position, pos);
-  upload(cl, ref_position, pos);
+  if (has_gravity(model)) upload(cl, ref_position, pos);
   upload(cl, velocity, vel);
   upload(cl, node_group, model.node_group);
   std::vector<real4> groups;
@@ -168,6 +181,9 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
     edge_items[k] = {edge.a, edge.b};
   }
   upload(cl, edge_nodes, en);
+  std::vector<real2> edge_ref(2 * e);
+  for (size_t k = 0; k < 2 * e; ++k) edge_ref[k] = pos[en[k]];
+  upload(cl, edge_ref_position, edge_ref);
   upload(cl, edge_load, el);
   std::vector<real4> loads;
   std::vector<real2> points;

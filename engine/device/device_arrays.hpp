@@ -16,14 +16,17 @@ namespace fdem {
 
 struct DeviceArrays {
   size_t num_nodes = 0, num_triangles = 0, num_loaded_edges = 0;
+  bool mass_scaling = false;  // node_mass holds (mass, inertia); else the mass alone
 
   // Nodes
   compute::buffer position;      // real2 [m], current
   compute::buffer velocity;      // real2 [m/s]
-  compute::buffer ref_position;  // real2 [m], reference
+  compute::buffer ref_position;  // real2 [m], reference; only in a model with gravity (the
+                                 // energy rows' gravity potential), else none (a null buffer)
   compute::buffer node_force;    // real2 [N]: gathered element and load forces, then (after
                                  // integrate) the out-of-balance force incl. gravity
-  compute::buffer node_mass;     // real2: (lumped mass [kg], inertia used by the integrator [kg])
+  compute::buffer node_mass;     // real2 with mass scaling: (lumped mass [kg], inertia used by the
+                                 // integrator [kg]); real without: the lumped mass (= inertia)
   compute::buffer node_group;    // uint: prescribed-motion group, 0 = free
   compute::buffer group_table;   // real4 per group: (mask, vx, vy, rise)
 
@@ -44,6 +47,7 @@ struct DeviceArrays {
 
   // Loaded boundary edges
   compute::buffer edge_nodes;    // uint2 (a, b), body on the left
+  compute::buffer edge_ref_position;  // real2 ×2 per edge: the reference positions of a, b
   compute::buffer edge_load;     // uint: index into load_table
   compute::buffer load_table;    // real4 per load: (kind, three parameters), see boundary_loads.cl
   compute::buffer pressure_points;  // real2 (time, pressure) of every pressure table, one after another
@@ -65,6 +69,10 @@ struct DeviceArrays {
 
   // The arrays above for `model`, by name and size (Solver::plan adds the stages').
   static MemoryPlan plan(const Model& model);
+  // Whether the model has gravity (then ref_position is on the device).
+  static bool has_gravity(const Model& model);
+  // The reference positions as the device holds positions (real2 per node).
+  static std::vector<real2> reference_positions(const Model& model);
 
   // `stress`, allocated when it is not (the stress evaluation of an output step);
   // release_output() gives it back once the step's output has read it.

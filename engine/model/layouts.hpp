@@ -41,8 +41,11 @@ namespace fdem::layout {
   X(RING_POOL, 3)    /* contact history pool rows taken before this step (ContactForces) */   \
   X(RING_WORDS, 4)
 
-// Per-CE4 parameter row (CohesiveForces computes it on the host): COH_STRIDE reals, the
-// ones that depend on the CE4's own length.
+// Per-CE4 parameter row (CohesiveForces computes it on the host, CohesiveForces::parameters):
+// COH_STRIDE reals, the ones that depend on the CE4's own length. The device keeps only h
+// ("ce4_length"): the kernel forms o_p, s_p and o_overlap from h and the CE4's property
+// row (COHP_PO, COHP_PS, COHP_POV) with the same operations in the same order, so the
+// same bits, and a CE4 holds 8 bytes instead of 32 (session 10: memory).
 #define FDEM_COHESIVE_LAYOUT(X)                                                              \
   X(COH_OP, 0)      /* o_p = 2 h T_s / P_f [m] (Eq. 6) */                                    \
   X(COH_SP, 1)      /* s_p = 2 h c / P_tan [m] (Eq. 7) */                                    \
@@ -51,7 +54,7 @@ namespace fdem::layout {
   X(COH_STRIDE, 4)
 
 // Per fracture property set (a fracturable material or an interface; each CE4 names one):
-// COHP_STRIDE reals. Shared by all its CE4s, so a CE4 reads 4 reals of its own, not 12.
+// COHP_STRIDE reals. Shared by all its CE4s, so a CE4 reads 1 real of its own (h), not 12.
 #define FDEM_COHESIVE_PROPERTY_LAYOUT(X)                                                     \
   X(COHP_OT, 0)      /* o_t = G_fI / (T_s I_f) [m] */                                        \
   X(COHP_ST, 1)      /* s_t = G_fII / (c I_f) [m] */                                         \
@@ -61,7 +64,10 @@ namespace fdem::layout {
   X(COHP_A, 5)       /* softening shape A, B, C (Eq. 10) */                                  \
   X(COHP_B, 6)                                                                               \
   X(COHP_CEXP, 7)                                                                            \
-  X(COHP_STRIDE, 8)
+  X(COHP_PO, 8)      /* opening penalty P_f [Pa] */                                          \
+  X(COHP_PS, 9)      /* sliding penalty P_tan [Pa] */                                        \
+  X(COHP_POV, 10)    /* overlap penalty P_overlap [Pa] */                                    \
+  X(COHP_STRIDE, 11)
 
 // Per contact couple: CONTACT_HISTORY reals; 0-5 the slip of each edge pass, then these.
 #define FDEM_CONTACT_HISTORY_LAYOUT(X)                                                       \

@@ -23,7 +23,7 @@ BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, d
   KernelArgs args(kernel_);
   args("n_edges", static_cast<cl_uint>(count_))("edge_nodes", a.edge_nodes)("edge_load", a.edge_load)(
       "load_table", a.load_table)("pressure_points", a.pressure_points)("materials", a.materials)(
-      "ref_position", a.ref_position)("position", a.position)("velocity", a.velocity)(
+      "edge_ref_position", a.edge_ref_position)("position", a.position)("velocity", a.velocity)(
       "thickness", static_cast<real>(thickness));
   time_ = args.later("time", real(0));
   args("edge_force", a.edge_force)("dt", static_cast<real>(dt));

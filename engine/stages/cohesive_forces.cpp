@@ -47,7 +47,8 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
     p.add("ce4_mesh_nodes", 2 * ce4 * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
   return p
       .add("ce4_nodes", 4 * ce4 * sizeof(cl_uint))
-      .add("ce4_params", layout::COH_STRIDE * ce4 * sizeof(real))
+      // h only: o_p, s_p, o_overlap follow from it and the property row (layouts.hpp).
+      .add("ce4_length", ce4 * sizeof(real))
       .add("ce4_property", ce4 * sizeof(cl_uint))
       .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
       .add("ce4_friction_slip", ce4 * sizeof(real4))
@@ -66,7 +67,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
 }
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
-                               compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ)
+                               const std::vector<real2>& ref, const std::vector<InSituGaps>& in_situ)
     : cl_(cl), count_(model.ce4.size()), partials_(energy_partials(count_)) {
   const bool with_in_situ = !in_situ.empty();
   if (with_in_situ && in_situ.size() != count_)
@@ -104,8 +105,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     integral.push_back(integral[prop]);
   }
 
-  const size_t num_nodes = ref_position.size() / sizeof(real2);
-  const auto ref = download<real2>(cl, ref_position, num_nodes);
+  const size_t num_nodes = ref.size();
   std::vector<cl_uint> nodes(4 * count_);
   std::vector<real4> gaps(count_);   // end gaps at the start (zero for CE4s from a split mesh)
   std::vector<real2> chords(count_); // chords (x_j - x_i) + (x_j' - x_i') at the start
@@ -149,6 +149,9 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     row[layout::COHP_A] = real(f.a);
     row[layout::COHP_B] = real(f.b);
     row[layout::COHP_CEXP] = real(f.c);
+    row[layout::COHP_PO] = real(f.penalty_opening);
+    row[layout::COHP_PS] = real(f.penalty_sliding);
+    row[layout::COHP_POV] = real(f.penalty_overlap);
   }
 
   fans_ = !model.vertex_bonded.empty();
@@ -174,7 +177,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     upload(cl, mesh_state_, state);
   }
   nodes_ = arrays.allocate(cl, "ce4_nodes");
-  params_buffer_ = arrays.allocate(cl, "ce4_params");
+  length_ = arrays.allocate(cl, "ce4_length");
   property_ = arrays.allocate(cl, "ce4_property");
   property_rows_ = arrays.allocate(cl, "ce4_property_rows");
   gp_state_ = arrays.allocate(cl, "ce4_gauss_state");
@@ -191,7 +194,11 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   break_records_ = arrays.allocate(cl, "ce4_break_records");
   upload(cl, break_count_, std::vector<cl_uint>(1, 0));
   upload(cl, nodes_, nodes);
-  upload(cl, params_buffer_, params_);
+  {
+    std::vector<real> lengths(count_);
+    for (size_t e = 0; e < count_; ++e) lengths[e] = params_[layout::COH_STRIDE * e + layout::COH_H];
+    upload(cl, length_, lengths);
+  }
   upload(cl, property_, property);
   upload(cl, property_rows_, property_rows);
   upload(cl, gp_state_, std::vector<real4>(3 * count_));
@@ -223,7 +230,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   const auto program = cl.build(kernel_source::cohesive_forces, defines, {}, 128);
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
-  args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("params", params_buffer_)("property", property_)("property_rows", property_rows_)("position", position)(
+  args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("ce4_length", length_)("property", property_)("property_rows", property_rows_)("position", position)(
       "thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
   step_ = args.later("step", cl_int(0));

@@ -5,6 +5,7 @@
 
 #include "engine/device/checkpoint.hpp"
 #include "engine/device/cl_context.hpp"
+#include "engine/device/device_arrays.hpp"
 #include "engine/model/cohesive_model.hpp"
 #include "engine/device/kernel_args.hpp"
 #include "engine/device/memory_plan.hpp"
@@ -22,8 +23,15 @@ class CohesiveForces {
   // zero-length edge.
   // `in_situ`: per CE4 the gaps that carry the in-situ field (in_situ_ce4_gaps), or empty
   // for none: then the kernel has no such argument and the stage no such array.
+  // `ref_position`: the reference positions, one real2 per node as the device holds them
+  // (DeviceArrays::reference_positions; the device keeps none without gravity).
   CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
-                 compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ = {});
+                 const std::vector<real2>& ref_position, const std::vector<InSituGaps>& in_situ = {});
+  // The same with the reference positions read from a device array.
+  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
+                 compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ = {})
+      : CohesiveForces(cl, model, position, download<real2>(cl, ref_position, ref_position.size() / sizeof(real2)),
+                       in_situ) {}
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
   // bonded fans' state: CohesiveModel::vertex_bonded; with `in_situ` the initial gaps).
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
@@ -105,7 +113,7 @@ class CohesiveForces {
   KernelArg<cl_int> step_;
   compute::program program_;  // for cohesive_output, built per output_column read
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
-  compute::buffer nodes_, params_buffer_, gp_state_, gp_slip_, status_, slots_;
+  compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_;
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).

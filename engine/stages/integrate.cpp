@@ -33,6 +33,14 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   defines["ORDERED_BLOCK"] = std::to_string(kOrderedBlock);
   gathers_ = gather.has_value();
   defines["GATHER_IN_STEP"] = gather ? "1" : "0";
+  defines["MASS_SCALING"] = a.mass_scaling ? "1" : "0";
+  // The gravity potential of the energy rows reads the reference positions, which the
+  // device holds only in a model with gravity (DeviceArrays); without, every node's term
+  // is -m g·(x - X) = ±0 and the rows' ordered block sums (which start from +0) are +0
+  // either way, so the kernel adds +0 without reading X.
+  needs_reference_ = gravity[0] != 0.0 || gravity[1] != 0.0;
+  has_reference_ = a.ref_position.get() != nullptr;
+  defines["GRAVITY_POTENTIAL"] = has_reference_ ? "1" : "0";
   std::vector<const KernelSource*> libraries{&kernel_source::ordered_sum};
   if (gather) {
     for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale)) defines.insert(d);
@@ -73,7 +81,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
     slot_ = args.later("slot", cl_uint(0));
     next_slot_ = args.later("next_slot", cl_uint(0));
   }
-  args("ref_position", a.ref_position)("account_work", cl_int(account_work_ ? 1 : 0));
+  args("ref_position", has_reference_ ? a.ref_position : a.position)("account_work", cl_int(account_work_ ? 1 : 0));
   energy_row_ = args.later("energy_row", cl_int(0));
   args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_);
   node_energy_arg_ = args.later("node_energy", placeholder_);
@@ -95,6 +103,9 @@ void Integrate::enqueue(double time_after, int step, bool energy_row) {
   // One rank: the row's per-node energies exist for this step only (the ordered block sums
   // below take them in node order, the rule of engine/energy/energy.hpp); a split run keeps them
   // for the gather of energy().
+  if (energy_row && needs_reference_ && !has_reference_)
+    throw DeviceError("integrate: an energy row with gravity needs the reference positions on the device, which "
+                      "DeviceArrays keeps only for a model with gravity");
   const bool transient = energy_row && !keep_rows_;
   if (transient) {
     node_energy_ = cl_.allocate(node_energy_bytes_, "integrate node_energy");

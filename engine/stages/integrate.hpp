@@ -80,6 +80,7 @@ class Integrate {
   compute::buffer node_energy_, placeholder_, partials_;
   compute::kernel block_sums_;
   KernelArg<compute::buffer> node_energy_arg_;
+  bool needs_reference_ = false, has_reference_ = false;  // gravity; ref_position on the device
   size_t node_energy_bytes_ = 0;
   bool keep_rows_ = false;
 };

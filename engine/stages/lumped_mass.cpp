@@ -31,15 +31,20 @@ MemoryPlan LumpedMass::plan(size_t nodes, bool ce4) {
 }
 
 LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, double dt)
-    : cl_(cl), triangles_(a.num_triangles), nodes_(a.num_nodes) {
+    : cl_(cl), triangles_(a.num_triangles), nodes_(a.num_nodes), node_force_(a.node_force) {
+  // node_force holds nothing before the first step: it takes the reference positions for
+  // triangle_mass (the device keeps none without gravity: DeviceArrays), then the sums
+  // (mass, Σk) for node_inertia, and is zeroed again when the masses are done (enqueue).
+  upload(cl, a.node_force, DeviceArrays::reference_positions(model));
   const bool ce4 = !model.ce4.empty();
-  std::map<std::string, std::string> defines{{"CE4_STIFFNESS", ce4 ? "1" : "0"}};
+  std::map<std::string, std::string> defines{{"CE4_STIFFNESS", ce4 ? "1" : "0"},
+                                             {"MASS_SCALING", model.mass_scaling ? "1" : "0"}};
   if (a.young_count > 0) defines["HETEROGENEOUS_YOUNG"] = "1";
   const auto program = cl.build(kernel_source::lumped_mass, defines);
   corner_ = compute::kernel(program, "triangle_mass");
   KernelArgs corner(corner_);
   corner("n_triangles", static_cast<cl_uint>(triangles_))("tri_nodes", a.tri_nodes)("tri_material", a.tri_material)(
-      "materials", a.materials)("ref_position", a.ref_position)("ref_inverse", a.ref_inverse)(
+      "materials", a.materials)("ref_position", a.node_force)("ref_inverse", a.ref_inverse)(
       "thickness", static_cast<real>(model.thickness))("corner_mass", a.corner_force);
   if (a.young_count > 0)
     corner("young_factor", a.young_factor)("young_first", static_cast<cl_uint>(a.young_first))(
@@ -47,8 +52,8 @@ LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, doubl
   corner.done();
   inertia_ = compute::kernel(program, "node_inertia");
   KernelArgs inertia(inertia_);
-  inertia("n_nodes", static_cast<cl_uint>(nodes_))("mass_scaling", cl_int(model.mass_scaling ? 1 : 0))(
-      "dt", static_cast<real>(dt))("node_mass", a.node_mass);
+  inertia("n_nodes", static_cast<cl_uint>(nodes_))("dt", static_cast<real>(dt))("node_sums", a.node_force)(
+      "node_mass", a.node_mass);
   if (ce4) {
     const auto extra = ce4_node_stiffness(model);
     extra_ = plan(nodes_, ce4).allocate(cl, "extra_stiffness");
@@ -60,8 +65,9 @@ LumpedMass::LumpedMass(ClContext& cl, DeviceArrays& a, const Model& model, doubl
 
 void LumpedMass::enqueue(NodeGather& gather) {
   cl_.enqueue(corner_, triangles_);
-  gather.enqueue_corner_sums_into_mass();
+  gather.enqueue_corner_sums_into(node_force_);  // the reference positions are read: overwrite them
   cl_.enqueue(inertia_, nodes_);
+  upload(cl_, node_force_, std::vector<real2>(nodes_));
 }
 
 }  // namespace fdem

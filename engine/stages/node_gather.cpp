@@ -31,11 +31,15 @@ NodeGather::NodeGather(ClContext& cl, DeviceArrays& a, const compute::buffer* ce
   masses_ = compute::kernel(cl.build(kernel_source::node_gather, corners_only), "gather_node_sums");
   KernelArgs m(masses_);
   m("n_nodes", static_cast<cl_uint>(count_))("corner_start", a.corner_start)("corner_slot", a.corner_slot)(
-       "corner_value", a.corner_force)("node_sum", a.node_mass)
-      .done();
+       "corner_value", a.corner_force);
+  mass_sums_ = m.later("node_sum", a.node_force);  // a placeholder until the call names its target
+  m.done();
 }
 
 void NodeGather::enqueue_forces() { cl_.enqueue(forces_, count_); }
-void NodeGather::enqueue_corner_sums_into_mass() { cl_.enqueue(masses_, count_); }
+void NodeGather::enqueue_corner_sums_into(const compute::buffer& sums) {
+  mass_sums_.set(sums);
+  cl_.enqueue(masses_, count_);
+}
 
 }  // namespace fdem

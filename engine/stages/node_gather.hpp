@@ -28,13 +28,15 @@ class NodeGather {
                                                           double contact_force_scale);
   static void bind_force_sources(KernelArgs& args, const DeviceArrays& arrays, const compute::buffer* ce4_slots,
                                  double contact_force_scale);
-  // node_mass = Σ corner values (the corner masses written by LumpedMass). Never waits.
-  void enqueue_corner_sums_into_mass();
+  // sums = Σ corner values per node (real2: the corner masses and stiffnesses written by
+  // LumpedMass, into its set-up array). Never waits.
+  void enqueue_corner_sums_into(const compute::buffer& sums);
 
  private:
   ClContext& cl_;
   size_t count_;
   compute::kernel forces_, masses_;
+  KernelArg<compute::buffer> mass_sums_;  // the mass gather's target, set by each call
 };
 
 }  // namespace fdem
