@@ -60,6 +60,8 @@ const Schema kContactKeys{{{"normal_penalty"}, {"tangential_penalty"}, {"frictio
 const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
                           {"azimuth"}}};
+const Schema kFluidKeys{{{"viscosity"}, {"bulk_modulus"}, {"residual_aperture"}, {"max_aperture"}, {"safety"},
+                         {"crack"}, {"source"}, {"rate"}, {"pressure"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -72,7 +74,8 @@ const Schema kRootKeys{{{"title"},
                         {"initial", Shape::TableArray, &kInitialKeys},
                         {"contact", Shape::Table, &kContactKeys},
                         {"probe", Shape::TableArray, &kProbeKeys},
-                        {"in_situ", Shape::Table, &kInSituKeys}}};
+                        {"in_situ", Shape::Table, &kInSituKeys},
+                        {"fluid", Shape::Table, &kFluidKeys}}};
 
 std::string nearest_key(std::string_view name, const std::vector<std::string_view>& candidates) {
   return nearest_name(name, candidates, LetterCase::Ignored);

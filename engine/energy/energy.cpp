@@ -48,7 +48,10 @@ std::string EnergyBalance::largest_change(const EnergyTotals& a, const EnergyTot
       {"fracture_dissipation", b.fracture - a.fracture},
       {"absorbed_energy", b.absorbed - a.absorbed},
       {"boundary_work", b.boundary_work - a.boundary_work},
-      {"load_work", b.load_work - a.load_work}};
+      {"load_work", b.load_work - a.load_work},
+      {"fluid_stored_energy", b.fluid_stored - a.fluid_stored},
+      {"fluid_viscous_dissipation", b.fluid_viscous - a.fluid_viscous},
+      {"fluid_injection_work", b.fluid_injection - a.fluid_injection}};
   const auto* best = &changes[0];
   for (const auto& c : changes)
     if (std::fabs(c.second) > std::fabs(best->second)) best = &c;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/model/cohesive_model.hpp"
+#include "engine/model/fluid_model.hpp"
 #include "engine/model/materials.hpp"
 #include "engine/model/in_situ.hpp"
 #include "io/case_config.hpp"
@@ -157,6 +158,7 @@ struct Model {
   // first to the last triangle of the materials with a varying E (count 0: none).
   size_t young_first() const;
   size_t young_count() const;
+  FluidModel fluid;  // [fluid]: the flow network on the cracks (engine/model/fluid_model.hpp)
   double local_damping = 0;  // Cundall α (0: none)
   bool mass_scaling = false;
 
