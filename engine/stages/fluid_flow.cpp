@@ -18,7 +18,6 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid seg_h", ce4 * sizeof(real))
       .add("fluid seg_geom", ce4 * sizeof(real4))
       .add("fluid seg_flux", ce4 * sizeof(real))
-      .add("fluid seg_viscous", ce4 * sizeof(real))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
       .add("fluid vertex_end", 2 * ce4 * sizeof(cl_uint))
@@ -44,7 +43,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const MemoryPlan arrays = plan(model);
   auto make = [&](const char* name) { return arrays.allocate(cl, name); };
   nodes_ = make("fluid ce4_nodes"), seg_vertex_ = make("fluid seg_vertex"), seg_h_ = make("fluid seg_h");
-  seg_geom_ = make("fluid seg_geom"), seg_flux_ = make("fluid seg_flux"), seg_viscous_ = make("fluid seg_viscous");
+  seg_geom_ = make("fluid seg_geom"), seg_flux_ = make("fluid seg_flux");
   slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
@@ -56,7 +55,6 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, seg_h_, std::vector<real>(fluid_.segment_length.begin(), fluid_.segment_length.end()));
   upload(cl, seg_geom_, std::vector<real4>(ce4_));
   upload(cl, seg_flux_, std::vector<real>(ce4_, 0));
-  upload(cl, seg_viscous_, std::vector<real>(ce4_, 0));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
@@ -95,7 +93,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   flux_ = compute::kernel(program, "fluid_flux");
   KernelArgs f(flux_);
   f("n_ce4", cl_uint(ce4_))("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("vertex_state", vertex_state_)(
-       "bulk", bulk)("dt_sub", dt_sub)("seg_flux", seg_flux_)("seg_viscous", seg_viscous_)
+       "seg_flux", seg_flux_)
       .done();
 
   balance_ = compute::kernel(program, "fluid_balance");
@@ -130,17 +128,16 @@ void FluidFlow::enqueue(double time, long step) {
 }
 
 EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
-  // Per vertex: V₀ and U (state columns 0 and 3: one sum of 4 columns), the injection
-  // work, the faces' work and the injected V₀ (energy columns 0-2); per CE4 the viscous
-  // dissipation. The items are in network order, one rank (a split run refuses [fluid]).
+  // Per vertex: V₀, V and U (state columns 0, 1 and 3: one sum of 4 columns), the
+  // injection work, the faces' work, the injected V₀ and the viscous dissipation
+  // (energy columns 0-3). The items are in network order, one rank (a split run refuses [fluid]).
   PendingSums state = sums(cl_, vertex_state_, vertices_, 4, 0, 4, ItemKind::Node);
-  PendingSums energy = sums(cl_, vertex_energy_, vertices_, 4, 0, 3, ItemKind::Node);
-  PendingSums viscous = sums(cl_, seg_viscous_, ce4_, 1, 0, 1, ItemKind::Ce4);
+  PendingSums energy = sums(cl_, vertex_energy_, vertices_, 4, 0, 4, ItemKind::Node);
   // The wellbore pressure: the mean over the source's vertices (a few; read directly).
   const std::vector<uint32_t> wells = fluid_.source_vertices;
   ClContext* cl = &cl_;
   const compute::buffer states = vertex_state_;
-  return [state, energy, viscous, wells, cl, states](EnergyTotals& e) {
+  return [state, energy, wells, cl, states](EnergyTotals& e) {
     const auto s = state();
     const auto w = energy();
     e.fluid_volume += s[0];
@@ -149,7 +146,7 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
     e.fluid_injection += w[0];
     e.fluid_face_work += w[1];
     e.fluid_injected_volume += w[2];
-    e.fluid_viscous += viscous()[0];
+    e.fluid_viscous += w[3];
     double p = 0;
     for (uint32_t v : wells) p += double(download<real4>(*cl, states, 1, v)[0].z);
     e.wellbore_pressure = wells.empty() ? 0.0 : p / double(wells.size());
@@ -175,13 +172,11 @@ std::vector<real4> FluidFlow::vertex_state() { return download<real4>(cl_, verte
 void FluidFlow::save_state(StateWriter& out) const {
   out.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   out.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
-  out.buffer<real>("fluid_seg_viscous", seg_viscous_, ce4_, 1);
 }
 
 void FluidFlow::load_state(StateReader& in) {
   in.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   in.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
-  in.buffer<real>("fluid_seg_viscous", seg_viscous_, ce4_, 1);
 }
 
 }  // namespace fdem

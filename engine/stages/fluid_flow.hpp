@@ -60,7 +60,7 @@ class FluidFlow {
   compute::kernel segments_, vertices_kernel_, flux_, balance_, forces_;
   KernelArg<cl_int> step_;
   KernelArg<real> source_value_;
-  compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, seg_flux_, seg_viscous_, vertex_start_, vertex_end_, source_,
+  compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, seg_flux_, vertex_start_, vertex_end_, source_,
       vertex_state_, vertex_energy_, too_wide_, slots_;
 };
 
