@@ -133,7 +133,7 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
   // (energy columns 0-3). The items are in network order, one rank (a split run refuses [fluid]).
   PendingSums state = sums(cl_, vertex_state_, vertices_, 4, 0, 4, ItemKind::Node);
   PendingSums energy = sums(cl_, vertex_energy_, vertices_, 4, 0, 4, ItemKind::Node);
-  // The wellbore pressure: the mean over the source's vertices (a few; read directly).
+  // The wellbore pressure: the mean over the source's vertices (read when the sums land).
   const std::vector<uint32_t> wells = fluid_.source_vertices;
   ClContext* cl = &cl_;
   const compute::buffer states = vertex_state_;
@@ -148,7 +148,10 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
     e.fluid_injected_volume += w[2];
     e.fluid_viscous += w[3];
     double p = 0;
-    for (uint32_t v : wells) p += double(download<real4>(*cl, states, 1, v)[0].z);
+    if (!wells.empty()) {  // one read of the source's range of vertices (ascending)
+      const auto s = download<real4>(*cl, states, wells.back() - wells.front() + 1, wells.front());
+      for (uint32_t v : wells) p += double(s[v - wells.front()].z);
+    }
     e.wellbore_pressure = wells.empty() ? 0.0 : p / double(wells.size());
   };
 }
