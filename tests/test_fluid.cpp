@@ -225,6 +225,21 @@ TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same histo
   }
 }
 
+TEST_CASE("fluid: a segment wider than fluid.max_aperture stops the run, naming the CE4, the step and the key") {
+  // The coarse Sneddon crack opens to 0.36 mm; the fluid's step planned for 0.01 mm.
+  std::string message;
+  try {
+    test::run(test::source_path("cases/sneddon/case.toml"),
+              {"mesh.size=0.2", "output.dir=\"/tmp/fdem_test_fluid_wide\"", "fluid.max_aperture=1e-5", "time.end=2e-3"});
+  } catch (const NumericalError& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.find("opened wider than fluid.max_aperture") != std::string::npos);
+  CHECK(message.find("CE4 ") != std::string::npos);
+  CHECK(message.find("by step ") != std::string::npos);
+}
+
 TEST_CASE("fluid: two runs give the same bits") {
   const PreparedCase p = sneddon(kCoarse);
   const auto a = run_steps(p, 150).positions;
