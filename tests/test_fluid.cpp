@@ -204,14 +204,14 @@ TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same histo
   text.replace(text.find("source = \"crack\""), std::string("source = \"crack\"").size(), "source = \"well\"");
   const std::string path = tmp.write("rate.toml", text);
   auto sets = [&](const std::string& out, const char* end) {
-    std::vector<std::string> s{"mesh.size=0.2", "output.dir=\"" + tmp.str() + "/" + out + "\"", "output.history_every=5e-5",
+    std::vector<std::string> s{"mesh.size=0.2", "output.dir=\"" + tmp.str() + "/" + out + "\"", "output.history_every=2e-5",
                                std::string("time.end=") + end, "fluid.bulk_modulus=1e6", "fluid.residual_aperture=1e-6",
                                "fluid.viscosity=2e-8", "fluid.max_aperture=1e-4"};
     return s;
   };
-  test::run(path, sets("one", "4e-4"));
-  test::run(path, sets("two", "2e-4"));
-  test::run(path, sets("two", "4e-4"), test::restart_from(tmp.str() + "/two/sneddon.ckpt"));
+  test::run(path, sets("one", "2e-4"));
+  test::run(path, sets("two", "1e-4"));
+  test::run(path, sets("two", "2e-4"), test::restart_from(tmp.str() + "/two/sneddon.ckpt"));
   for (const char* name : {"injected_volume", "fluid_volume", "crack_volume", "wellbore_pressure", "fluid_stored_energy",
                            "fluid_viscous_dissipation", "energy_error"}) {
     CAPTURE(name);
