@@ -7,7 +7,8 @@
 // and are added last.
 // Defines from the host (NodeGather, and Integrate when it gathers the forces itself),
 // each 0 or 1: GATHER_EDGES (loaded edges), GATHER_CE4 (cohesive elements),
-// GATHER_CONTACT (contact); absent parts have no arguments.
+// GATHER_CONTACT (contact), GATHER_FLUID ([fluid]: the fluid stage's four slots per CE4,
+// read through the CE4 map after the CE4's own); absent parts have no arguments.
 
 // The maps and slot arrays as kernel parameters (GATHER_ARGS) and as the arguments of
 // gathered_sum (GATHER_PASS), for the parts the defines switch on.
@@ -25,6 +26,14 @@
   , __global const uint *restrict ce4_start, __global const uint *restrict ce4_slot,              \
       __global const real2 *restrict ce4_value
 #define GATHER_CE4_PASS , ce4_start, ce4_slot, ce4_value
+#if GATHER_FLUID
+#undef GATHER_CE4_ARGS
+#undef GATHER_CE4_PASS
+#define GATHER_CE4_ARGS                                                                            \
+  , __global const uint *restrict ce4_start, __global const uint *restrict ce4_slot,              \
+      __global const real2 *restrict ce4_value, __global const real2 *restrict fluid_value
+#define GATHER_CE4_PASS , ce4_start, ce4_slot, ce4_value, fluid_value
+#endif
 #else
 #define GATHER_CE4_ARGS
 #define GATHER_CE4_PASS
@@ -50,6 +59,9 @@ inline real2 gathered_sum(const uint i, GATHER_ARGS) {
 #endif
 #if GATHER_CE4
   for (uint k = ce4_start[i]; k < ce4_start[i + 1]; ++k) sum += ce4_value[ce4_slot[k]];
+#if GATHER_FLUID
+  for (uint k = ce4_start[i]; k < ce4_start[i + 1]; ++k) sum += fluid_value[ce4_slot[k]];
+#endif
 #endif
 #if GATHER_CONTACT
   sum += contact_unit * (real2)((real)contact_acc[2 * i], (real)contact_acc[2 * i + 1]);

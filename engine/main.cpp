@@ -465,6 +465,13 @@ int check_command(const Arguments& a) {
             << "case dt   " << p.dt << " s" << (m.mass_scaling ? " (mass scaling: any dt is stable)" : "")
             << (p.config.time.dt_auto ? " (auto)" : "") << "\n"
             << "steps     " << p.steps << "\n";
+  if (m.fluid.enabled)  // the flow's own stable step (cubic law and K_f at fluid.max_aperture)
+    std::cout << "fluid     " << m.fluid.vertices << " network vertices, " << m.fluid.crack_ce4.size()
+              << " CE4s on the crack, source '" << m.fluid.source_name << "' (" << m.fluid.source_vertices.size()
+              << " vertices, " << (m.fluid.pressure_source ? "pressure" : "rate") << ")\n"
+              << "fluid dt  " << m.fluid.stable_dt << " s stable (CE4 " << m.fluid.shortest_ce4 << ", w_max "
+              << m.fluid.max_aperture << " m), " << fdem::FluidFlow::substeps(m.fluid, p.dt)
+              << " sub-steps per step\n";
   // Where the files go: what `fdem run` would write, in a folder it can write (checked
   // below, after the device, in the order `fdem run` meets them).
   std::cout << "output    " << std::filesystem::absolute(p.config.output.dir).lexically_normal().string() << "/ ("

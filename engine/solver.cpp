@@ -63,9 +63,10 @@ TriangleExcavation triangle_excavation(const Model& model) {
 // kernel: one pass over the nodes instead of two, and no launch to wait for.
 constexpr size_t kFusedGatherNodes = 262144;
 std::optional<Integrate::Gather> step_gather(const ClContext& cl, size_t nodes, CohesiveForces* cohesive,
-                                             ContactForces* contact) {
+                                             ContactForces* contact, FluidFlow* fluid) {
   if (cl.info().is_gpu && nodes > kFusedGatherNodes) return std::nullopt;
-  return Integrate::Gather{cohesive ? &cohesive->slots() : nullptr, contact ? contact->force_scale() : 0.0};
+  return Integrate::Gather{cohesive ? &cohesive->slots() : nullptr, contact ? contact->force_scale() : 0.0,
+                           fluid ? &fluid->slots() : nullptr};
 }
 
 }  // namespace
@@ -90,6 +91,7 @@ Solver::Parts Solver::parts(const Model& model, bool account) {
                                      [](const MaterialConstants& m) { return m.viscosity != 0; });
   p.prescribed = model.groups.size() > 1;
   p.account_work = Integrate::accounts_work(p.prescribed, model.local_damping, account);
+  p.fluid = p.ce4 && model.fluid.enabled;
   return p;
 }
 
@@ -109,6 +111,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   if (p.activation) plan.add(ContactActivation::plan(model.ce4_triangles.size(), !model.ce4_owned.empty()));
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
+  if (p.fluid) plan.add(FluidFlow::plan(model));
   plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled, model.excavations.size()));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   plan.add(Integrate::plan(nodes, group_size, p.account_work));
@@ -196,12 +199,15 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                                                  cohesive_ ? cohesive_->mesh_node_state() : nullptr,
                                                                  parts_.skin ? ring_.get() : nullptr, true);
                         })),
+      fluid_(build_if(parts_.fluid,
+                      [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(), dt); })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
                        triangle_excavation(model)),
-      gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0),
+      gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,
+              fluid_ ? &fluid_->slots() : nullptr),
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
-                 step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get())),
+                 step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get(), fluid_.get())),
       ordered_(cl, ordered_items(model)),
       row_reads_(cl),
       ce4_count_(model.ce4.size()) {
@@ -303,6 +309,7 @@ void Solver::step(bool energy_row) {
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
   triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
+  if (fluid_) fluid_->enqueue(t, steps_);  // after the CE4s: it reads their status of this step
   if (contact_received_) contact_received_();
   // Small models: the integration gathers the nodes' forces itself (step_gather).
   if (!integrate_.gathers()) gather_.enqueue_forces();
@@ -347,6 +354,7 @@ std::function<EnergyTotals()> Solver::queue_energy() {
       e.cohesive_stored += sum[1];
     });
   }
+  if (fluid_) parts.push_back(fluid_->queue_energy(sums));
   if (contact_ && scope_) {
     EnergyTotals contact;
     add_split_contact_energy(contact);  // collective: every rank now
@@ -490,6 +498,7 @@ void Solver::save_state(StateWriter& out) {
   triangle_forces_.save_state(out);
   boundary_loads_.save_state(out);
   if (cohesive_) cohesive_->save_state(out);
+  if (fluid_) fluid_->save_state(out);
   if (contact_) {
     contact_->save_state(out);
     detection_->save_state(out);
@@ -513,6 +522,7 @@ void Solver::load_state(StateReader& in) {
   triangle_forces_.load_state(in);
   boundary_loads_.load_state(in);
   if (cohesive_) cohesive_->load_state(in);
+  if (fluid_) fluid_->load_state(in);
   if (contact_) {
     contact_->load_state(in);
     detection_->load_state(in);
@@ -580,9 +590,12 @@ std::function<Conditions()> Solver::queue_conditions() {
   auto pool = contact_ ? contact_->queue_pool_state(row_reads_) : std::function<std::vector<cl_uint>()>();
   auto words = row_reads_.read<int>(arrays_.conditions, layout::CONDITION_WORDS);
   ContactForces* contact = contact_.get();
-  return [pool, words, contact] {
+  FluidFlow* fluid = fluid_.get();
+  auto wide = fluid ? fluid->queue_too_wide(row_reads_) : std::function<std::vector<cl_int>()>();
+  return [pool, words, contact, fluid, wide] {
     const auto w = words();
     if (contact) contact->check_pool(pool().data());
+    if (fluid) fluid->check_too_wide(wide());
     auto value = [](int v) { return v == INT_MAX ? -1 : v; };
     return Conditions{value(w[layout::COND_BAD_NODE]), value(w[layout::COND_BAD_NODE_STEP]),
                       value(w[layout::COND_INVERTED_TRI]), value(w[layout::COND_INVERTED_STEP])};
@@ -603,6 +616,10 @@ Conditions Solver::conditions() {
   if (contact_) contact_->read_pool_state(pool.data());
   const auto words = download<int>(cl_, arrays_.conditions, layout::CONDITION_WORDS);
   if (contact_) contact_->check_pool(pool.data());
+  if (fluid_) {
+    const auto wide = fluid_->too_wide();
+    if (wide.first >= 0) fluid_->check_too_wide({wide.first, wide.second});
+  }
   auto value = [](int w) { return w == INT_MAX ? -1 : w; };
   return {value(words[layout::COND_BAD_NODE]), value(words[layout::COND_BAD_NODE_STEP]),
           value(words[layout::COND_INVERTED_TRI]), value(words[layout::COND_INVERTED_STEP])};

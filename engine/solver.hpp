@@ -15,6 +15,7 @@
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
 #include "engine/stages/contact_skin.hpp"
+#include "engine/stages/fluid_flow.hpp"
 #include "engine/stages/fragment_labels.hpp"
 #include "engine/stages/integrate.hpp"
 #include "engine/stages/lumped_mass.hpp"
@@ -51,6 +52,7 @@ class Solver {
     bool viscous = false;     // TriangleForces accounts viscous work (account on, a viscous material)
     bool prescribed = false;  // some node has a prescribed velocity (a BC group besides 0)
     bool account_work = false;  // Integrate accounts reactions' and damping work
+    bool fluid = false;         // FluidFlow ([fluid], with CE4s)
   };
   static Parts parts(const Model& model, bool account = true);
   // The contact detection of `model` as the Solver builds it (null unless `wanted`): under
@@ -141,6 +143,7 @@ class Solver {
   // stage's, so the solver must not step again: for `fdem bench`, after a row's last step.
   double time_detections(int repeats);
   CohesiveForces* cohesive() { return cohesive_.get(); }
+  FluidFlow* fluid() { return fluid_.get(); }
   // The pieces of the body now (models with CE4s; empty otherwise): per triangle, the
   // smallest triangle index of its piece (FragmentLabels). Waits. The pieces depend only
   // on which CE4s are broken, and CE4s never heal, so the labels are kept and reused at
@@ -202,6 +205,7 @@ class Solver {
   std::unique_ptr<ContactSkin> skin_;            // contact with rebuild = "skin"
   std::unique_ptr<ContactActivation> activation_;  // contact with activation "fractured" and CE4s
   std::unique_ptr<ContactForces> contact_;       // contact
+  std::unique_ptr<FluidFlow> fluid_;             // [fluid]
   TriangleForces triangle_forces_;
   NodeGather gather_;
   BoundaryLoads boundary_loads_;

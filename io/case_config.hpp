@@ -159,6 +159,21 @@ struct BoundaryConfig {
   bool in_situ = false;                        // in_situ = true: the [in_situ] field's traction σ₀·n (dead load)
 };
 
+// [fluid]: a viscous, slightly compressible fluid in the cracks (engine/stages/fluid_flow.*).
+// The source injects either a volume rate per unit thickness or holds a pressure; each is
+// a number or a piecewise linear table in time.
+struct FluidConfig {
+  double viscosity = 0;          // μ [Pa s]
+  double bulk_modulus = 0;       // K_f [Pa]
+  double residual_aperture = 0;  // w_r [m], added to the CE4's opening
+  double max_aperture = 0;       // w_max [m]: the stable fluid step is planned for it
+  double safety = 0.5;           // fluid sub-step = safety × stable fluid step
+  std::string crack;             // physical curve whose CE4s start broken ("": none)
+  std::string source;            // physical point or curve the fluid enters at
+  std::optional<PressureTable> rate;      // Q(t) [m²/s] (volume per second per metre of thickness)
+  std::optional<PressureTable> pressure;  // p(t) [Pa] held at the source
+};
+
 struct InitialConfig {
   std::string region;                 // Gmsh physical surface or curve
   std::array<double, 2> velocity{0.0, 0.0};  // [m/s]
@@ -228,6 +243,7 @@ struct CaseConfig {
   std::vector<ProbeConfig> probes;        // [[probe]] entries
   std::optional<InSituConfig> in_situ;    // present when the case has an [in_situ] table
   std::vector<ExcavationConfig> excavations;  // [[excavation]] entries
+  std::optional<FluidConfig> fluid;       // present when the case has a [fluid] table
   // Every key of the case after --set, by dotted path ("material.0.young") → its TOML
   // value; checkpoints keep it so that a restart can name any key that changed.
   std::map<std::string, std::string> settings;

@@ -105,6 +105,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   if (auto gravity = reader("gravity")) c.gravity = read_gravity(*gravity);
   if (auto damping = reader("damping")) c.damping = read_damping(*damping);
   if (auto in_situ = reader("in_situ")) c.in_situ = read_in_situ(*in_situ);
+  if (auto fluid = reader("fluid")) c.fluid = read_fluid(*fluid);
 
   c.boundaries = read_entries(top, "boundary", "region", read_boundary);
   c.initials = read_entries(top, "initial", "region", read_initial);

@@ -61,6 +61,8 @@ const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
                           {"azimuth"}}};
 const Schema kExcavationKeys{{{"region"}, {"start"}, {"duration"}}};
+const Schema kFluidKeys{{{"viscosity"}, {"bulk_modulus"}, {"residual_aperture"}, {"max_aperture"}, {"safety"},
+                         {"crack"}, {"source"}, {"rate"}, {"pressure"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},
@@ -74,7 +76,8 @@ const Schema kRootKeys{{{"title"},
                         {"contact", Shape::Table, &kContactKeys},
                         {"probe", Shape::TableArray, &kProbeKeys},
                         {"in_situ", Shape::Table, &kInSituKeys},
-                        {"excavation", Shape::TableArray, &kExcavationKeys}}};
+                        {"excavation", Shape::TableArray, &kExcavationKeys},
+                        {"fluid", Shape::Table, &kFluidKeys}}};
 
 std::string nearest_key(std::string_view name, const std::vector<std::string_view>& candidates) {
   return nearest_name(name, candidates, LetterCase::Ignored);

@@ -31,6 +31,8 @@ OutputConfig read_output(const TableReader& r, const std::string& case_path); //
 GravityConfig read_gravity(const TableReader& r);                             // [gravity]
 DampingConfig read_damping(const TableReader& r);                             // [damping]
 InSituConfig read_in_situ(const TableReader& r);                              // [in_situ]
+// io/case_fluid_table.cpp
+FluidConfig read_fluid(const TableReader& r);                                 // [fluid]
 
 // io/case_material_tables.cpp: what the body is made of.
 // A material name is an Exodus block name: at most 32 bytes (io/exodus_writer.cpp), and

@@ -49,7 +49,10 @@ std::string EnergyBalance::largest_change(const EnergyTotals& a, const EnergyTot
       {"absorbed_energy", b.absorbed - a.absorbed},
       {"excavated_energy", b.excavated - a.excavated},
       {"boundary_work", b.boundary_work - a.boundary_work},
-      {"load_work", b.load_work - a.load_work}};
+      {"load_work", b.load_work - a.load_work},
+      {"fluid_stored_energy", b.fluid_stored - a.fluid_stored},
+      {"fluid_viscous_dissipation", b.fluid_viscous - a.fluid_viscous},
+      {"fluid_injection_work", b.fluid_injection - a.fluid_injection}};
   const auto* best = &changes[0];
   for (const auto& c : changes)
     if (std::fabs(c.second) > std::fabs(best->second)) best = &c;

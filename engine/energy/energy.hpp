@@ -34,12 +34,18 @@ struct EnergyTotals {
   // computed from absolute positions, each known to ε |x|, which bounds what the balance
   // can resolve (Solver::energy; docs/case-format.md, energy_error).
   double resolution = 0;
+  // [fluid] (engine/stages/fluid_flow.*): the compressed fluid's energy (stored), the
+  // viscous dissipation of the flow and the injection work (cumulative). The work of the
+  // pressure on the faces passes from the fluid to the solid: not a term of the balance,
+  // reported beside it; so are the fluid's volumes [m³] and the wellbore pressure [Pa].
+  double fluid_stored = 0, fluid_viscous = 0, fluid_injection = 0;
+  double fluid_face_work = 0, fluid_volume = 0, fluid_injected_volume = 0, wellbore_pressure = 0, crack_volume = 0;
 
-  double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential; }
+  double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential + fluid_stored; }
   double dissipated() const {
-    return viscous + local_damping + friction + contact_damping + fracture + absorbed + excavated;
+    return viscous + local_damping + friction + contact_damping + fracture + absorbed + excavated + fluid_viscous;
   }
-  double supplied() const { return boundary_work + load_work; }
+  double supplied() const { return boundary_work + load_work + fluid_injection; }
 };
 
 // Tracks a run's balance from its first evaluation (t = 0).

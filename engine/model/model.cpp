@@ -807,7 +807,14 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     if (g.mask & 1u) model.vx0[n] = g.vx;
     if (g.mask & 2u) model.vy0[n] = g.vy;
   }
+  if (config.fluid) {  // the crack and the source, split with the others
+    int dim = 0;
+    if (!config.fluid->crack.empty())
+      remember_region(config.fluid->crack, dim, region_nodes(config.fluid->crack, config.path + ": fluid.crack", &dim), false);
+    remember_region(config.fluid->source, dim, region_nodes(config.fluid->source, config.path + ": fluid.source", &dim), false);
+  }
   split_fracturable(model, config, notes);
+  if (config.fluid) model.fluid = build_fluid_model(model, *config.fluid, config.path);
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   set_heterogeneity(model, config);
   if (config.in_situ) set_in_situ(model, config);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/model/cohesive_model.hpp"
+#include "engine/model/fluid_model.hpp"
 #include "engine/model/materials.hpp"
 #include "engine/model/excavation.hpp"
 #include "engine/model/in_situ.hpp"
@@ -162,6 +163,7 @@ struct Model {
   // the index of the excavation that removes it (-1: none), and the excavations.
   std::vector<int> triangle_excavation;
   std::vector<Excavation> excavations;
+  FluidModel fluid;  // [fluid]: the flow network on the cracks (engine/model/fluid_model.hpp)
   double local_damping = 0;  // Cundall α (0: none)
   bool mass_scaling = false;
 

@@ -98,6 +98,25 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
   add("energy_ratio", "1", "(stored + dissipated) / (initial stored + supplied)",
       [](HistoryRow& r) { return r.snap.energy_ratio; });
 
+  if (model.fluid.enabled) {  // [fluid]: its terms of the account and its figures (FluidFlow)
+    add("fluid_stored_energy", "J", "energy of the compressed fluid in the cracks",
+        [](HistoryRow& r) { return r.snap.energy.fluid_stored; });
+    add("fluid_viscous_dissipation", "J", "viscous dissipation of the flow in the cracks (cubic law), cumulative",
+        [](HistoryRow& r) { return r.snap.energy.fluid_viscous; });
+    add("fluid_injection_work", "J", "work of the fluid source, integral of p Q dt, cumulative",
+        [](HistoryRow& r) { return r.snap.energy.fluid_injection; });
+    add("fluid_face_work", "J", "work of the fluid pressure on the crack faces, cumulative (passed to the solid; not a term of energy_error)",
+        [](HistoryRow& r) { return r.snap.energy.fluid_face_work; });
+    add("injected_volume", "m3", "fluid volume injected by the source (at zero pressure), cumulative",
+        [](HistoryRow& r) { return r.snap.energy.fluid_injected_volume; });
+    add("fluid_volume", "m3", "fluid volume in the network (at zero pressure)",
+        [](HistoryRow& r) { return r.snap.energy.fluid_volume; });
+    add("crack_volume", "m3", "volume of the broken CE4s' openings plus the residual aperture",
+        [](HistoryRow& r) { return r.snap.energy.crack_volume; });
+    add("wellbore_pressure", "Pa", "fluid pressure at the source (mean over its vertices)",
+        [](HistoryRow& r) { return r.snap.energy.wellbore_pressure; });
+  }
+
   // Per node, not through node_group and groups at each row (half of a row's host time at 139k nodes).
   auto mass = std::make_shared<std::vector<double>>();
   for (const auto& mk : masses) mass->push_back(mk.x);

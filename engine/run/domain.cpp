@@ -1,5 +1,6 @@
 #include "engine/run/domain.hpp"
 
+#include "base/errors.hpp"
 #include "engine/run/split_run.hpp"
 #include "engine/parallel/transport.hpp"
 
@@ -20,6 +21,8 @@ std::unique_ptr<Domain> make_domain(const PreparedCase& p, ClContext& cl, Transp
   std::exception_ptr failure;
   try {
     setup();
+    if (p.model.fluid.enabled)  // the flow network is not split over ranks yet (issue 32)
+      throw InputError(p.config.path + ": [fluid] runs on one rank only; run it without mpirun");
     domain = make_split_domain(p, cl, *transport, partition, contact_travel);
   } catch (...) {
     failure = std::current_exception();

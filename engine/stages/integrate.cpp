@@ -43,7 +43,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   defines["GRAVITY_POTENTIAL"] = has_reference_ ? "1" : "0";
   std::vector<const KernelSource*> libraries{&kernel_source::ordered_sum};
   if (gather) {
-    for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale)) defines.insert(d);
+    for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale, gather->fluid_slots)) defines.insert(d);
     libraries.push_back(&kernel_source::node_gather);
   }
   // NVIDIA: 68 registers a work-item fit three work-groups of 256 per SM, 64 four. H200,
@@ -67,7 +67,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   upload(cl, partials_, std::vector<real>(partials_.size() / sizeof(real)));
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_));
-  if (gather) NodeGather::bind_force_sources(args, a, gather->ce4_slots, gather->contact_force_scale);
+  if (gather) NodeGather::bind_force_sources(args, a, gather->ce4_slots, gather->contact_force_scale, gather->fluid_slots);
   args("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
       "gx", static_cast<real>(gravity[0]))("gy", static_cast<real>(gravity[1]))(

@@ -3,31 +3,35 @@
 namespace fdem {
 
 std::map<std::string, std::string> NodeGather::force_defines(const DeviceArrays& a, const compute::buffer* ce4_slots,
-                                                             double contact_force_scale) {
+                                                             double contact_force_scale, const compute::buffer* fluid_slots) {
   return {{"GATHER_EDGES", a.num_loaded_edges > 0 ? "1" : "0"},
           {"GATHER_CE4", ce4_slots != nullptr ? "1" : "0"},
-          {"GATHER_CONTACT", contact_force_scale > 0 ? "1" : "0"}};
+          {"GATHER_CONTACT", contact_force_scale > 0 ? "1" : "0"},
+          {"GATHER_FLUID", ce4_slots != nullptr && fluid_slots != nullptr ? "1" : "0"}};
 }
 
 void NodeGather::bind_force_sources(KernelArgs& f, const DeviceArrays& a, const compute::buffer* ce4_slots,
-                                    double contact_force_scale) {
+                                    double contact_force_scale, const compute::buffer* fluid_slots) {
   f("corner_start", a.corner_start)("corner_slot", a.corner_slot)("corner_value", a.corner_force);
   if (a.num_loaded_edges > 0) f("edge_start", a.edge_start)("edge_slot", a.edge_slot)("edge_value", a.edge_force);
   if (ce4_slots) f("ce4_start", a.ce4_start)("ce4_slot", a.ce4_slot)("ce4_value", *ce4_slots);
+  if (ce4_slots && fluid_slots) f("fluid_value", *fluid_slots);
   if (contact_force_scale > 0)
     f("contact_acc", a.contact_acc)("contact_unit", static_cast<real>(1.0 / contact_force_scale));
 }
 
-NodeGather::NodeGather(ClContext& cl, DeviceArrays& a, const compute::buffer* ce4_slots, double contact_force_scale)
+NodeGather::NodeGather(ClContext& cl, DeviceArrays& a, const compute::buffer* ce4_slots, double contact_force_scale,
+                       const compute::buffer* fluid_slots)
     : cl_(cl), count_(a.num_nodes) {
-  forces_ = compute::kernel(cl.build(kernel_source::node_gather, force_defines(a, ce4_slots, contact_force_scale)),
-                            "gather_node_sums");
+  forces_ = compute::kernel(
+      cl.build(kernel_source::node_gather, force_defines(a, ce4_slots, contact_force_scale, fluid_slots)), "gather_node_sums");
   KernelArgs f(forces_);
   f("n_nodes", static_cast<cl_uint>(count_));
-  bind_force_sources(f, a, ce4_slots, contact_force_scale);
+  bind_force_sources(f, a, ce4_slots, contact_force_scale, fluid_slots);
   f("node_sum", a.node_force).done();
 
-  const std::map<std::string, std::string> corners_only{{"GATHER_EDGES", "0"}, {"GATHER_CE4", "0"}, {"GATHER_CONTACT", "0"}};
+  const std::map<std::string, std::string> corners_only{{"GATHER_EDGES", "0"}, {"GATHER_CE4", "0"}, {"GATHER_CONTACT", "0"},
+                                                                {"GATHER_FLUID", "0"}};
   masses_ = compute::kernel(cl.build(kernel_source::node_gather, corners_only), "gather_node_sums");
   KernelArgs m(masses_);
   m("n_nodes", static_cast<cl_uint>(count_))("corner_start", a.corner_start)("corner_slot", a.corner_slot)(

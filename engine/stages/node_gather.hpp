@@ -17,7 +17,10 @@ class NodeGather {
   // node → CE4-slot map; null: no CE4s) and the fixed-point contact forces
   // contact_acc / contact_force_scale (0: no contact). The mass gather adds the corner
   // values only.
-  NodeGather(ClContext& cl, DeviceArrays& arrays, const compute::buffer* ce4_slots, double contact_force_scale);
+  // `fluid_slots` (FluidFlow::slots(), 4 real2 per CE4 in the CE4 slots' order; null: no
+  // [fluid]) are added through the same node → CE4-slot map.
+  NodeGather(ClContext& cl, DeviceArrays& arrays, const compute::buffer* ce4_slots, double contact_force_scale,
+             const compute::buffer* fluid_slots = nullptr);
   // node_force = Σ corner_force + Σ edge_force + Σ CE4 slots + contact. Never waits.
   // (The Solver's step leaves this to Integrate, which gathers the same sum itself.)
   void enqueue_forces();
@@ -25,9 +28,10 @@ class NodeGather {
   // arguments, for a kernel that sums a node's force with gathered_sum
   // (cl_kernels/node_gather.cl): Integrate with a Gather, and this stage itself.
   static std::map<std::string, std::string> force_defines(const DeviceArrays& arrays, const compute::buffer* ce4_slots,
-                                                          double contact_force_scale);
+                                                          double contact_force_scale,
+                                                          const compute::buffer* fluid_slots = nullptr);
   static void bind_force_sources(KernelArgs& args, const DeviceArrays& arrays, const compute::buffer* ce4_slots,
-                                 double contact_force_scale);
+                                 double contact_force_scale, const compute::buffer* fluid_slots = nullptr);
   // sums = Σ corner values per node (real2: the corner masses and stiffnesses written by
   // LumpedMass, into its set-up array). Never waits.
   void enqueue_corner_sums_into(const compute::buffer& sums);

@@ -1,0 +1,196 @@
+// Fluid in the cracks (engine/stages/fluid_flow.*; docs/case-format.md "[fluid]").
+// The network: every CE4 is a segment between two network vertices (the mesh vertices
+// at its ends i = i' and j = j'; every split copy of a vertex is the same vertex) and
+// carries fluid while it is broken (CohesiveForces status.x >= 1; CE4s on [fluid] crack
+// start broken). Per step, in order, on the positions the other force stages use:
+//   fluid_segments  one work-item per CE4: end openings o = (x' - x).n (n the right normal
+//                   of the chord, as cohesive_forces.cl), apertures w = max(o, 0) + w_r, the
+//                   volume of each half (lumped: h t (3 w_a + w_b) / 8 to the i end), the
+//                   cubic-law conductance w_m³ t / (12 μ h) with w_m = (w_a + w_b) / 2; a
+//                   segment wider than w_max flags itself (the stable step assumed it).
+//   fluid_vertices  one work-item per vertex: its volume V (the halves at it, CSR order),
+//                   the work of the pressure on the faces ½ (p + p') (V' - V), new p.
+//   n_sub × (fluid_flux per CE4: q = c (p_a - p_b);
+//            fluid_balance per vertex: V₀ += Δt_s Σ q (CSR order), the energy that took
+//            out of the vertex (the viscous dissipation), then the source).
+//   fluid_forces    one work-item per CE4: the pressures on the two faces into four slots
+//                   (i, j, j', i'), the same slots the CE4 stage has, which the node
+//                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl).
+// The fluid at a vertex is V₀, its volume at zero pressure; the state law is
+// p = K_f max(V₀/V - 1, 0) (a vertex with less fluid than room is at p = 0). Its stored
+// energy is U = K_f V ((1 + d) ln(1 + d) - d), d = V₀/V - 1 > 0 (∂U/∂V = -p), and fluid
+// entering at a vertex brings H = ∂U/∂V₀ = K_f ln(1 + d) per unit V₀, so the flow from a
+// to b dissipates about q (H_a - H_b) >= 0 (counted exactly as the energy the sub-step's
+// fluxes took out of the vertices). The injection work is ∫ H dV₀, the source's V₀ times
+// H at the pressure it enters at (a held pressure: that pressure): ∫ p Q dt while p << K_f
+// (H = p (1 - p/2K_f + ...); with p = 0.3 K_f the difference was 13%, in a test). The
+// faces' work is Σ p ΔV with the pressure their forces had over the step; lumped
+// half-volumes and the forces of the same halves make it the forces' work to first order.
+// No floating-point atomics: every sum is over a CSR list in fixed order.
+
+inline real fluid_excess(const real v0, const real v) { return v > (real)0 ? fmax(v0 / v - (real)1, (real)0) : (real)0; }
+inline real fluid_stored(const real bulk, const real v, const real d) {
+  return bulk * v * (((real)1 + d) * log1p(d) - d);
+}
+
+__kernel void fluid_segments(const uint n_ce4,
+                             __global const uint4* restrict ce4_nodes,
+                             __global const real2* restrict position,
+                             __global const int2* restrict status,
+                             __global const real* restrict seg_h,
+                             const real thickness,
+                             const real residual,
+                             const real max_aperture,
+                             const real viscosity,
+                             const int step,
+                             __global real4* restrict seg_geom,
+                             __global int* restrict too_wide) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  if (status[e].x < 1) {
+    seg_geom[e] = (real4)(0, 0, 0, 0);
+    return;
+  }
+  const uint4 nd = ce4_nodes[e];
+  const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
+  const real2 chord = (xj - xi) + (xj2 - xi2);
+  const real2 t = chord / length(chord);
+  const real2 n = (real2)(t.y, -t.x);
+  const real wa = fmax(dot(xi2 - xi, n), (real)0) + residual;
+  const real wb = fmax(dot(xj2 - xj, n), (real)0) + residual;
+  const real h = seg_h[e];
+  const real wm = (real)0.5 * (wa + wb);
+  const real c = wm * wm * wm * thickness / ((real)12 * viscosity * h);
+  seg_geom[e] = (real4)(h * thickness * ((real)3 * wa + wb) / (real)8, h * thickness * (wa + (real)3 * wb) / (real)8, c, wm);
+  if (fmax(wa, wb) > max_aperture) {
+    atomic_min(&too_wide[0], (int)e);
+    atomic_min(&too_wide[1], step);
+  }
+}
+
+// vertex_state: (V₀ [m³], V [m³], p [Pa], U [J]); vertex_energy: (injection work [J],
+// work of the pressure on the faces [J], injected V₀ [m³], viscous dissipation [J]),
+// cumulative.
+__kernel void fluid_vertices(const uint n_vertices,
+                             __global const uint* restrict vertex_start,
+                             __global const uint* restrict vertex_end,
+                             __global const real4* restrict seg_geom,
+                             const real bulk,
+                             __global real4* restrict vertex_state,
+                             __global real4* restrict vertex_energy) {
+  const uint v = get_global_id(0);
+  if (v >= n_vertices) return;
+  real volume = 0;
+  for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
+    const uint end = vertex_end[k];
+    const real4 g = seg_geom[end >> 1];
+    volume += (end & 1u) ? g.y : g.x;
+  }
+  real4 s = vertex_state[v];
+  const real d = fluid_excess(s.x, volume);
+  const real p = bulk * d;
+  if (volume != s.y) {
+    real4 en = vertex_energy[v];
+    en.y += s.z * (volume - s.y);  // the pressure the faces' forces had over the last step
+    vertex_energy[v] = en;
+  }
+  vertex_state[v] = (real4)(s.x, volume, p, fluid_stored(bulk, volume, d));
+}
+
+__kernel void fluid_flux(const uint n_ce4,
+                         __global const uint2* restrict seg_vertex,
+                         __global const real4* restrict seg_geom,
+                         __global const real4* restrict vertex_state,
+                         __global real* restrict seg_flux) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  const real c = seg_geom[e].z;
+  if (c == (real)0) {
+    seg_flux[e] = 0;
+    return;
+  }
+  const uint2 ab = seg_vertex[e];
+  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
+  const real q = c * (sa.z - sb.z);
+  seg_flux[e] = q;
+}
+
+// source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
+// are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀.
+__kernel void fluid_balance(const uint n_vertices,
+                            __global const uint* restrict vertex_start,
+                            __global const uint* restrict vertex_end,
+                            __global const real* restrict seg_flux,
+                            __global const uchar* restrict source,
+                            const real source_value,
+                            const real bulk,
+                            const real dt_sub,
+                            __global real4* restrict vertex_state,
+                            __global real4* restrict vertex_energy) {
+  const uint v = get_global_id(0);
+  if (v >= n_vertices) return;
+  real inflow = 0;
+  for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
+    const uint end = vertex_end[k];
+    const real q = seg_flux[end >> 1];
+    inflow += (end & 1u) ? q : -q;
+  }
+  real4 s = vertex_state[v];
+  if (inflow == (real)0 && !source[v]) return;
+  s.x += dt_sub * inflow;
+  // The flow's loss at this vertex: its energy before less after the fluxes (the sum over
+  // the vertices is the viscous dissipation of the sub-step, exactly as the explicit
+  // update has it; Σ q (H_a - H_b) Δt_s over-counts it by the update's O(Δt_s²) term).
+  const real u_flowed = fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+  real4 en = vertex_energy[v];
+  en.w += s.w - u_flowed;
+  if (source[v] && s.y > (real)0) {
+#if PRESSURE_SOURCE
+    // Held at p_s: the source fills the vertex to V (1 + p_s / K_f) and works at p_s.
+    const real added = s.y * ((real)1 + source_value / bulk) - s.x;
+    const real h_work = bulk * log1p(source_value / bulk);
+#else
+    const real added = dt_sub * source_value;
+    const real h_work = bulk * log1p(fluid_excess(s.x + (real)0.5 * added, s.y));  // at the sub-step's middle
+#endif
+    s.x += added;
+    en.x += h_work * added;
+    en.z += added;
+  }
+  vertex_energy[v] = en;
+  const real d = fluid_excess(s.x, s.y);
+  s.z = bulk * d;
+  s.w = fluid_stored(bulk, s.y, d);
+  vertex_state[v] = s;
+}
+
+__kernel void fluid_forces(const uint n_ce4,
+                           __global const uint4* restrict ce4_nodes,
+                           __global const real2* restrict position,
+                           __global const uint2* restrict seg_vertex,
+                           __global const real4* restrict seg_geom,
+                           __global const real* restrict seg_h,
+                           __global const real4* restrict vertex_state,
+                           const real thickness,
+                           __global real2* restrict fluid_slots) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  if (seg_geom[e].z == (real)0) {
+    const real2 zero = (real2)(0, 0);
+    fluid_slots[4 * e] = zero, fluid_slots[4 * e + 1] = zero, fluid_slots[4 * e + 2] = zero, fluid_slots[4 * e + 3] = zero;
+    return;
+  }
+  const uint4 nd = ce4_nodes[e];
+  const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
+  const real2 chord = (xj - xi) + (xj2 - xi2);
+  const real2 t = chord / length(chord);
+  const real2 n = (real2)(t.y, -t.x);
+  const uint2 ab = seg_vertex[e];
+  const real pa = vertex_state[ab.x].z, pb = vertex_state[ab.y].z;
+  const real ht = seg_h[e] * thickness / (real)8;
+  const real2 fa = ht * ((real)3 * pa + pb) * n, fb = ht * (pa + (real)3 * pb) * n;
+  fluid_slots[4 * e] = -fa;      // i: face 1 pushed away from face 2
+  fluid_slots[4 * e + 1] = -fb;  // j
+  fluid_slots[4 * e + 2] = fb;   // j'
+  fluid_slots[4 * e + 3] = fa;   // i'
+}

@@ -1,0 +1,185 @@
+#include "engine/stages/fluid_flow.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <climits>
+
+#include "base/errors.hpp"
+
+namespace fdem {
+
+MemoryPlan FluidFlow::plan(const Model& model) {
+  const size_t ce4 = std::max<size_t>(model.ce4.size(), 1), v = std::max<size_t>(model.fluid.vertices, 1);
+  return MemoryPlan()
+      .add("fluid ce4_nodes", ce4 * sizeof(cl_uint4))
+      .add("fluid seg_vertex", ce4 * sizeof(cl_uint2))
+      .add("fluid seg_h", ce4 * sizeof(real))
+      .add("fluid seg_geom", ce4 * sizeof(real4))
+      .add("fluid seg_flux", ce4 * sizeof(real))
+      .add("fluid slots", 4 * ce4 * sizeof(real2))
+      .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
+      .add("fluid vertex_end", 2 * ce4 * sizeof(cl_uint))
+      .add("fluid source", v * sizeof(cl_uchar))
+      .add("fluid vertex_state", v * sizeof(real4))
+      .add("fluid vertex_energy", v * sizeof(real4))
+      .add("fluid too_wide", 2 * sizeof(cl_int));
+}
+
+long FluidFlow::substeps(const FluidModel& f, double dt) {
+  return std::max(1L, static_cast<long>(std::ceil(dt / (f.safety * f.stable_dt))));
+}
+
+FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status, double dt)
+    : cl_(cl),
+      fluid_(model.fluid),
+      ce4_(model.ce4.size()),
+      vertices_(model.fluid.vertices),
+      dt_(dt),
+      thickness_(model.thickness),
+      substeps_(substeps(model.fluid, dt)),
+      source_share_(1.0 / static_cast<double>(model.fluid.source_vertices.size())) {
+  const MemoryPlan arrays = plan(model);
+  auto make = [&](const char* name) { return arrays.allocate(cl, name); };
+  nodes_ = make("fluid ce4_nodes"), seg_vertex_ = make("fluid seg_vertex"), seg_h_ = make("fluid seg_h");
+  seg_geom_ = make("fluid seg_geom"), seg_flux_ = make("fluid seg_flux");
+  slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
+  source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
+  vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
+
+  std::vector<cl_uint4> nodes;
+  for (const auto& e : model.ce4) nodes.push_back({{cl_uint(e[0]), cl_uint(e[1]), cl_uint(e[2]), cl_uint(e[3])}});
+  upload(cl, nodes_, nodes);
+  upload(cl, seg_vertex_, fluid_.segment_vertex);
+  upload(cl, seg_h_, std::vector<real>(fluid_.segment_length.begin(), fluid_.segment_length.end()));
+  upload(cl, seg_geom_, std::vector<real4>(ce4_));
+  upload(cl, seg_flux_, std::vector<real>(ce4_, 0));
+  upload(cl, slots_, std::vector<real2>(4 * ce4_));
+  upload(cl, vertex_start_, fluid_.vertex_start);
+  upload(cl, vertex_end_, fluid_.vertex_end);
+  std::vector<cl_uchar> source(vertices_, 0);
+  for (uint32_t v : fluid_.source_vertices) source[v] = 1;
+  upload(cl, source_, source);
+  upload(cl, vertex_state_, std::vector<real4>(vertices_));
+  upload(cl, vertex_energy_, std::vector<real4>(vertices_));
+  upload(cl, too_wide_, std::vector<cl_int>{INT_MAX, INT_MAX});
+  // The pre-existing crack: broken and closed (status 1, mode 0: it has no failure mode)
+  // from the start; it opens, and the CE4 stage releases it, as the fluid pushes.
+  if (!fluid_.crack_ce4.empty()) {
+    auto st = download<cl_int2>(cl, status, ce4_);
+    for (uint32_t e : fluid_.crack_ce4) st[e] = {{1, 0}};
+    upload(cl, status, st);
+  }
+
+  const real thickness = static_cast<real>(model.thickness), bulk = static_cast<real>(fluid_.bulk_modulus);
+  const real dt_sub = static_cast<real>(dt / static_cast<double>(substeps_));
+  std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"}};
+  const compute::program program = cl.build(kernel_source::fluid_flow, defines);
+  segments_ = compute::kernel(program, "fluid_segments");
+  KernelArgs s(segments_);
+  s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status)("seg_h", seg_h_)(
+      "thickness", thickness)("residual", real(fluid_.residual_aperture))("max_aperture", real(fluid_.max_aperture))(
+      "viscosity", real(fluid_.viscosity));
+  step_ = s.later("step", cl_int(0));
+  s("seg_geom", seg_geom_)("too_wide", too_wide_).done();
+
+  vertices_kernel_ = compute::kernel(program, "fluid_vertices");
+  KernelArgs v(vertices_kernel_);
+  v("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_geom", seg_geom_)(
+       "bulk", bulk)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)
+      .done();
+
+  flux_ = compute::kernel(program, "fluid_flux");
+  KernelArgs f(flux_);
+  f("n_ce4", cl_uint(ce4_))("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("vertex_state", vertex_state_)(
+       "seg_flux", seg_flux_)
+      .done();
+
+  balance_ = compute::kernel(program, "fluid_balance");
+  KernelArgs b(balance_);
+  b("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_flux", seg_flux_)(
+      "source", source_);
+  source_value_ = b.later("source_value", real(0));
+  b("bulk", bulk)("dt_sub", dt_sub)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_).done();
+
+  forces_ = compute::kernel(program, "fluid_forces");
+  KernelArgs g(forces_);
+  g("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)(
+       "seg_h", seg_h_)("vertex_state", vertex_state_)("thickness", thickness)("fluid_slots", slots_)
+      .done();
+}
+
+void FluidFlow::enqueue(double time, long step) {
+  step_.set(static_cast<cl_int>(step));
+  cl_.enqueue(segments_, ce4_);
+  cl_.enqueue(vertices_kernel_, vertices_);
+  const double dt_sub = dt_ / static_cast<double>(substeps_);
+  for (long k = 0; k < substeps_; ++k) {
+    // The source at the sub-step's middle (a rate) or its end (a held pressure).
+    const double t = time + dt_sub * (static_cast<double>(k) + (fluid_.pressure_source ? 1.0 : 0.5));
+    const double value = fluid_source_value(fluid_.history, t);
+    // A rate is per unit thickness, shared equally by the source's vertices.
+    source_value_.set(static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_));
+    cl_.enqueue(flux_, ce4_);
+    cl_.enqueue(balance_, vertices_);
+  }
+  cl_.enqueue(forces_, ce4_);
+}
+
+EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
+  // Per vertex: V₀, V and U (state columns 0, 1 and 3: one sum of 4 columns), the
+  // injection work, the faces' work, the injected V₀ and the viscous dissipation
+  // (energy columns 0-3). The items are in network order, one rank (a split run refuses [fluid]).
+  PendingSums state = sums(cl_, vertex_state_, vertices_, 4, 0, 4, ItemKind::Node);
+  PendingSums energy = sums(cl_, vertex_energy_, vertices_, 4, 0, 4, ItemKind::Node);
+  // The wellbore pressure: the mean over the source's vertices (read when the sums land).
+  const std::vector<uint32_t> wells = fluid_.source_vertices;
+  ClContext* cl = &cl_;
+  const compute::buffer states = vertex_state_;
+  return [state, energy, wells, cl, states](EnergyTotals& e) {
+    const auto s = state();
+    const auto w = energy();
+    e.fluid_volume += s[0];
+    e.crack_volume += s[1];
+    e.fluid_stored += s[3];
+    e.fluid_injection += w[0];
+    e.fluid_face_work += w[1];
+    e.fluid_injected_volume += w[2];
+    e.fluid_viscous += w[3];
+    double p = 0;
+    if (!wells.empty()) {  // one read of the source's range of vertices (ascending)
+      const auto s = download<real4>(*cl, states, wells.back() - wells.front() + 1, wells.front());
+      for (uint32_t v : wells) p += double(s[v - wells.front()].z);
+    }
+    e.wellbore_pressure = wells.empty() ? 0.0 : p / double(wells.size());
+  };
+}
+
+std::pair<int, int> FluidFlow::too_wide() {
+  const auto w = download<cl_int>(cl_, too_wide_, 2);
+  if (w[0] == INT_MAX) return {-1, -1};
+  return {w[0], w[1]};
+}
+
+void FluidFlow::check_too_wide(const std::vector<cl_int>& w) const {
+  if (w[0] == INT_MAX) return;
+  throw NumericalError("fluid: CE4 " + std::to_string(w[0]) + " opened wider than fluid.max_aperture = " +
+                       std::to_string(fluid_.max_aperture) + " m by step " + std::to_string(w[1]) +
+                       ": the fluid's sub-step was planned for that aperture; raise fluid.max_aperture (the fluid "
+                       "step falls as its square)");
+}
+
+std::vector<real4> FluidFlow::vertex_state() { return download<real4>(cl_, vertex_state_, vertices_); }
+
+void FluidFlow::save_state(StateWriter& out) const {
+  out.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
+  out.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+}
+
+void FluidFlow::load_state(StateReader& in) {
+  in.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
+  in.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+}
+
+}  // namespace fdem

@@ -1,0 +1,67 @@
+// Stage: fluid in the cracks (cl_kernels/fluid_flow.cl; docs/case-format.md "[fluid]").
+// Cubic-law flow along the broken CE4s between the network's vertices, a slightly
+// compressible fluid (K_f), a source (rate or pressure), and the pressure on the faces
+// written into four slots per CE4 that the node gather adds through the CE4 map.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/device/checkpoint.hpp"
+#include "engine/device/device_arrays.hpp"
+#include "engine/device/kernel_args.hpp"
+#include "engine/device/memory_plan.hpp"
+#include "engine/device/row_reads.hpp"
+#include "engine/energy/energy.hpp"
+#include "engine/model/fluid_model.hpp"
+#include "engine/model/model.hpp"
+
+namespace fdem {
+
+class FluidFlow {
+ public:
+  // Builds the network of model.fluid on the device. `status`: CohesiveForces::status();
+  // the CE4s on the case's crack are set broken (closed, status 1) there, once: a
+  // restart's checkpoint then overwrites it with its own.
+  FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status, double dt);
+  static MemoryPlan plan(const Model& model);
+  // Sub-steps of the flow per mechanical step of `dt`: ceil(dt / (safety × stable_dt)).
+  static long substeps(const FluidModel& fluid, double dt);
+
+  // The step at time t (positions of the step's start): apertures, volumes, `substeps`
+  // flow sub-steps over [t, t + dt], the pressures' forces into slots(). Never waits.
+  void enqueue(double time, long step);
+  compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 (i, j, j', i') [N]
+
+  // The fluid's terms of the account and its history figures, summed in item order.
+  EnergyPart queue_energy(const ItemSums& sums);
+  // The first CE4 that opened wider than fluid.max_aperture and the step (waits; -1: none).
+  std::pair<int, int> too_wide();
+  // The same read queued with a row's (RowReads), and the check of what it read: a
+  // NumericalError naming the CE4, the step and the key when some segment was too wide
+  // (the stable fluid step assumed fluid.max_aperture).
+  std::function<std::vector<cl_int>()> queue_too_wide(RowReads& reads) { return reads.read<cl_int>(too_wide_, 2); }
+  void check_too_wide(const std::vector<cl_int>& words) const;
+  // Per vertex (V₀, V, p, U) (waits; tests and output).
+  std::vector<real4> vertex_state();
+  const FluidModel& network() const { return fluid_; }
+  long substeps() const { return substeps_; }
+
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
+
+ private:
+  ClContext& cl_;
+  FluidModel fluid_;
+  size_t ce4_, vertices_;
+  double dt_, thickness_;
+  long substeps_;
+  double source_share_;  // a rate source's share per vertex: 1 / number of source vertices
+  compute::kernel segments_, vertices_kernel_, flux_, balance_, forces_;
+  KernelArg<cl_int> step_;
+  KernelArg<real> source_value_;
+  compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, seg_flux_, vertex_start_, vertex_end_, source_,
+      vertex_state_, vertex_energy_, too_wide_, slots_;
+};
+
+}  // namespace fdem

@@ -1,0 +1,312 @@
+// [fluid]: the flow network on the cracks (engine/stages/fluid_flow.*, cl_kernels/fluid_flow.cl).
+// Sneddon's pressurised crack on a coarse mesh, the mass balance of a rate source, the
+// energy account, determinism and the refusal of bad keys.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "base/errors.hpp"
+#include "case_files.hpp"
+#include "engine/run/prepare_case.hpp"
+#include "engine/solver.hpp"
+#include "fixture.hpp"
+#include "io/case_config.hpp"
+
+using namespace fdem;
+
+namespace {
+
+constexpr double kYoung = 10e9, kPoisson = 0.25, kPressure = 1e6, kHalfLength = 1.0;
+
+// cases/sneddon with `overrides` (the committed case; the coarse tests mesh it at a larger size).
+PreparedCase sneddon(const std::vector<std::string>& overrides) {
+  return prepare_case(test::source_path("cases/sneddon/case.toml"), overrides);
+}
+
+// The crack's openings as the faces' nodes give them: at the centre (x = 0) and the
+// crack's volume per unit thickness (trapezoid over its CE4s) [m, m²].
+struct CrackOpening {
+  double centre = 0, volume = 0;
+};
+CrackOpening crack_opening(const Model& m, const std::vector<real2>& x) {
+  CrackOpening c;
+  for (uint32_t e : m.fluid.crack_ce4) {
+    const auto& n = m.ce4[e];  // (i, j, j', i')
+    const double cx = (x[n[1]].x - x[n[0]].x) + (x[n[2]].x - x[n[3]].x);
+    const double cy = (x[n[1]].y - x[n[0]].y) + (x[n[2]].y - x[n[3]].y);
+    const double l = std::hypot(cx, cy), nx = cy / l, ny = -cx / l;
+    const double oa = (x[n[3]].x - x[n[0]].x) * nx + (x[n[3]].y - x[n[0]].y) * ny;
+    const double ob = (x[n[2]].x - x[n[1]].x) * nx + (x[n[2]].y - x[n[1]].y) * ny;
+    c.volume += m.fluid.segment_length[e] * 0.5 * (oa + ob);
+    if (std::fabs(m.x[n[0]]) < 1e-9) c.centre = oa;
+    if (std::fabs(m.x[n[1]]) < 1e-9) c.centre = ob;
+  }
+  return c;
+}
+
+// Sneddon (plane strain): w(0) = 4 (1 - ν²) p a / E, V = 2π (1 - ν²) p a² / E.
+double sneddon_centre() { return 4 * (1 - kPoisson * kPoisson) * kPressure * kHalfLength / kYoung; }
+double sneddon_volume() { return 2 * M_PI * (1 - kPoisson * kPoisson) * kPressure * kHalfLength * kHalfLength / kYoung; }
+
+struct Outcome {
+  CrackOpening opening;
+  EnergyTotals energy;
+  double energy_error = 0;
+  std::vector<real2> positions;
+};
+// Runs `steps` steps of a prepared case on the test device, the last one an energy row.
+Outcome run_steps(const PreparedCase& p, long steps, Solver** keep = nullptr) {
+  static std::unique_ptr<Solver> solver;
+  solver = std::make_unique<Solver>(test::context(), p.model, p.dt);
+  for (long k = 0; k < steps; ++k) solver->step(k + 1 == steps);
+  Outcome o;
+  o.energy = solver->energy();
+  o.energy_error = solver->balance().error(o.energy);
+  o.positions = solver->positions();
+  o.opening = crack_opening(p.model, o.positions);
+  if (keep) *keep = solver.get();
+  return o;
+}
+
+// `fdem ARGS` with its output and exit code.
+std::pair<int, std::string> run_fdem(const std::string& args) {
+  const char* env = std::getenv("FDEM_BINARY");
+  FILE* pipe = popen((test::child_environment() + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// The coarse Sneddon case: 10 edges along the crack (mesh.size = 0.2).
+const std::vector<std::string> kCoarse{"mesh.size=0.2", "output.dir=\"/tmp/fdem_test_fluid_out\""};
+
+}  // namespace
+
+TEST_SUITE("fluid") {
+
+// On 10 edges the mesh is too coarse for 3% (PoCL: centre -4.4%, volume -9.8%): the
+// tolerances are 10% and 15%, which a force of the wrong size or sign fails by far.
+TEST_CASE("fluid: Sneddon's crack on a coarse mesh (10 edges) opens as the formula says, within 10-15%") {
+  const PreparedCase p = sneddon(kCoarse);
+  REQUIRE(p.model.fluid.enabled);
+  CHECK(p.model.fluid.crack_ce4.size() == 10);
+  const long steps = static_cast<long>(std::lround(0.006 / p.dt));  // the ramp (2 ms) and the settling after it
+  const Outcome o = run_steps(p, steps);
+  MESSAGE("centre opening " << o.opening.centre << " m (Sneddon " << sneddon_centre() << "), volume " << o.opening.volume
+                            << " m² (Sneddon " << sneddon_volume() << "), energy_error " << o.energy_error);
+  CHECK(o.opening.centre == doctest::Approx(sneddon_centre()).epsilon(0.10));
+  CHECK(o.opening.volume == doctest::Approx(sneddon_volume()).epsilon(0.15));
+  CHECK(std::fabs(o.energy_error) < 0.01);
+  // The work of the pressure on the faces went into the solid, less what the damping took.
+  CHECK(o.energy.fluid_face_work > 0);
+  CHECK(o.energy.fluid_injection == doctest::Approx(o.energy.fluid_face_work + o.energy.fluid_stored).epsilon(0.01));
+  CHECK(o.energy.wellbore_pressure == doctest::Approx(kPressure));
+}
+
+// The committed case as it is (40 edges along the crack, 23.5k steps: minutes on PoCL):
+// cases/sneddon/README.md's figures. Skipped by default; run it with
+//   build/fdem_tests -tc="fluid: Sneddon's case*" --no-skip
+TEST_CASE("fluid: Sneddon's case (40 edges): opening at the centre and volume within 3%" * doctest::skip()) {
+  const PreparedCase p = sneddon({"output.dir=\"/tmp/fdem_test_fluid_out\""});
+  REQUIRE(p.model.fluid.crack_ce4.size() == 40);
+  const Outcome o = run_steps(p, p.steps);
+  MESSAGE("steps " << p.steps << ", dt " << p.dt << " s: centre opening " << o.opening.centre << " m (Sneddon "
+                   << sneddon_centre() << ", " << 100 * (o.opening.centre / sneddon_centre() - 1) << "%), volume "
+                   << o.opening.volume << " m² (Sneddon " << sneddon_volume() << ", "
+                   << 100 * (o.opening.volume / sneddon_volume() - 1) << "%), energy_error " << o.energy_error
+                   << ", injected " << o.energy.fluid_injected_volume << " m³, in the network " << o.energy.fluid_volume
+                   << " m³, crack volume " << o.energy.crack_volume << " m³");
+  CHECK(o.opening.centre == doctest::Approx(sneddon_centre()).epsilon(0.03));
+  CHECK(o.opening.volume == doctest::Approx(sneddon_volume()).epsilon(0.03));
+  CHECK(std::fabs(o.energy_error) < 0.01);
+}
+
+TEST_CASE("fluid: mass balance of a rate source at the well: injected = stored within 0.1%; dry cracks stay dry") {
+  // The well (the crack's centre) injects Q = 0.02 m²/s; the crack starts dry (V₀ = 0).
+  const std::string dir = test::source_path("cases/sneddon/case.toml");
+  test::TempDir tmp;
+  std::string text;
+  {
+    std::ifstream in(dir);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  const size_t at = text.find("pressure = { times");
+  REQUIRE(at != std::string::npos);
+  text = text.substr(0, at) + "rate = 2e-4\n";
+  const size_t geo = text.find("geo = \"sneddon.geo\"");
+  REQUIRE(geo != std::string::npos);
+  text.replace(geo, std::string("geo = \"sneddon.geo\"").size(), "geo = \"" + test::source_path("cases/sneddon/sneddon.geo") + "\"");
+  text.replace(text.find("source = \"crack\""), std::string("source = \"crack\"").size(), "source = \"well\"");
+  const std::string path = tmp.write("rate.toml", text);
+  // A soft fluid in a thin crack (its stiffness K_f/V (∂V/∂x)² is not in the stable step
+  // yet) and a thin one, so that it spreads along several segments in 400 steps.
+  std::vector<std::string> sets = kCoarse;
+  for (const char* s : {"fluid.bulk_modulus=1e6", "fluid.residual_aperture=1e-6", "fluid.viscosity=2e-8",
+                        "fluid.max_aperture=1e-4", "fluid.rate=2e-2"})
+    sets.push_back(s);
+  const PreparedCase p = prepare_case(path, sets);
+  REQUIRE(p.model.fluid.source_vertices.size() == 1);
+  CHECK(!p.model.fluid.pressure_source);
+  Solver* solver = nullptr;
+  // The explicit coupling's error is largest while the crack is at its residual aperture
+  // (the fluid's spring is stiffest): energy_error 2.6% after 100 steps, 1.2% after 400,
+  // 0.8% after 1000 (PoCL).
+  const long steps = 1000;
+  const Outcome o = run_steps(p, steps, &solver);
+  const double expected = 2e-2 * p.model.thickness * p.dt * static_cast<double>(steps);
+  MESSAGE("injected " << o.energy.fluid_injected_volume << " m³ (Q t " << expected << "), in the network "
+                      << o.energy.fluid_volume << " m³, crack volume " << o.energy.crack_volume << ", well pressure "
+                      << o.energy.wellbore_pressure << " Pa, energy_error " << o.energy_error);
+  CHECK(o.energy.fluid_injected_volume == doctest::Approx(expected).epsilon(1e-6));
+  CHECK(o.energy.fluid_volume == doctest::Approx(o.energy.fluid_injected_volume).epsilon(0.001));
+  CHECK(o.energy.wellbore_pressure > 0);
+  CHECK(o.energy.fluid_viscous > 0);
+  CHECK(std::fabs(o.energy_error) < 0.01);
+  // Fluid only where an open segment reaches: every vertex off the crack holds none.
+  const auto state = solver->fluid()->vertex_state();
+  std::vector<char> on_crack(p.model.fluid.vertices, 0);
+  for (uint32_t e : p.model.fluid.crack_ce4)
+    on_crack[p.model.fluid.segment_vertex[2 * e]] = on_crack[p.model.fluid.segment_vertex[2 * e + 1]] = 1;
+  size_t wet_off_crack = 0, wet = 0;
+  for (size_t v = 0; v < state.size(); ++v) {
+    wet += state[v].x > 0;
+    wet_off_crack += state[v].x != 0 && !on_crack[v];
+  }
+  CHECK(wet > 1);  // it spread from the well
+  CHECK(wet_off_crack == 0);
+}
+
+TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same history (the fluid's state is in the checkpoint)") {
+  // The well injects into a dry crack (the mass-balance test's case): the fluid moves
+  // before and after the checkpoint.
+  test::TempDir tmp;
+  std::string text;
+  {
+    std::ifstream in(test::source_path("cases/sneddon/case.toml"));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  text = text.substr(0, text.find("pressure = { times")) + "rate = 2e-2\n";
+  text.replace(text.find("geo = \"sneddon.geo\""), std::string("geo = \"sneddon.geo\"").size(),
+               "geo = \"" + test::source_path("cases/sneddon/sneddon.geo") + "\"");
+  text.replace(text.find("source = \"crack\""), std::string("source = \"crack\"").size(), "source = \"well\"");
+  const std::string path = tmp.write("rate.toml", text);
+  auto sets = [&](const std::string& out, const char* end) {
+    std::vector<std::string> s{"mesh.size=0.2", "output.dir=\"" + tmp.str() + "/" + out + "\"", "output.history_every=2e-5",
+                               std::string("time.end=") + end, "fluid.bulk_modulus=1e6", "fluid.residual_aperture=1e-6",
+                               "fluid.viscosity=2e-8", "fluid.max_aperture=1e-4"};
+    return s;
+  };
+  test::run(path, sets("one", "2e-4"));
+  test::run(path, sets("two", "1e-4"));
+  test::run(path, sets("two", "2e-4"), test::restart_from(tmp.str() + "/two/sneddon.ckpt"));
+  for (const char* name : {"injected_volume", "fluid_volume", "crack_volume", "wellbore_pressure", "fluid_stored_energy",
+                           "fluid_viscous_dissipation", "energy_error"}) {
+    CAPTURE(name);
+    const auto a = test::read_variable(tmp.str() + "/one/sneddon_history.nc", name);
+    const auto b = test::read_variable(tmp.str() + "/two/sneddon_history.nc", name);
+    REQUIRE(a.size() == b.size());
+    size_t differ = 0;
+    for (size_t k = 0; k < a.size(); ++k) differ += a[k] != b[k];
+    CHECK(differ == 0);
+    if (std::string(name) == "fluid_volume") CHECK(a.back() > 1.5 * a[a.size() / 2 - 1]);  // it moved after T/2
+  }
+}
+
+TEST_CASE("fluid: a segment wider than fluid.max_aperture stops the run, naming the CE4, the step and the key") {
+  // The coarse Sneddon crack opens to 0.36 mm; the fluid's step planned for 0.01 mm.
+  std::string message;
+  try {
+    test::run(test::source_path("cases/sneddon/case.toml"),
+              {"mesh.size=0.2", "output.dir=\"/tmp/fdem_test_fluid_wide\"", "fluid.max_aperture=1e-5", "time.end=2e-3"});
+  } catch (const NumericalError& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.find("opened wider than fluid.max_aperture") != std::string::npos);
+  CHECK(message.find("CE4 ") != std::string::npos);
+  CHECK(message.find("by step ") != std::string::npos);
+}
+
+TEST_CASE("fluid: two runs give the same bits") {
+  const PreparedCase p = sneddon(kCoarse);
+  const auto a = run_steps(p, 150).positions;
+  const auto b = run_steps(p, 150).positions;
+  REQUIRE(a.size() == b.size());
+  size_t differ = 0;
+  for (size_t i = 0; i < a.size(); ++i) differ += a[i].x != b[i].x || a[i].y != b[i].y;
+  CHECK(differ == 0);
+}
+
+TEST_CASE("fluid: bad [fluid] keys are refused with the file and the key, by check and run alike (exit 2)") {
+  test::TempDir dir;
+  std::string text;
+  {
+    std::ifstream in(test::source_path("cases/sneddon/case.toml"));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  const size_t geo = text.find("geo = \"sneddon.geo\"");
+  text.replace(geo, std::string("geo = \"sneddon.geo\"").size(), "geo = \"" + test::source_path("cases/sneddon/sneddon.geo") + "\"");
+  struct Bad {
+    std::string from, to, message;
+  };
+  const std::vector<Bad> bad{
+      {"viscosity = 1.0", "viscosty = 1.0", "unknown key 'viscosty' in [fluid] (did you mean 'viscosity'?)"},
+      {"viscosity = 1.0", "viscosity = -1.0", "fluid.viscosity"},
+      {"max_aperture = 2e-3", "max_aperture = 1e-8", "fluid.max_aperture"},
+      {"source = \"crack\"", "source = \"crack\"\nrate = 1e-4", "fluid.rate and fluid.pressure are exclusive"},
+      {"source = \"crack\"", "source = \"nowhere\"", "fluid.source"},
+      {"source = \"crack\"", "source = \"outside\"", "fluid.source"},  // not on the crack: no room
+  };
+  for (const auto& b : bad) {
+    std::string t = text;
+    const size_t at = t.find(b.from);
+    REQUIRE(at != std::string::npos);
+    t.replace(at, b.from.size(), b.to);
+    const std::string path = dir.write("bad.toml", t);
+    CAPTURE(b.to);
+    std::string message;
+    try {
+      (void)prepare_case(path, {"mesh.size=0.2", "output.dir=\"" + dir.str() + "/out\""});
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    CHECK(message.find(b.message) != std::string::npos);
+    CHECK(message.find("bad.toml") != std::string::npos);
+    for (const char* command : {"check", "run"}) {
+      const auto [code, out] = run_fdem(std::string(command) + " " + path + " --set mesh.size=0.2 --set output.dir='\"" +
+                                        dir.str() + "/out\"'");
+      CAPTURE(out);
+      CHECK(code == 2);
+      CHECK(out.find(b.message) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("fluid: fdem check reports the fluid's stable step and its sub-steps") {
+  const auto [code, out] = run_fdem("check " + test::source_path("cases/sneddon/case.toml") +
+                                    " --set mesh.size=0.2 --set output.dir='\"/tmp/fdem_test_fluid_out\"'");
+  CAPTURE(out);
+  CHECK(code == 0);
+  CHECK(out.find("fluid dt") != std::string::npos);
+  CHECK(out.find("sub-steps per step") != std::string::npos);
+  const PreparedCase p = sneddon(kCoarse);
+  CHECK(FluidFlow::substeps(p.model.fluid, p.dt) >= 1);
+  CHECK(FluidFlow::substeps(p.model.fluid, 10 * p.model.fluid.stable_dt) == 20);  // safety 0.5
+}
+
+}  // TEST_SUITE
