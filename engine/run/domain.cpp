@@ -6,6 +6,11 @@
 
 namespace fdem {
 
+std::vector<io::BreakRecord> with_triangles(const Model& model, std::vector<io::BreakRecord> records) {
+  for (auto& b : records) b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
+  return records;
+}
+
 std::unique_ptr<Domain> make_whole_domain(const PreparedCase& p, ClContext& cl);
 std::unique_ptr<Domain> make_split_domain(const PreparedCase& p, ClContext& cl, Transport& transport,
                                           PartitionMethod partition, double travel);

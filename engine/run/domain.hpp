@@ -18,6 +18,10 @@ namespace fdem {
 class Transport;
 enum class PartitionMethod;
 
+// The break records with the two triangles of each record's CE4 filled in (both domains'
+// break reads).
+std::vector<io::BreakRecord> with_triangles(const Model& model, std::vector<io::BreakRecord> records);
+
 // A stop asked for (a signal, --max-wall), as every rank agrees on it.
 struct StopRequest {
   int signal = 0;

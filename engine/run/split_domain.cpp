@@ -37,10 +37,6 @@ class SplitDomain : public Domain {
   }
 
  private:
-  std::vector<io::BreakRecord> with_triangles(std::vector<io::BreakRecord> records) const {
-    for (auto& b : records) b.tri_a = p_.model.ce4_triangles[b.ce4][0], b.tri_b = p_.model.ce4_triangles[b.ce4][1];
-    return records;
-  }
   const PreparedCase& p_;
   ClContext& cl_;
   Transport& transport_;
@@ -64,14 +60,14 @@ Snapshot SplitDomain::read(Needs needs) {
     const auto began = std::chrono::steady_clock::now();
     const auto fresh = split.drain_breaks(*ce4);
     catalogue_.insert(catalogue_.end(), fresh.begin(), fresh.end());
-    s.breaks = with_triangles(fresh);
+    s.breaks = with_triangles(p_.model, fresh);
     if (cl_.profiling())
       cl_.add_host_time("break catalogue (host wall: count and records read, sort, events file append)",
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   }
   if (ce4 && needs.has(Need::Catalogue)) {
     catalogue_ = split.catalogue(*ce4);
-    s.breaks = with_triangles(catalogue_);
+    s.breaks = with_triangles(p_.model, catalogue_);
   }
   if (needs.has(Need::Energy)) {
     s.energy = solver.energy();

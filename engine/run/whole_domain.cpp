@@ -66,10 +66,6 @@ class WholeDomain : public Domain {
   }
 
  private:
-  std::vector<io::BreakRecord> with_triangles(std::vector<io::BreakRecord> records) const {
-    for (auto& b : records) b.tri_a = p_.model.ce4_triangles[b.ce4][0], b.tri_b = p_.model.ce4_triangles[b.ce4][1];
-    return records;
-  }
   const PreparedCase& p_;
   ClContext& cl_;
   const PointProbes probes_;
@@ -97,12 +93,12 @@ Snapshot WholeDomain::read(Needs needs) {
   }
   if (ce4 && needs.has(Need::Breaks)) {
     const auto began = std::chrono::steady_clock::now();
-    s.breaks = with_triangles(ce4->drain_breaks());
+    s.breaks = with_triangles(p_.model, ce4->drain_breaks());
     if (cl_.profiling())
       cl_.add_host_time("break catalogue (host wall: count and records read, sort, events file append)",
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
   }
-  if (ce4 && needs.has(Need::Catalogue)) s.breaks = with_triangles(ce4->catalogue());
+  if (ce4 && needs.has(Need::Catalogue)) s.breaks = with_triangles(p_.model, ce4->catalogue());
   lap("breaks");
   if (energy) {
     s.energy = energy();
