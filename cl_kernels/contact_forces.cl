@@ -411,68 +411,9 @@ inline void old_spring(real2 xo[2][3], real lvo[2][3][3], real2 v[2][3], const i
   *move = dot(vA - vB, edge / L) * dt;
 }
 
-// One work-item per entry k of overlap_list (launched over all couples; those past the
-// list's length return): the full evaluation of couple overlap_list[k].
-__kernel void contact_forces(const uint n_couples,
-                             __global const ulong* restrict keys,
-                             const uint n_previous,
-                             __global const ulong* restrict previous_keys,
-                             __global const real* previous_history,
-                             __global real* history,
-                             __global const uint* restrict tri_nodes,
-                             __global const uint* restrict tri_material,
-                             const uint n_materials,
-                             __global const uint* restrict pair_index,
-                             __global const real* restrict pair_props,
-                             __global const real2* restrict position,
-                             __global const real2* restrict velocity,
-                             const real thickness,
-                             const real dt,
-                             const real force_scale,
-                             const real energy_scale,
-                             __global long* restrict contact_acc,
-                             __global long* restrict energy,
-                             __global uint* restrict counters,
-                             const uint same_list,
-                             const uint new_from,
-                             __global const uint* restrict overlap_list,
-                             __global uchar* restrict live,
-                             __global uint* restrict slot,
-                             __global const uint* restrict carry_of,
-                             __global uint* restrict pool_state,
-                             const uint pool_capacity,
-                             const uint energy_row,
-                             __global real* restrict couple_stored,
-                             __global const uint* restrict active,
-                             const uint joined_since,
-                             const int step BOND_ARGS,
-                             const uint list_counter) {
-  const uint entry = get_global_id(0);
-  if (entry >= n_couples || entry >= counters[list_counter]) return;
-  const uint c = overlap_list[entry];
-  const ulong key = keys[c];
-  uint tri[2], nodes[2][3];
-  real2 x[2][3];
-  real lv[2][3][3];
-  couple_nodes(key, tri_nodes, position, tri, nodes, x);
-  barycentric_values(x, lv);
-  __global const real* props =
-      pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
-  const real Pn = props[PAIR_NORMAL_PENALTY], Ptan = props[PAIR_TANGENTIAL_PENALTY], mu = props[PAIR_FRICTION],
-             T = props[PAIR_TENSILE], b = props[PAIR_DAMPING];
-  const int damped = props[PAIR_DAMPED] != (real)0;
-
-  // The row of the couple's history in previous_history (the pool itself in the same
-  // list, the carry list in a new one), -1: none (zero).
-  const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
-
-  // Pass p = 3 dir + e: edge e of triangle A = dir, inside triangle B = 1 − dir.
-  // The barycentric weights (×3) of B's vertex q at the ends of A's edge e are
-  // lv[dir][e][(q + 1) % 3] and lv[dir][(e + 1) % 3][(q + 1) % 3].
-  real I0[6], I1[6], inside[6];
-  real normal_total = 0, contact_length = 0;
-  // Rounding of the barycentric values l: coordinates carry ε|x|, so the cross products
-  // behind l (3 A_m / A) are off by about ε |x| h / A ≈ 3 ε |x| / h; 64 times that.
+// Rounding of the couple's barycentric values l: coordinates carry ε|x|, so the cross
+// products behind l (3 A_m / A) are off by about ε |x| h / A ≈ 3 ε |x| / h; 64 times that.
+inline real couple_round_off(real2 x[2][3]) {
   real reach = (real)0, smallest = INFINITY;
   for (int k = 0; k < 2; ++k) {
     for (int a = 0; a < 3; ++a) reach = fmax(reach, fmax(fabs(x[k][a].x), fabs(x[k][a].y)));
@@ -480,45 +421,190 @@ __kernel void contact_forces(const uint n_couples,
     smallest = fmin(smallest, fabs(u.x * w.y - u.y * w.x));
   }
 #ifdef FDEM_DOUBLE
-  const real round_off = (real)64 * DBL_EPSILON * reach / sqrt(smallest);
+  return (real)64 * DBL_EPSILON * reach / sqrt(smallest);
 #else
-  const real round_off = (real)64 * FLT_EPSILON * reach / sqrt(smallest);
+  return (real)64 * FLT_EPSILON * reach / sqrt(smallest);
 #endif
-  for (int dir = 0; dir < 2; ++dir) {
-      for (int e = 0; e < 3; ++e) {
+}
+
+// Edge pass p = 3 dir + e (edge e of triangle A = dir, inside triangle B = 1 − dir): the
+// potential of B integrated along the edge, split by the lever rule (I0, I1), and the
+// fraction of the edge inside B. The barycentric weights (×3) of B's vertex q at the ends
+// of A's edge e are lv[dir][e][(q + 1) % 3] and lv[dir][(e + 1) % 3][(q + 1) % 3].
+inline void pass_integrals(const int dir, const int e, real lv[2][3][3], const real round_off, real* I0, real* I1,
+                           real* inside) {
+  real l0[3], l1[3];
+  for (int m = 0; m < 3; ++m) {
+    l0[m] = lv[dir][e][m];
+    l1[m] = lv[dir][(e + 1) % 3][m];
+  }
+  integrate_potential(l0, l1, round_off, I0, I1, inside);
+}
+
+// The couple's normal force before damping (P_n t Σ L ∫φ) and the length of its edges
+// inside the other triangle, summed over the passes in order.
+inline void normal_totals(real2 x[2][3], const real I0[6], const real I1[6], const real inside[6], const real Pn,
+                          const real thickness, real* normal_total, real* contact_length) {
+  real total = 0, inside_length = 0;
+  for (int dir = 0; dir < 2; ++dir)
+    for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
-      const real2 pa = x[dir][e], pb = x[dir][(e + 1) % 3];
-      real l0[3], l1[3];
-      for (int m = 0; m < 3; ++m) {
-        l0[m] = lv[dir][e][m];
-        l1[m] = lv[dir][(e + 1) % 3][m];
-      }
-      integrate_potential(l0, l1, round_off, &I0[p], &I1[p], &inside[p]);
-      const real L = length(pb - pa);
-      normal_total += Pn * thickness * L * (I0[p] + I1[p]);
-      contact_length += inside[p] * L;
+      const real L = length(x[dir][(e + 1) % 3] - x[dir][e]);
+      total += Pn * thickness * L * (I0[p] + I1[p]);
+      inside_length += inside[p] * L;
+    }
+  *normal_total = total;
+  *contact_length = inside_length;
+}
+
+// An-Tannant damping (Eq. 15): the ratio σ/σ_try that scales the couple's normal force;
+// loading raises hist[HIST_OVERLAP_MAX].
+inline real damping_ratio(real hist[CONTACT_HISTORY], const real normal_total, const real contact_length,
+                          const real thickness, const real Pn, const real T, const real b) {
+  const real area = (real)0.5 * contact_length * thickness;       // contact area A_con
+  const real sigma_try = normal_total / area;
+  const real overlap = sigma_try / Pn;                            // nominal overlap o_n (mean potential)
+  real sigma;
+  if (overlap >= hist[HIST_OVERLAP_MAX]) {  // loading
+    sigma = fmin(sigma_try, T);
+    hist[HIST_OVERLAP_MAX] = overlap;
+  } else {                                  // unloading, from σ_peak = min(P_n o_n_max, T)
+    sigma = fmin(Pn * hist[HIST_OVERLAP_MAX], T) * pow(overlap / hist[HIST_OVERLAP_MAX], b);
+  }
+  return sigma / sigma_try;
+}
+
+// Damped couple: force = ratio × (−∇E). The work done on it over the last step, by the
+// trapezoid rule ½ (ratio_prev + ratio)(E − E_prev), is held. Unloading (Eq. 15) only
+// lowers the ratio, so the couple can give back at most ratio × E; held work above that
+// is dissipated now. The dissipation so never decreases, held + dissipated is exactly the
+// work done, and what is still held when the couple lets go is dissipated then. A new
+// couple starts from E = 0. *stored: what it holds; *damping_lost: whole units of the
+// accumulator dissipated now (the rest stays held, dissipated later or at release).
+inline void damped_work(real hist[CONTACT_HISTORY], const real ratio, const real elastic, const real energy_scale,
+                        real* stored, real* damping_lost) {
+  const real e_prev = hist[HIST_ENERGY];
+  const real r_prev = e_prev > (real)0 ? hist[HIST_RATIO] : ratio;
+  real held = hist[HIST_HELD] + (real)0.5 * (r_prev + ratio) * (elastic - e_prev);
+  const real branch = ratio * elastic;
+  real lost = (real)0;
+  if (held > branch) {
+    lost = held - branch;
+    held = branch;
+  }
+  const real booked = (real)convert_long_rte(lost * energy_scale) / energy_scale;
+  held += lost - booked;
+  hist[HIST_ENERGY] = elastic;
+  hist[HIST_RATIO] = ratio;
+  hist[HIST_HELD] = held;
+  *stored = held;
+  *damping_lost = booked;
+}
+
+// The rest of the exact gradient of E (see the note at couple_potential): on each
+// triangle k, −(E_k / A_k) ∂A_k/∂x_a = (E_k / 2A_k) × (outward normal × length of the
+// edge opposite vertex a). Zero net force and moment on each triangle. It rides along
+// with the first pass that writes all three of the triangle's vertices (as B), so it
+// costs no extra atomics there.
+inline void area_forces(real2 x[2][3], const real ratio, const real Pn, const real thickness, const real potential[2],
+                        real2 area_force[2][3]) {
+  for (int q = 0; q < 2; ++q) {
+    const real twice_area = (x[q][1].x - x[q][0].x) * (x[q][2].y - x[q][0].y) - (x[q][1].y - x[q][0].y) * (x[q][2].x - x[q][0].x);
+    const real coeff = ratio * Pn * thickness * potential[q] / twice_area;
+    for (int a = 0; a < 3; ++a) {
+      const real2 e = x[q][(a + 2) % 3] - x[q][(a + 1) % 3];
+      area_force[q][a] = coeff * (real2)(e.y, -e.x);
     }
   }
+}
 
-  if (normal_total <= (real)0) {  // no overlap after all
-    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
-    live[c] = 0;
-    return;
+// What edge_pass did (bits of its result).
+#define PASS_ACTS 1    // its integral is positive: fA0, fA1, fB hold its forces
+#define PASS_LOST 2    // *lost adds to the couple's friction dissipation
+#define PASS_SPRING 4  // *pending and *spring (its slip spring's energy) add to the couple's
+
+// Edge pass p = 3 dir + e of a couple that overlaps, its integrals I0, I1 given: the new
+// slip of its spring (*slip; `previous` the last step's), its normal force on A's edge
+// nodes by the lever rule (fA0, fA1) and, opposite, on B's nodes by their barycentric
+// weights (fB), its friction (Eq. 16: an elastic slip at the normal force's acting point
+// s*, returned to the Coulomb cap μ F_n), and its energy terms. kn: the damped normal
+// force per unit ∫φ ds. xo, lvo: the last step's geometry (filled where a spring holds a
+// slip). The couple's sums of the terms are taken by the caller in pass order.
+inline int edge_pass(const int dir, const int e, real2 x[2][3], real lv[2][3][3], real2 v[2][3], real2 xo[2][3],
+                     real lvo[2][3][3], const real I0, const real I1, const real kn, const real mu, const real Ptan,
+                     const real thickness, const real dt, const real round_off, const bool friction,
+                     const real previous, real* slip_out, real* lost, real* pending, real* spring, real2* fA0,
+                     real2* fA1, real2 fB[3]) {
+  const int A = dir, B = 1 - dir;
+  const real I = I0 + I1;
+  const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
+  const real2 edge = pb - pa;
+  const real L = length(edge);
+  const real2 tangent = edge / L;
+  const real stiffness = Ptan * L * thickness;  // the slip spring: whole edge (header note)
+  *slip_out = (real)0;
+  if (!(I > (real)0)) {
+    // The pass let go: its spring's energy and the half step of work its last force
+    // does (trapezoid rule, the force ending at zero) are dissipated.
+    if (friction && previous != (real)0) {
+      real k_prev, move;
+      old_spring(xo, lvo, v, dir, e, round_off, Ptan * thickness, dt, &k_prev, &move);
+      *lost = (real)0.5 * k_prev * previous * (previous + move);
+      return PASS_LOST;
+    }
+    return 0;
   }
-  real hist[CONTACT_HISTORY];
-  for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
-  // A new couple found overlapping because one of its triangles joined contact (activation
-  // "fractured": its mask value, the join's stamp, is at least `joined_since`: this step's
-  // stamp when couples are listed ahead of joins (PRELISTED), else the first stamp after
-  // the last detection), next to a triangle it already overlapped at a corner: its potential was
-  // never paid for by any work, so it stays without force or energy, marked by
-  // HIST_OVERLAP_MAX < 0, until its triangles part (the separation test or normal_total ≤ 0
-  // clears the history); then it is an ordinary couple (docs/energy-notes.md). Couples that
-  // approached (both triangles in contact before) push at once as always.
+  const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
+  *fA0 = -kn * I0 * nL;
+  *fA1 = -kn * I1 * nL;
+  for (int m = 0; m < 3; ++m) fB[m] = kn * (lv[dir][e][(m + 1) % 3] * I0 + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1) / (real)3 * nL;
+  if (!friction) return PASS_ACTS;
+  const real s = I1 / I;
+  real wB[3];
+  for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
+  const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
+  const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
+  const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
+  const real cap = mu * kn * L * I;
+  const real trial = previous + step_slip;
+  const real slip = stiffness * fabs(trial) > cap ? cap / stiffness * sign(trial) : trial;
+  // Dissipated over the last step: the spring's work by the trapezoid rule, each force
+  // with the move it did work on, less the change of its energy ½ k s².
+  real last_work = (real)0;  // ½ k_prev s_prev (Δs_prev + s_prev)
+  if (previous != (real)0) {
+    real k_prev, move;
+    old_spring(xo, lvo, v, dir, e, round_off, Ptan * thickness, dt, &k_prev, &move);
+    last_work = (real)0.5 * k_prev * previous * (previous + move);
+  }
+  *lost = last_work + (real)0.5 * stiffness * slip * (step_slip - slip);
+  // What it dissipates if it lets go before the next step: its energy and the half step
+  // of work of its last force (the next step's move estimated by this one's).
+  *pending = (real)0.5 * stiffness * slip * (slip + step_slip);
+  *spring = (real)0.5 * stiffness * slip * slip;
+  *slip_out = slip;
+  const real2 f = -stiffness * slip * tangent;
+  *fA0 += (1 - s) * f;
+  *fA1 += s * f;
+  for (int m = 0; m < 3; ++m) fB[m] -= wB[m] * f;
+  return PASS_ACTS | PASS_LOST | PASS_SPRING;
+}
+
+// Whether an overlapping couple waits without force (its history then marked): a new
+// couple found overlapping because one of its triangles joined contact (activation
+// "fractured": its mask value, the join's stamp, is at least `joined_since`: this step's
+// stamp when couples are listed ahead of joins (PRELISTED), else the first stamp after
+// the last detection), next to a triangle it already overlapped at a corner: its potential
+// was never paid for by any work, so it stays without force or energy, marked by
+// HIST_OVERLAP_MAX < 0, until its triangles part (the separation test or normal_total ≤ 0
+// clears the history); then it is an ordinary couple (docs/energy-notes.md). Couples that
+// approached (both triangles in contact before) push at once as always. Likewise the two
+// triangles of a CE4 released in the last step (the CE4 stage runs after this one in a
+// step) that still overlap: the CE4 held that overlap's energy (and dissipated it when it
+// let go), the contact potential there was never paid for.
+inline bool waits_unpaid(const uint c, const uint tri[2], const int found, const real overlap_max,
+                         __global const uint* active, const uint joined_since, const uint same_list,
+                         const uint new_from, __global const uint* tri_nodes, const int step BOND_ARGS) {
   const bool joined = active[tri[0]] >= joined_since || active[tri[1]] >= joined_since;
-  // Likewise the two triangles of a CE4 released in the last step (the CE4 stage runs
-  // after this one in a step) that still overlap: the CE4 held that overlap's energy (and
-  // dissipated it when it let go), the contact potential there was never paid for.
 #ifdef CE4_BONDS
   const int bond = bond_state(tri[0], tri[1], bond_ce4, ce4_status);
 #ifdef CORNER_FANS
@@ -539,11 +625,93 @@ __kernel void contact_forces(const uint n_couples,
   // (couples appended to the list in this step are new too: c >= new_from)
   const bool met_over_overlap = found < 0 && (!same_list || c >= new_from) && joined;
 #endif
-  if (met_over_overlap || released_now || hist[HIST_OVERLAP_MAX] < (real)0) {
-    const int row = take_slot(c, slot, pool_state, pool_capacity, step);
-    if (row >= 0)
-      for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
-    live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
+  return met_over_overlap || released_now || overlap_max < (real)0;
+}
+
+// A couple that waits unpaid (waits_unpaid): its history row holds only the mark.
+inline void mark_unpaid(const uint c, __global uint* slot, __global uint* pool_state, const uint pool_capacity,
+                        const int step, __global real* history, __global uchar* live) {
+  const int row = take_slot(c, slot, pool_state, pool_capacity, step);
+  if (row >= 0)
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = h == HIST_OVERLAP_MAX ? (real)-1 : (real)0;
+  live[c] = 2;  // not touching, but its history holds the mark: classify must clear it when they part
+}
+
+// The end of an acting couple's step, its passes' sums taken: the friction dissipation
+// booked in whole units (the rest carried in HIST_REST, see ENERGY_FRICTION), the history
+// written to the couple's pool row, its stored energy on energy rows (each couple writes
+// its own row's entry, summed in couple order by contact_stored_partials: a double sum in
+// a fixed order, not 2⁻³² J per couple) and the damping's whole units. Signed increments:
+// each is the exact balance of its step, so the sums close the account; they are ≥ 0 but
+// for rounding and one-step reversals.
+inline void finish_couple(const uint c, real hist[CONTACT_HISTORY], const real friction_lost, const real pending,
+                          const real stored, const real damping_lost, const real energy_scale,
+                          __global long* energy, __global uint* slot, __global uint* pool_state,
+                          const uint pool_capacity, const int step, __global real* history, __global uchar* live,
+                          const uint energy_row, __global real* couple_stored) {
+  hist[HIST_PENDING] = pending;
+  const real unbooked = friction_lost + hist[HIST_REST];
+  const long friction_units = convert_long_rte(unbooked * energy_scale);
+  hist[HIST_REST] = unbooked - (real)friction_units / energy_scale;
+  const int row = take_slot(c, slot, pool_state, pool_capacity, step);
+  if (row >= 0)
+    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = hist[h];
+  live[c] = 1;
+  if (energy_row && row >= 0) couple_stored[row] = stored;
+  if (friction_units != 0) atom_add(&energy[ENERGY_FRICTION], friction_units);
+  if (damping_lost != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(damping_lost * energy_scale));
+}
+
+#define CONTACT_FORCES_ARGS                                                                                        \
+  const uint n_couples, __global const ulong *restrict keys, const uint n_previous,                                \
+      __global const ulong *restrict previous_keys, __global const real *previous_history, __global real *history, \
+      __global const uint *restrict tri_nodes, __global const uint *restrict tri_material, const uint n_materials, \
+      __global const uint *restrict pair_index, __global const real *restrict pair_props,                          \
+      __global const real2 *restrict position, __global const real2 *restrict velocity, const real thickness,      \
+      const real dt, const real force_scale, const real energy_scale, __global long *restrict contact_acc,         \
+      __global long *restrict energy, __global uint *restrict counters, const uint same_list, const uint new_from, \
+      __global const uint *restrict overlap_list, __global uchar *restrict live, __global uint *restrict slot,     \
+      __global const uint *restrict carry_of, __global uint *restrict pool_state, const uint pool_capacity,        \
+      const uint energy_row, __global real *restrict couple_stored, __global const uint *restrict active,          \
+      const uint joined_since, const int step BOND_ARGS, const uint list_counter
+
+// One work-item per entry k of overlap_list (launched over all couples; those past the
+// list's length return): the full evaluation of couple overlap_list[k].
+__kernel void contact_forces(CONTACT_FORCES_ARGS) {
+  const uint entry = get_global_id(0);
+  if (entry >= n_couples || entry >= counters[list_counter]) return;
+  const uint c = overlap_list[entry];
+  uint tri[2], nodes[2][3];
+  real2 x[2][3];
+  real lv[2][3][3];
+  couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
+  barycentric_values(x, lv);
+  __global const real* props =
+      pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
+  const real Pn = props[PAIR_NORMAL_PENALTY], Ptan = props[PAIR_TANGENTIAL_PENALTY], mu = props[PAIR_FRICTION],
+             T = props[PAIR_TENSILE], b = props[PAIR_DAMPING];
+  const int damped = props[PAIR_DAMPED] != (real)0;
+
+  // The row of the couple's history in previous_history (the pool itself in the same
+  // list, the carry list in a new one), -1: none (zero).
+  const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
+
+  real I0[6], I1[6], inside[6];
+  const real round_off = couple_round_off(x);
+  for (int dir = 0; dir < 2; ++dir)
+    for (int e = 0; e < 3; ++e) pass_integrals(dir, e, lv, round_off, &I0[3 * dir + e], &I1[3 * dir + e], &inside[3 * dir + e]);
+  real normal_total, contact_length;
+  normal_totals(x, I0, I1, inside, Pn, thickness, &normal_total, &contact_length);
+  if (normal_total <= (real)0) {  // no overlap after all
+    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
+    live[c] = 0;
+    return;
+  }
+  real hist[CONTACT_HISTORY];
+  for (int h = 0; h < CONTACT_HISTORY; ++h) hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
+  if (waits_unpaid(c, tri, found, hist[HIST_OVERLAP_MAX], active, joined_since, same_list, new_from, tri_nodes,
+                   step BOND_PASS)) {
+    mark_unpaid(c, slot, pool_state, pool_capacity, step, history, live);
     return;
   }
   real2 v[2][3];
@@ -555,69 +723,16 @@ __kernel void contact_forces(const uint n_couples,
     for (int a = 0; a < 3; ++a) fnode[k][a] = (real2)(0, 0);
 #endif
 
-  // An-Tannant damping (Eq. 15) on the couple's total normal force.
-  real ratio = (real)1;
-  if (damped) {
-    const real area = (real)0.5 * contact_length * thickness;       // contact area A_con
-    const real sigma_try = normal_total / area;
-    const real overlap = sigma_try / Pn;                            // nominal overlap o_n (mean potential)
-    real sigma;
-    if (overlap >= hist[HIST_OVERLAP_MAX]) {  // loading
-      sigma = fmin(sigma_try, T);
-      hist[HIST_OVERLAP_MAX] = overlap;
-    } else {                                  // unloading, from σ_peak = min(P_n o_n_max, T)
-      sigma = fmin(Pn * hist[HIST_OVERLAP_MAX], T) * pow(overlap / hist[HIST_OVERLAP_MAX], b);
-    }
-    ratio = sigma / sigma_try;
-  }
-
+  const real ratio = damped ? damping_ratio(hist, normal_total, contact_length, thickness, Pn, T, b) : (real)1;
   // The couple's potential energy E = P_n t ∫_{c∩t}(φ_c + φ_t) dA, per triangle's φ.
   real potential[2];
   couple_potential(x, I0, I1, inside, potential);
   const real elastic = Pn * thickness * (potential[0] + potential[1]);
-  real stored = (real)0, damping_lost = (real)0;
-  if (damped) {
-    // Damped couple: force = ratio × (−∇E). The work done on it over the last step, by the
-    // trapezoid rule ½ (ratio_prev + ratio)(E − E_prev), is held. Unloading (Eq. 15) only
-    // lowers the ratio, so the couple can give back at most ratio × E; held work above
-    // that is dissipated now. The dissipation so never decreases, held + dissipated is
-    // exactly the work done, and what is still held when the couple lets go is
-    // dissipated then. A new couple starts from E = 0.
-    const real e_prev = hist[HIST_ENERGY];
-    const real r_prev = e_prev > (real)0 ? hist[HIST_RATIO] : ratio;
-    real held = hist[HIST_HELD] + (real)0.5 * (r_prev + ratio) * (elastic - e_prev);
-    const real branch = ratio * elastic;
-    if (held > branch) {
-      damping_lost = held - branch;
-      held = branch;
-    }
-    // Whole units of the accumulator only; the rest stays held (dissipated later or at release).
-    const real booked = (real)convert_long_rte(damping_lost * energy_scale) / energy_scale;
-    held += damping_lost - booked;
-    damping_lost = booked;
-    hist[HIST_ENERGY] = elastic;
-    hist[HIST_RATIO] = ratio;
-    hist[HIST_HELD] = held;
-    stored = held;
-  } else {
-    stored = elastic;
-  }
-
-  // The rest of the exact gradient of E (see the note at couple_potential): on each
-  // triangle k, −(E_k / A_k) ∂A_k/∂x_a = (E_k / 2A_k) × (outward normal × length of the
-  // edge opposite vertex a). Zero net force and moment on each triangle. It rides along
-  // with the first pass that writes all three of the triangle's vertices (as B), so it
-  // costs no extra atomics there.
+  real stored = elastic, damping_lost = (real)0;
+  if (damped) damped_work(hist, ratio, elastic, energy_scale, &stored, &damping_lost);
   real2 area_force[2][3];
+  area_forces(x, ratio, Pn, thickness, potential, area_force);
   bool area_due[2] = {true, true};
-  for (int q = 0; q < 2; ++q) {
-    const real twice_area = (x[q][1].x - x[q][0].x) * (x[q][2].y - x[q][0].y) - (x[q][1].y - x[q][0].y) * (x[q][2].x - x[q][0].x);
-    const real coeff = ratio * Pn * thickness * potential[q] / twice_area;
-    for (int a = 0; a < 3; ++a) {
-      const real2 e = x[q][(a + 2) % 3] - x[q][(a + 1) % 3];
-      area_force[q][a] = coeff * (real2)(e.y, -e.x);
-    }
-  }
 
   const bool friction = mu != (real)0 && Ptan != (real)0;
   const real kn = ratio * Pn * thickness;  // normal force per unit ∫φ ds
@@ -637,62 +752,16 @@ __kernel void contact_forces(const uint n_couples,
     const int A = dir, B = 1 - dir;
     for (int e = 0; e < 3; ++e) {
       const int p = 3 * dir + e;
-      const real I = I0[p] + I1[p];
-      const real2 pa = x[A][e], pb = x[A][(e + 1) % 3];
-      const real2 edge = pb - pa;
-      const real L = length(edge);
-      const real2 tangent = edge / L;
-      const real stiffness = Ptan * L * thickness;  // the slip spring: whole edge (header note)
-      const real previous = hist[p];                // slip of the last step
-      if (!(I > (real)0)) {
-        // The pass let go: its spring's energy and the half step of work its last force
-        // does (trapezoid rule, the force ending at zero) are dissipated.
-        if (friction && previous != (real)0) {
-          real k_prev, move;
-          old_spring(xo, lvo, v, dir, e, round_off, Ptan * thickness, dt, &k_prev, &move);
-          friction_lost += (real)0.5 * k_prev * previous * (previous + move);
-        }
-        hist[p] = (real)0;
-        continue;
+      real lost, pend, spring;
+      real2 fA0, fA1, fB[3];
+      const int did = edge_pass(dir, e, x, lv, v, xo, lvo, I0[p], I1[p], kn, mu, Ptan, thickness, dt, round_off,
+                                friction, hist[p], &hist[p], &lost, &pend, &spring, &fA0, &fA1, fB);
+      if (did & PASS_LOST) friction_lost += lost;
+      if (did & PASS_SPRING) {
+        pending += pend;
+        if (energy_row) stored += spring;
       }
-      // Normal: on A's edge nodes by the lever rule, opposite on B by barycentric weights.
-      const real2 nL = (real2)(edge.y, -edge.x);  // outward normal × L
-      real2 fA0 = -kn * I0[p] * nL, fA1 = -kn * I1[p] * nL, fB[3];
-      for (int m = 0; m < 3; ++m) fB[m] = kn * (lv[dir][e][(m + 1) % 3] * I0[p] + lv[dir][(e + 1) % 3][(m + 1) % 3] * I1[p]) / (real)3 * nL;
-
-      // Friction (Eq. 16): elastic slip at the normal force's acting point s*, returned to
-      // the Coulomb cap μ F_n.
-      if (friction) {
-        const real s = I1[p] / I;
-        real wB[3];
-        for (int m = 0; m < 3; ++m) wB[m] = ((1 - s) * lv[dir][e][(m + 1) % 3] + s * lv[dir][(e + 1) % 3][(m + 1) % 3]) / (real)3;
-        const real2 vA = (1 - s) * v[A][e] + s * v[A][(e + 1) % 3];
-        const real2 vB = wB[0] * v[B][0] + wB[1] * v[B][1] + wB[2] * v[B][2];
-        const real step_slip = dot(vA - vB, tangent) * dt;  // relative move over the last step
-        const real cap = mu * kn * L * I;
-        const real trial = previous + step_slip;
-        const real slip = stiffness * fabs(trial) > cap ? cap / stiffness * sign(trial) : trial;
-        // Dissipated over the last step: the spring's work by the trapezoid rule, each
-        // force with the move it did work on, less the change of its energy ½ k s².
-        real last_work = (real)0;  // ½ k_prev s_prev (Δs_prev + s_prev)
-        if (previous != (real)0) {
-          real k_prev, move;
-          old_spring(xo, lvo, v, dir, e, round_off, Ptan * thickness, dt, &k_prev, &move);
-          last_work = (real)0.5 * k_prev * previous * (previous + move);
-        }
-        friction_lost += last_work + (real)0.5 * stiffness * slip * (step_slip - slip);
-        // What it dissipates if it lets go before the next step: its energy and the half
-        // step of work of its last force (the next step's move estimated by this one's).
-        pending += (real)0.5 * stiffness * slip * (slip + step_slip);
-        hist[p] = slip;
-        if (energy_row) stored += (real)0.5 * stiffness * slip * slip;
-        const real2 f = -stiffness * slip * tangent;
-        fA0 += (1 - s) * f;
-        fA1 += s * f;
-        for (int m = 0; m < 3; ++m) fB[m] -= wB[m] * f;
-      } else {
-        hist[p] = (real)0;
-      }
+      if (!(did & PASS_ACTS)) continue;
       if (area_due[B]) {
         for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
         area_due[B] = false;
@@ -705,28 +774,161 @@ __kernel void contact_forces(const uint n_couples,
   for (int q = 0; q < 2; ++q)
     if (area_due[q])
       for (int a = 0; a < 3; ++a) COUPLE_FORCE(q, a, area_force[q][a]);
-  hist[HIST_PENDING] = pending;
-  // Whole units of the friction accumulator only; the rest is carried (see ENERGY_FRICTION).
-  const real unbooked = friction_lost + hist[HIST_REST];
-  const long friction_units = convert_long_rte(unbooked * energy_scale);
-  hist[HIST_REST] = unbooked - (real)friction_units / energy_scale;
-  const int row = take_slot(c, slot, pool_state, pool_capacity, step);
-  if (row >= 0)
-    for (int h = 0; h < CONTACT_HISTORY; ++h) history[CONTACT_HISTORY * row + h] = hist[h];
-  live[c] = 1;
 #ifdef CONTACT_SUM_PER_COUPLE
   for (int k = 0; k < 2; ++k)
     for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[k][a], fnode[k][a], force_scale);
 #endif
-  // Signed increments: each is the exact balance of its step (see above), so the sums
-  // close the account; they are ≥ 0 but for rounding and one-step reversals.
-  // Each couple writes its own pool row's entry (read for the couples whose live flag is 1),
-  // summed in couple order by contact_stored_partials: a double sum in a fixed order, not
-  // 2⁻³² J per couple.
-  if (energy_row && row >= 0) couple_stored[row] = stored;
-  if (friction_units != 0) atom_add(&energy[ENERGY_FRICTION], friction_units);
-  if (damping_lost != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(damping_lost * energy_scale));
+  finish_couple(c, hist, friction_lost, pending, stored, damping_lost, energy_scale, energy, slot, pool_state,
+                pool_capacity, step, history, live, energy_row, couple_stored);
 }
+
+#ifdef CONTACT_LANES
+// The same evaluation with eight work-items per couple (work-groups of 64: eight couples),
+// for GPUs. There one couple's evaluation is a long chain of dependent double-precision
+// steps and few couples touch (the platens of a UCS test, the pieces of a blast), so the
+// stage took the chain's latency (about 80 µs on an H200, at 60k or 1M TRI3 alike) with
+// most of the device idle. Lane p < 6 integrates and evaluates edge pass p (its forces go
+// out at once, as in contact_forces), lane 6 the overlap's area; every lane works out
+// the couple's shared values (geometry, totals, damping ratio, area forces) itself from
+// the same inputs in the same order, so they agree bit for bit, and lane 0 takes the
+// couple's sums over the passes in pass order, as contact_forces takes them: both kernels
+// give the same bits. The work-groups stride over the overlap list (the launch covers the
+// couples, as contact_forces', eight entries a group a round).
+#define LANES 8
+#define LANE_COUPLES 8  // couples per work-group of 64
+__kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lanes(CONTACT_FORCES_ARGS) {
+  __local real pass_i0[LANE_COUPLES][6], pass_i1[LANE_COUPLES][6], pass_inside[LANE_COUPLES][6];
+  __local real pass_lost[LANE_COUPLES][6], pass_pending[LANE_COUPLES][6], pass_spring[LANE_COUPLES][6];
+  __local real pass_slip[LANE_COUPLES][6], overlap[LANE_COUPLES];
+  __local int pass_did[LANE_COUPLES][6];
+  const uint lane = get_local_id(0) % LANES, k = get_local_id(0) / LANES;
+  const uint count = min(n_couples, counters[list_counter]);
+  for (uint base = get_group_id(0) * LANE_COUPLES; base < count; base += get_num_groups(0) * LANE_COUPLES) {
+    const uint entry = base + k;
+    const bool valid = entry < count;
+    uint c = 0, tri[2], nodes[2][3];
+    real2 x[2][3];
+    real lv[2][3][3];
+    real round_off = (real)0;
+    if (valid) {
+      c = overlap_list[entry];
+      couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
+      barycentric_values(x, lv);
+      round_off = couple_round_off(x);
+      if (lane < 6) {
+        real i0, i1, in;
+        pass_integrals(lane / 3, lane % 3, lv, round_off, &i0, &i1, &in);
+        pass_i0[k][lane] = i0;
+        pass_i1[k][lane] = i1;
+        pass_inside[k][lane] = in;
+      } else if (lane == 6) {
+        overlap[k] = overlap_area(x);
+      }
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    bool acts = false;
+    real hist[CONTACT_HISTORY];
+    real stored = (real)0, damping_lost = (real)0;
+    if (valid) {
+      real I0[6], I1[6], inside[6];
+      for (int p = 0; p < 6; ++p) {
+        I0[p] = pass_i0[k][p];
+        I1[p] = pass_i1[k][p];
+        inside[p] = pass_inside[k][p];
+      }
+      __global const real* props =
+          pair_props + CONTACT_PROPS * pair_index[tri_material[tri[0]] * n_materials + tri_material[tri[1]]];
+      const real Pn = props[PAIR_NORMAL_PENALTY], Ptan = props[PAIR_TANGENTIAL_PENALTY], mu = props[PAIR_FRICTION],
+                 T = props[PAIR_TENSILE], b = props[PAIR_DAMPING];
+      const int damped = props[PAIR_DAMPED] != (real)0;
+      const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
+      real normal_total, contact_length;
+      normal_totals(x, I0, I1, inside, Pn, thickness, &normal_total, &contact_length);
+      if (normal_total <= (real)0) {  // no overlap after all
+        if (lane == 0) {
+          forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
+          live[c] = 0;
+        }
+      } else {
+        for (int h = 0; h < CONTACT_HISTORY; ++h)
+          hist[h] = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
+        if (waits_unpaid(c, tri, found, hist[HIST_OVERLAP_MAX], active, joined_since, same_list, new_from,
+                         tri_nodes, step BOND_PASS)) {
+          if (lane == 0) mark_unpaid(c, slot, pool_state, pool_capacity, step, history, live);
+        } else {
+          acts = true;
+          real2 v[2][3];
+          for (int q = 0; q < 2; ++q)
+            for (int a = 0; a < 3; ++a) v[q][a] = velocity[nodes[q][a]];
+          const real ratio = damped ? damping_ratio(hist, normal_total, contact_length, thickness, Pn, T, b) : (real)1;
+          real potential[2];
+          couple_potential_of_area(x, I0, I1, overlap[k], potential);
+          const real elastic = Pn * thickness * (potential[0] + potential[1]);
+          stored = elastic;
+          if (damped) damped_work(hist, ratio, elastic, energy_scale, &stored, &damping_lost);
+          real2 area_force[2][3];
+          area_forces(x, ratio, Pn, thickness, potential, area_force);
+          const bool friction = mu != (real)0 && Ptan != (real)0;
+          const real kn = ratio * Pn * thickness;
+          if (lane < 6) {
+            const int dir = lane / 3, e = lane % 3, A = dir, B = 1 - dir;
+            real2 xo[2][3];
+            real lvo[2][3][3];
+            if (friction && hist[lane] != (real)0) {  // old_spring's geometry: this pass only needs it
+              for (int q = 0; q < 2; ++q)
+                for (int a = 0; a < 3; ++a) xo[q][a] = x[q][a] - v[q][a] * dt;
+              barycentric_values(xo, lvo);
+            }
+            real slip, lost = (real)0, pend = (real)0, spring = (real)0;
+            real2 fA0, fA1, fB[3];
+            const int did = edge_pass(dir, e, x, lv, v, xo, lvo, I0[lane], I1[lane], kn, mu, Ptan, thickness, dt,
+                                      round_off, friction, hist[lane], &slip, &lost, &pend, &spring, &fA0, &fA1, fB);
+            pass_slip[k][lane] = slip;
+            pass_lost[k][lane] = lost;
+            pass_pending[k][lane] = pend;
+            pass_spring[k][lane] = spring;
+            pass_did[k][lane] = did;
+            if (did & PASS_ACTS) {
+              // B's area force rides with the first acting pass of this direction.
+              bool first = true;
+              for (int p = 3 * dir; p < (int)lane; ++p) first = first && !(I0[p] + I1[p] > (real)0);
+              if (first)
+                for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
+              add_force(contact_acc, nodes[A][e], fA0, force_scale);
+              add_force(contact_acc, nodes[A][(e + 1) % 3], fA1, force_scale);
+              for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], fB[m], force_scale);
+            }
+          } else if (lane == 6) {
+            // A triangle that no pass wrote as B (no acting pass of the other direction).
+            for (int q = 0; q < 2; ++q) {
+              bool due = true;
+              for (int p = 3 * (1 - q); p < 3 * (1 - q) + 3; ++p) due = due && !(I0[p] + I1[p] > (real)0);
+              if (due)
+                for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[q][a], area_force[q][a], force_scale);
+            }
+          }
+        }
+      }
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (acts && lane == 0) {
+      real friction_lost = (real)0, pending = (real)0;
+      for (int p = 0; p < 6; ++p) {
+        const int did = pass_did[k][p];
+        hist[p] = pass_slip[k][p];
+        if (did & PASS_LOST) friction_lost += pass_lost[k][p];
+        if (did & PASS_SPRING) {
+          pending += pass_pending[k][p];
+          if (energy_row) stored += pass_spring[k][p];
+        }
+      }
+      finish_couple(c, hist, friction_lost, pending, stored, damping_lost, energy_scale, energy, slot, pool_state,
+                    pool_capacity, step, history, live, energy_row, couple_stored);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);  // the next round reuses the local arrays
+  }
+}
+#endif
 
 // One work-item per couple of the previous list, at a new detection: a couple that is
 // no longer a candidate has let go; what its friction springs held counts as dissipated

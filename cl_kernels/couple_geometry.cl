@@ -119,7 +119,10 @@ inline real overlap_area(real2 x[2][3]) {
   return fmax((real)0.5 * twice, (real)0);
 }
 
-inline void couple_potential(real2 x[2][3], const real I0[6], const real I1[6], const real inside[6], real potential[2]) {
+// The same with the overlap's area given (overlap_area(x), which contact_forces_lanes
+// works out beside the edge passes).
+inline void couple_potential_of_area(real2 x[2][3], const real I0[6], const real I1[6], const real area,
+                                     real potential[2]) {
   real2 g[2];
   for (int k = 0; k < 2; ++k) g[k] = (x[k][0] + x[k][1] + x[k][2]) / (real)3;
   real flux[2] = {0, 0};
@@ -130,9 +133,12 @@ inline void couple_potential(real2 x[2][3], const real I0[6], const real I1[6], 
       const real2 nL = (real2)(edge.y, -edge.x);
       flux[1 - dir] += dot(pa - g[1 - dir], nL) * (I0[p] + I1[p]);  // A = dir's edges in φ of B = 1 − dir
     }
-  const real area = overlap_area(x);
   // ∫_Ω φ_k dA for k = 0, 1.
   for (int k = 0; k < 2; ++k) potential[k] = (flux[k] + area) / (real)3;
+}
+
+inline void couple_potential(real2 x[2][3], const real I0[6], const real I1[6], const real inside[6], real potential[2]) {
+  couple_potential_of_area(x, I0, I1, overlap_area(x), potential);
 }
 
 // The couple's two triangles (i, j from its key): node indices and positions.

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <string>
@@ -110,8 +111,24 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   force_scale_ = std::exp2(std::floor(std::log2(std::ldexp(1.0, 62) / worst_force)));
   energy_scale_ = std::ldexp(1.0, 32);  // 2^-32 J resolution, up to 2^31 J
 
+  // Eight work-items per couple on GPUs (contact_forces_lanes). FDEM_CONTACT_LANES=1 or 0
+  // takes a GPU's kernels on any device, with or without lanes (each force term added as
+  // it comes, not summed per vertex first as on CPUs), to compare the two: they give the
+  // same bits (tests/test_contact_lanes.cpp).
+  lanes_ = cl.info().is_gpu;
+  bool sum_per_couple = !cl.info().is_gpu;
+  if (const char* env = std::getenv("FDEM_CONTACT_LANES"); env && *env) {
+    if (std::string(env) != "0" && std::string(env) != "1")
+      throw DeviceError(std::string("FDEM_CONTACT_LANES=") + env + " is neither 0 nor 1");
+    lanes_ = *env == '1';
+    sum_per_couple = false;
+  }
+  if (lanes_ && cl.device().max_work_group_size() < 64)
+    throw DeviceError("contact_forces_lanes needs work-groups of 64; this device allows " +
+                      std::to_string(cl.device().max_work_group_size()));
   std::map<std::string, std::string> defines;
-  if (!cl.info().is_gpu) defines["CONTACT_SUM_PER_COUPLE"] = "1";
+  if (sum_per_couple) defines["CONTACT_SUM_PER_COUPLE"] = "1";
+  if (lanes_) defines["CONTACT_LANES"] = "1";
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
   defines["NO_SLOT"] = std::to_string(ContactCarry::kNoSlot) + "u";
   if (monitored_) defines["POOL_MONITOR"] = "1";
@@ -123,7 +140,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (prelisted_) defines["PRELISTED"] = "1";
   const auto program = cl.build(kernel_source::contact_forces, defines, {&kernel_source::couple_geometry});
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
-  forces_ = compute::kernel(program, "contact_forces");
+  forces_ = compute::kernel(program, lanes_ ? "contact_forces_lanes" : "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
   release_ = compute::kernel(program, "release_vanished");
   const MemoryPlan arrays = plan(model, cl.group_size(), active == nullptr, monitored_, shared_keys_);
@@ -387,8 +404,9 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   forces_step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
   if (new_list) last_list_step_ = step;
   // Work-groups of 64 on a GPU: the couples that overlap are the first entries of the
-  // list, so small groups spread them over more compute units (H200, blasting: 94 → 88 µs a step).
-  cl_.enqueue(forces_, count, cl_.info().is_gpu ? std::min<size_t>(64, cl_.group_size()) : 0);
+  // list, so small groups spread them over more compute units (H200, blasting: 94 → 88 µs a
+  // step). The lanes kernel needs 64 (eight couples of eight work-items a group).
+  cl_.enqueue(forces_, count, lanes_ ? 64 : cl_.info().is_gpu ? std::min<size_t>(64, cl_.group_size()) : 0);
   if (energy_row) {
     stored_groups_ = work_groups(cl_, count);
     if (count > 0) {
