@@ -675,12 +675,14 @@ inline void finish_couple(const uint c, real hist[CONTACT_HISTORY], const real f
       const uint energy_row, __global real *restrict couple_stored, __global const uint *restrict active,          \
       const uint joined_since, const int step BOND_ARGS, const uint list_counter
 
-// One work-item per entry k of overlap_list (launched over all couples; those past the
-// list's length return): the full evaluation of couple overlap_list[k].
-__kernel void contact_forces(CONTACT_FORCES_ARGS) {
-  const uint entry = get_global_id(0);
-  if (entry >= n_couples || entry >= counters[list_counter]) return;
-  const uint c = overlap_list[entry];
+#define CONTACT_FORCES_PASS                                                                                      \
+  n_couples, keys, n_previous, previous_keys, previous_history, history, tri_nodes, tri_material, n_materials,    \
+      pair_index, pair_props, position, velocity, thickness, dt, force_scale, energy_scale, contact_acc, energy,  \
+      counters, same_list, new_from, overlap_list, live, slot, carry_of, pool_state, pool_capacity, energy_row,   \
+      couple_stored, active, joined_since, step BOND_PASS, list_counter
+
+// The full evaluation of couple c by one work-item.
+inline void contact_couple(const uint c, CONTACT_FORCES_ARGS) {
   uint tri[2], nodes[2][3];
   real2 x[2][3];
   real lv[2][3][3];
@@ -782,6 +784,14 @@ __kernel void contact_forces(CONTACT_FORCES_ARGS) {
                 pool_capacity, step, history, live, energy_row, couple_stored);
 }
 
+// One work-item per entry k of overlap_list (launched over all couples; those past the
+// list's length return): the full evaluation of couple overlap_list[k].
+__kernel void contact_forces(CONTACT_FORCES_ARGS) {
+  const uint entry = get_global_id(0);
+  if (entry >= n_couples || entry >= counters[list_counter]) return;
+  contact_couple(overlap_list[entry], CONTACT_FORCES_PASS);
+}
+
 #ifdef CONTACT_LANES
 // The same evaluation with eight work-items per couple (work-groups of 64: eight couples),
 // for GPUs. There one couple's evaluation is a long chain of dependent double-precision
@@ -793,7 +803,10 @@ __kernel void contact_forces(CONTACT_FORCES_ARGS) {
 // the same inputs in the same order, so they agree bit for bit, and lane 0 takes the
 // couple's sums over the passes in pass order, as contact_forces takes them: both kernels
 // give the same bits. The work-groups stride over the overlap list (the launch covers the
-// couples, as contact_forces', eight entries a group a round).
+// couples, as contact_forces', eight entries a group a round). The lanes repeat the
+// couple's shared work, so where many couples touch (more than LANES_UP_TO, a host define
+// from measurements, docs/performance-notes.md) the device is busy anyway and one
+// work-item per couple is faster: the launch then does what contact_forces does.
 #define LANES 8
 #define LANE_COUPLES 8  // couples per work-group of 64
 __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lanes(CONTACT_FORCES_ARGS) {
@@ -803,6 +816,10 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
   __local int pass_did[LANE_COUPLES][6];
   const uint lane = get_local_id(0) % LANES, k = get_local_id(0) / LANES;
   const uint count = min(n_couples, counters[list_counter]);
+  if (count > LANES_UP_TO) {  // the same for every work-item of the launch
+    if (get_global_id(0) < count) contact_couple(overlap_list[get_global_id(0)], CONTACT_FORCES_PASS);
+    return;
+  }
   for (uint base = get_group_id(0) * LANE_COUPLES; base < count; base += get_num_groups(0) * LANE_COUPLES) {
     const uint entry = base + k;
     const bool valid = entry < count;

@@ -1,7 +1,8 @@
 // contact_forces_lanes (eight work-items per couple, the GPUs' kernel) against
 // contact_forces (one work-item per couple) with the same per-term force atomics: the same
 // bits in positions, velocities and every energy term, on whichever device runs the suite
-// (FDEM_CONTACT_LANES picks the kernel, for both solvers alike).
+// (FDEM_CONTACT_LANES picks the kernel, FDEM_CONTACT_LANES_UP_TO the lanes kernel's
+// threshold, for the solvers alike).
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -19,40 +20,60 @@ using namespace fdem;
 
 namespace {
 
-// A solver built with FDEM_CONTACT_LANES=`lanes` (the variable is read when the contact
-// stage is built, so it is set only around the construction).
-std::unique_ptr<Solver> solver_with_lanes(const PreparedCase& p, const char* lanes) {
-  const char* before = std::getenv("FDEM_CONTACT_LANES");
-  const std::string saved = before ? before : "";
-  setenv("FDEM_CONTACT_LANES", lanes, 1);
-  auto solver = std::make_unique<Solver>(test::context(), p.model, p.dt);
-  if (before)
-    setenv("FDEM_CONTACT_LANES", saved.c_str(), 1);
-  else
-    unsetenv("FDEM_CONTACT_LANES");
-  return solver;
+// Sets an environment variable (or removes it, for nullptr) until the end of its scope.
+struct ScopedEnv {
+  std::string name, saved;
+  bool had = false;
+  ScopedEnv(const char* variable, const char* value) : name(variable) {
+    if (const char* before = std::getenv(variable)) {
+      had = true;
+      saved = before;
+    }
+    if (value)
+      setenv(variable, value, 1);
+    else
+      unsetenv(variable);
+  }
+  ~ScopedEnv() {
+    if (had)
+      setenv(name.c_str(), saved.c_str(), 1);
+    else
+      unsetenv(name.c_str());
+  }
+};
+
+// A solver built with FDEM_CONTACT_LANES=`lanes` and FDEM_CONTACT_LANES_UP_TO=`up_to`
+// (nullptr: the default); both are read when the contact stage is built.
+std::unique_ptr<Solver> solver_with_lanes(const PreparedCase& p, const char* lanes, const char* up_to = nullptr) {
+  ScopedEnv use_lanes("FDEM_CONTACT_LANES", lanes), threshold("FDEM_CONTACT_LANES_UP_TO", up_to);
+  return std::make_unique<Solver>(test::context(), p.model, p.dt);
 }
 
-// Steps both kernels' solvers `steps` steps (an energy row every 10th) and compares them
-// every 10 steps; returns the number of touching couples seen at the comparisons.
+// Steps three solvers `steps` steps (an energy row every 10th): contact_forces, the lanes
+// kernel with eight work-items a couple, and the lanes kernel above its threshold (one
+// work-item a couple); compares them every 10 steps. Returns the number of touching
+// couples seen at the comparisons.
 long compare_kernels(const PreparedCase& p, int steps) {
-  auto one = solver_with_lanes(p, "0"), lanes = solver_with_lanes(p, "1");
+  auto one = solver_with_lanes(p, "0"), lanes = solver_with_lanes(p, "1", "1000000"),
+       above = solver_with_lanes(p, "1", "0");
   long touching = 0;
   for (int s = 1; s <= steps; ++s) {
-    one->step(s % 10 == 0);
-    lanes->step(s % 10 == 0);
+    for (Solver* solver : {one.get(), lanes.get(), above.get()}) solver->step(s % 10 == 0);
     if (s % 10 != 0) continue;
     CAPTURE(s);
     const auto x = one->positions(), v = one->velocities();
-    REQUIRE(std::memcmp(x.data(), lanes->positions().data(), x.size() * sizeof(real2)) == 0);
-    REQUIRE(std::memcmp(v.data(), lanes->velocities().data(), v.size() * sizeof(real2)) == 0);
-    const EnergyTotals a = one->energy(), b = lanes->energy();
-    CHECK(a.kinetic == b.kinetic);
-    CHECK(a.contact_stored == b.contact_stored);
-    CHECK(a.friction == b.friction);
-    CHECK(a.contact_damping == b.contact_damping);
-    CHECK(a.stored() == b.stored());
-    CHECK(a.dissipated() == b.dissipated());
+    const EnergyTotals a = one->energy();
+    for (Solver* other : {lanes.get(), above.get()}) {
+      REQUIRE(std::memcmp(x.data(), other->positions().data(), x.size() * sizeof(real2)) == 0);
+      REQUIRE(std::memcmp(v.data(), other->velocities().data(), v.size() * sizeof(real2)) == 0);
+      const EnergyTotals b = other->energy();
+      CHECK(a.kinetic == b.kinetic);
+      CHECK(a.contact_stored == b.contact_stored);
+      CHECK(a.friction == b.friction);
+      CHECK(a.contact_damping == b.contact_damping);
+      CHECK(a.stored() == b.stored());
+      CHECK(a.dissipated() == b.dissipated());
+    }
     touching += static_cast<long>(one->contact()->touching());
   }
   return touching;

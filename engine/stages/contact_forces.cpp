@@ -128,7 +128,19 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
                       std::to_string(cl.device().max_work_group_size()));
   std::map<std::string, std::string> defines;
   if (sum_per_couple) defines["CONTACT_SUM_PER_COUPLE"] = "1";
-  if (lanes_) defines["CONTACT_LANES"] = "1";
+  if (lanes_) {
+    defines["CONTACT_LANES"] = "1";
+    // Above this many overlapping couples the lanes kernel takes one work-item a couple
+    // (H200 measurements, docs/performance-notes.md); FDEM_CONTACT_LANES_UP_TO overrides it.
+    unsigned long up_to = kLanesUpTo;
+    if (const char* env = std::getenv("FDEM_CONTACT_LANES_UP_TO"); env && *env) {
+      char* end = nullptr;
+      up_to = std::strtoul(env, &end, 10);
+      if (*end != '\0' || up_to > 0xffffffffUL)
+        throw DeviceError(std::string("FDEM_CONTACT_LANES_UP_TO=") + env + " is not a count of couples");
+    }
+    defines["LANES_UP_TO"] = std::to_string(up_to) + "u";
+  }
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
   defines["NO_SLOT"] = std::to_string(ContactCarry::kNoSlot) + "u";
   if (monitored_) defines["POOL_MONITOR"] = "1";

@@ -199,6 +199,7 @@ class ContactForces {
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0, pool_rows_ = 0, triangles_ = 0;
   bool shared_keys_ = false, monitored_ = false;
   bool lanes_ = false;  // contact_forces_lanes (eight work-items a couple) instead of contact_forces
+  static constexpr unsigned long kLanesUpTo = 4096;  // lanes for at most this many overlapping couples
   bool carry_ready_ = false;  // carry_before_detection() ran for the next new list
   size_t carried_ = 0;        // what it carried
   cl_uint joined_since_last_list() const;
