@@ -180,14 +180,21 @@ __kernel void fluid_balance(const uint n_vertices,
   en.w += s.w - u_flowed;
 #if LEAK_OFF
   // The leak takes what the vertex holds at most; the fluid that leaves takes its energy
-  // with it (the stored energy before less after), a term of its own in the account.
+  // with it, a term of its own in the account: the stored energy before less after, and
+  // at a vertex held at p_s, which refills what leaked at p_s, H(p_s) per unit V₀ (a
+  // leak larger than the fluid's compressed excess V p / K_f empties the spring in one
+  // sub-step, so the stored energy would miss the p ΔV₀ the refill is charged).
   leak = fmin(leak, fmax(s.x, (real)0));
   if (leak > (real)0) {
     s.x -= leak;
-    const real u_left = fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
     real2 l = vertex_leak[v];
     l.x += leak;
-    l.y += u_flowed - u_left;
+#if PRESSURE_SOURCE
+    if (source[v]) l.y += bulk * log1p(source_value / bulk) * leak;
+    else l.y += u_flowed - fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+#else
+    l.y += u_flowed - fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+#endif
     vertex_leak[v] = l;
   }
 #endif

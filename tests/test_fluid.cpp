@@ -216,25 +216,28 @@ TEST_CASE("fluid: Carter leak-off from a held-pressure crack: leaked volume = 4 
   // Early on a vertex cannot leak more than it holds (a closed crack holds w_r per metre
   // while Carter's rate is infinite at t_e): the total falls a little short of the formula;
   // from t/4 on the leak is the formula's to 0.1%: 4 C_L L t_z (√t - √(t/4)).
-  CHECK(end.fluid_leaked_volume == doctest::Approx(expected).epsilon(0.03));
+  // (Relative checks: doctest's Approx adds 1 to its scale, so on volumes of 1e-4 m³ an
+  // epsilon of 1e-3 would pass anything.)
+  auto close = [](double a, double b, double rel) { return std::fabs(a - b) <= rel * std::fabs(b); };
   CHECK(end.fluid_leaked_volume <= expected * (1 + 1e-9));
+  CHECK(end.fluid_leaked_volume >= 0.85 * expected);  // the ramp from p = 0: a closed crack holds w_r
   const double late = 4 * kLeakOff * 2 * kHalfLength * p.model.thickness * (std::sqrt(t - t_e) - std::sqrt(t / 4 - t_e));
-  CHECK(end.fluid_leaked_volume - rows.front().fluid_leaked_volume == doctest::Approx(late).epsilon(1e-3));
+  CHECK(close(end.fluid_leaked_volume - rows.front().fluid_leaked_volume, late, 1e-3));
   CHECK(end.fluid_leaked_volume > end.fluid_volume);  // a leak that matters
-  CHECK(end.fluid_injected_volume == doctest::Approx(end.fluid_volume + end.fluid_leaked_volume).epsilon(1e-3));
+  CHECK(close(end.fluid_injected_volume, end.fluid_volume + end.fluid_leaked_volume, 1e-3));
   CHECK(end.fluid_leak_off > 0);
   CHECK(std::fabs(error) < 0.01);
 }
 
-// cases/kgd on a coarse mesh (mesh.size = 0.2: 2 edges of 0.2 m seed the crack on each
-// side of the well), the viscosity-dominated case at ten times its rate for 2.5 ms: the
+// cases/kgd on a coarse mesh (mesh.size = 0.2: 5 edges of 0.2 m seed the crack on each
+// side of the well), the viscosity-dominated case at 30 times its rate for 2.5 ms: the
 // crack grows from the seed along the weak line only (the interface; each half's own
 // CE4s are strong), symmetric about the well, and the volumes balance. The full-size
 // comparison with the vertex solutions is tests/kgd_validate.sh (ctest label validate).
 TEST_CASE("fluid: KGD coarse: the crack grows along the weak line only, both wings alike; injected = network within 0.1%") {
   const PreparedCase p = prepare_case(test::source_path("cases/kgd/viscosity.toml"),
-                                      {"mesh.size=0.2", "fluid.rate=3.38", "output.dir=\"/tmp/fdem_test_fluid_kgd\""});
-  REQUIRE(p.model.fluid.crack_ce4.size() == 4);
+                                      {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_test_fluid_kgd\""});
+  REQUIRE(p.model.fluid.crack_ce4.size() == 10);
   Solver solver(test::context(), p.model, p.dt);
   const long steps = static_cast<long>(std::lround(2.5e-3 / p.dt));
   for (long k = 0; k < steps; ++k) solver.step(k + 1 == steps);
@@ -258,10 +261,12 @@ TEST_CASE("fluid: KGD coarse: the crack grows along the weak line only, both win
                    << right << " m, injected " << e.fluid_injected_volume << " m³, in the network " << e.fluid_volume
                    << " m³, well pressure " << e.wellbore_pressure << " Pa");
   CHECK(off_line == 0);
-  CHECK(on_line >= 8);  // the seed's 4 and at least 2 more edges on each side
+  CHECK(on_line >= 14);  // the seed's 10 and at least 2 more edges on each side
   CHECK(left == doctest::Approx(right).epsilon(0.25));
-  CHECK(e.fluid_volume == doctest::Approx(e.fluid_injected_volume).epsilon(1e-3));
-  CHECK(e.fluid_injected_volume == doctest::Approx(3.38 * 2.5e-3 * p.model.thickness).epsilon(1e-3));
+  // Relative, by hand: doctest's Approx adds 1 to its scale (no use on 1e-2 m³).
+  CHECK(std::fabs(e.fluid_volume - e.fluid_injected_volume) <= 1e-3 * e.fluid_injected_volume);
+  const double injected = 10 * p.model.thickness * p.dt * static_cast<double>(steps);
+  CHECK(std::fabs(e.fluid_injected_volume - injected) <= 1e-6 * injected);
 }
 
 TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same history (the fluid's state is in the checkpoint)") {

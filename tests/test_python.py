@@ -725,7 +725,7 @@ class OpenFluidRun(unittest.TestCase):
         self.assertEqual(frames["FLUID_APERTURE"].attrs["units"], "m")
         ce4 = run.block("cohesive")
         self.assertIn("FLUID_PRESSURE", ce4)
-        rock = run.block("strip")
+        rock = run.block("rock")
         self.assertTrue(np.all(np.nan_to_num(rock["FLUID_PRESSURE"].values) == 0))
         net = run.network(-1)
         self.assertEqual(net.sizes["elem"], 10)  # the crack's 10 segments, nothing else
