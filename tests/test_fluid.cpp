@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "engine/model/fluid_spring.hpp"
 #include "engine/run/prepare_case.hpp"
 #include "engine/solver.hpp"
 #include "fixture.hpp"
@@ -393,6 +394,33 @@ TEST_CASE("fluid: fdem check reports the fluid's stable step and its sub-steps")
   const PreparedCase p = sneddon(kCoarse);
   CHECK(FluidFlow::substeps(p.model.fluid, p.dt) >= 1);
   CHECK(FluidFlow::substeps(p.model.fluid, 10 * p.model.fluid.stable_dt) == 20);  // safety 0.5
+}
+
+TEST_CASE("fluid: the fluid's spring in the mechanical step: fdem check reports it and warns when the step is above it") {
+  // Sneddon without mass scaling: K_f = 1e9 Pa in a crack closed to w_r = 1e-7 m is far
+  // stiffer than the rock; the KGD case (K_f 7e8, w_r 4e-5) is not.
+  const std::string sneddon_case = test::source_path("cases/sneddon/case.toml");
+  const std::string out = " --set output.dir='\"/tmp/fdem_test_fluid_out\"'";
+  auto [code, text] = run_fdem("check " + sneddon_case + " --set mesh.size=0.2 --set damping.mass_scaling=false" + out);
+  CAPTURE(text);
+  CHECK(code == 0);
+  CHECK(text.find("fluid k   the fluid's spring") != std::string::npos);
+  CHECK(text.find("the case dt is above it") != std::string::npos);
+  CHECK(text.find("warning: ") != std::string::npos);
+  CHECK(text.find("fluid.bulk_modulus") != std::string::npos);
+  // By hand for the CE4 it names: √(2 m / ((9/16) K_f h t / w_r)), m the lightest of its nodes.
+  const PreparedCase p = sneddon({"mesh.size=0.2", "damping.mass_scaling=false", "output.dir=\"/tmp/fdem_test_fluid_out\""});
+  const FluidSpring spring = fluid_spring(p.model);
+  CHECK(p.dt > spring.dt);
+  const size_t e = spring.ce4;
+  const double k = 9.0 / 16.0 * 1e9 * p.model.fluid.segment_length[e] * p.model.thickness / 1e-7;
+  CHECK(spring.dt < std::sqrt(2 * 2500.0 * 0.2 * 0.2 * p.model.thickness / k));  // lighter than a 0.2 m square's node
+  auto [code2, text2] = run_fdem("check " + test::source_path("cases/kgd/viscosity.toml") + " --set mesh.size=0.2" + out);
+  CAPTURE(text2);
+  CHECK(code2 == 0);
+  CHECK(text2.find("fluid k   the fluid's spring") != std::string::npos);
+  CHECK(text2.find("the case dt is above it") == std::string::npos);
+  CHECK(text2.find("fluid.bulk_modulus") == std::string::npos);
 }
 
 }  // TEST_SUITE
