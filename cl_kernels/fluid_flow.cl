@@ -13,6 +13,8 @@
 //   n_sub × (fluid_flux per CE4: q = c (p_a - p_b);
 //            fluid_balance per vertex: V₀ += Δt_s Σ q (CSR order), the energy that took
 //            out of the vertex (the viscous dissipation), then the source).
+//            (LEAK_OFF: the flux kernel stamps a segment's exposure time, the balance takes
+//             Carter's leak-off out of V₀ before the source)
 //   fluid_forces    one work-item per CE4: the pressures on the two faces into four slots
 //                   (i, j, j', i'), the same slots the CE4 stage has, which the node
 //                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl).
@@ -101,6 +103,10 @@ __kernel void fluid_flux(const uint n_ce4,
                          __global const uint2* restrict seg_vertex,
                          __global const real4* restrict seg_geom,
                          __global const real4* restrict vertex_state,
+#if LEAK_OFF
+                         const real t_sub,
+                         __global real* restrict seg_exposed,
+#endif
                          __global real* restrict seg_flux) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -111,6 +117,11 @@ __kernel void fluid_flux(const uint n_ce4,
   }
   const uint2 ab = seg_vertex[e];
   const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
+#if LEAK_OFF
+  // Carter's exposure time: the start of the first sub-step in which the open segment
+  // has fluid at one of its ends (-1 until then; never reset).
+  if (seg_exposed[e] < (real)0 && (sa.x > (real)0 || sb.x > (real)0)) seg_exposed[e] = t_sub;
+#endif
   const real q = c * (sa.z - sb.z);
   seg_flux[e] = q;
 }
@@ -125,6 +136,14 @@ __kernel void fluid_balance(const uint n_vertices,
                             const real source_value,
                             const real bulk,
                             const real dt_sub,
+#if LEAK_OFF
+                            const real t_sub,
+                            const real leak_off,
+                            const real thickness,
+                            __global const real* restrict seg_h,
+                            __global const real* restrict seg_exposed,
+                            __global real2* restrict vertex_leak,
+#endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy) {
   const uint v = get_global_id(0);
@@ -136,7 +155,22 @@ __kernel void fluid_balance(const uint n_vertices,
     inflow += (end & 1u) ? q : -q;
   }
   real4 s = vertex_state[v];
+#if LEAK_OFF
+  // Carter: each exposed segment loses 2 C_L / √(t - t_e) per unit of its area h t (both
+  // faces), half of it at each end; over the sub-step [t, t + Δt_s] exactly
+  // 2 C_L (h t / 2) · 2 (√(t + Δt_s - t_e) - √(t - t_e)) at this end.
+  real leak = 0;
+  for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
+    const uint e = vertex_end[k] >> 1;
+    const real te = seg_exposed[e];
+    if (te < (real)0) continue;  // never held fluid (a broken CE4 stays open: w >= w_r)
+    leak += seg_h[e] * (sqrt(t_sub + dt_sub - te) - sqrt(t_sub - te));
+  }
+  leak *= (real)2 * leak_off * thickness;
+  if (inflow == (real)0 && !source[v] && leak == (real)0) return;
+#else
   if (inflow == (real)0 && !source[v]) return;
+#endif
   s.x += dt_sub * inflow;
   // The flow's loss at this vertex: its energy before less after the fluxes (the sum over
   // the vertices is the viscous dissipation of the sub-step, exactly as the explicit
@@ -144,6 +178,26 @@ __kernel void fluid_balance(const uint n_vertices,
   const real u_flowed = fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
   real4 en = vertex_energy[v];
   en.w += s.w - u_flowed;
+#if LEAK_OFF
+  // The leak takes what the vertex holds at most; the fluid that leaves takes its energy
+  // with it, a term of its own in the account: the stored energy before less after, and
+  // at a vertex held at p_s, which refills what leaked at p_s, H(p_s) per unit V₀ (a
+  // leak larger than the fluid's compressed excess V p / K_f empties the spring in one
+  // sub-step, so the stored energy would miss the p ΔV₀ the refill is charged).
+  leak = fmin(leak, fmax(s.x, (real)0));
+  if (leak > (real)0) {
+    s.x -= leak;
+    real2 l = vertex_leak[v];
+    l.x += leak;
+#if PRESSURE_SOURCE
+    if (source[v]) l.y += bulk * log1p(source_value / bulk) * leak;
+    else l.y += u_flowed - fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+#else
+    l.y += u_flowed - fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+#endif
+    vertex_leak[v] = l;
+  }
+#endif
   if (source[v] && s.y > (real)0) {
 #if PRESSURE_SOURCE
     // Held at p_s: the source fills the vertex to V (1 + p_s / K_f) and works at p_s.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/model/fluid_spring.hpp"
 #include "engine/bench.hpp"
 #include "engine/device/cl_context.hpp"
 #include "engine/device/device_arrays.hpp"
@@ -471,7 +472,10 @@ int check_command(const Arguments& a) {
               << " vertices, " << (m.fluid.pressure_source ? "pressure" : "rate") << ")\n"
               << "fluid dt  " << m.fluid.stable_dt << " s stable (CE4 " << m.fluid.shortest_ce4 << ", w_max "
               << m.fluid.max_aperture << " m), " << fdem::FluidFlow::substeps(m.fluid, p.dt)
-              << " sub-steps per step\n";
+              << " sub-steps per step\n"
+              << "fluid k   the fluid's spring (9/16) K_f h t / w_r is stable below " << fdem::fluid_spring(m).dt
+              << " s (CE4 " << fdem::fluid_spring(m).ce4 << ")" << (m.mass_scaling ? " (unscaled masses)" : "")
+              << (p.dt < fdem::fluid_spring(m).dt ? "" : ": the case dt is above it") << "\n";
   // Where the files go: what `fdem run` would write, in a folder it can write (checked
   // below, after the device, in the order `fdem run` meets them).
   std::cout << "output    " << std::filesystem::absolute(p.config.output.dir).lexically_normal().string() << "/ ("

@@ -168,6 +168,7 @@ struct FluidConfig {
   double residual_aperture = 0;  // w_r [m], added to the CE4's opening
   double max_aperture = 0;       // w_max [m]: the stable fluid step is planned for it
   double safety = 0.5;           // fluid sub-step = safety × stable fluid step
+  double leak_off = 0;           // Carter's C_L [m/√s]; 0: no leak-off
   std::string crack;             // physical curve whose CE4s start broken ("": none)
   std::string source;            // physical point or curve the fluid enters at
   std::optional<PressureTable> rate;      // Q(t) [m²/s] (volume per second per metre of thickness)

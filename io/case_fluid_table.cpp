@@ -45,6 +45,7 @@ FluidConfig read_fluid(const TableReader& r) {
     r.fail("max_aperture", r.key_path("max_aperture") + " = " + format_number(f.max_aperture, kDigits) +
                                " must be larger than residual_aperture = " + format_number(f.residual_aperture, kDigits));
   f.safety = r.number("safety", Range{0.0, 1.0, true, false}).value_or(0.5);
+  f.leak_off = r.number("leak_off", kNonNegative).value_or(0.0);
   if (auto crack = r.string("crack")) {
     check_region_name(r, "crack", *crack);
     f.crack = *crack;

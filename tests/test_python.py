@@ -707,6 +707,38 @@ class WaveArrival(TempDirCase):
 
 
 @unittest.skipUnless(os.environ.get("FDEM_BINARY"), "FDEM_BINARY (the fdem binary) not set")
+class OpenFluidRun(unittest.TestCase):
+    """cases/sneddon coarse (10 edges along the crack) to 0.5 ms: the fluid held at the
+    ramp's p(t) = 1 MPa t / 2 ms on every crack vertex; the frames carry the network."""
+
+    def test_network_in_the_frames(self):
+        out = tempfile.mkdtemp(prefix="fdem_python_fluid.")
+        self.addCleanup(shutil.rmtree, out, True)
+        case = os.path.join(REPO, "cases", "sneddon", "case.toml")
+        proc = subprocess.run([os.environ["FDEM_BINARY"], "run", case, "--set", "mesh.size=0.2",
+                               "--set", "time.end=5e-4", "--set", f"output.dir={out}"],
+                              capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+        run = fdem.open(out)
+        frames = run.frames
+        self.assertEqual(frames["FLUID_PRESSURE"].attrs["units"], "Pa")
+        self.assertEqual(frames["FLUID_APERTURE"].attrs["units"], "m")
+        ce4 = run.block("cohesive")
+        self.assertIn("FLUID_PRESSURE", ce4)
+        rock = run.block("rock")
+        self.assertTrue(np.all(np.nan_to_num(rock["FLUID_PRESSURE"].values) == 0))
+        net = run.network(-1)
+        self.assertEqual(net.sizes["elem"], 10)  # the crack's 10 segments, nothing else
+        t = float(frames["time"].values[-1])
+        np.testing.assert_allclose(net["FLUID_PRESSURE"].values, 1e6 * t / 2e-3, rtol=1e-6)
+        self.assertTrue(np.all(net["FLUID_APERTURE"].values >= 1e-7))  # at least the residual
+        self.assertTrue(np.all(np.abs(net["segment_y"].values) < 1e-3))
+        self.assertLess(float(np.max(np.abs(net["segment_x"].values))), 1.0)
+        # The frame at t = 0 comes before the first step's flow: no segment carries fluid.
+        self.assertEqual(run.network(0).sizes["elem"], 0)
+
+
+@unittest.skipUnless(os.environ.get("FDEM_BINARY"), "FDEM_BINARY (the fdem binary) not set")
 class OpenRealRun(TempDirCase):
     """tests/data/cases/blast_small.toml run by the fdem binary: 0.2 ms of a blast on a
     coarse mesh, about 700 steps, CE4s breaking around the hole."""

@@ -52,7 +52,8 @@ std::string EnergyBalance::largest_change(const EnergyTotals& a, const EnergyTot
       {"load_work", b.load_work - a.load_work},
       {"fluid_stored_energy", b.fluid_stored - a.fluid_stored},
       {"fluid_viscous_dissipation", b.fluid_viscous - a.fluid_viscous},
-      {"fluid_injection_work", b.fluid_injection - a.fluid_injection}};
+      {"fluid_injection_work", b.fluid_injection - a.fluid_injection},
+      {"fluid_leak_off_energy", b.fluid_leak_off - a.fluid_leak_off}};
   const auto* best = &changes[0];
   for (const auto& c : changes)
     if (std::fabs(c.second) > std::fabs(best->second)) best = &c;

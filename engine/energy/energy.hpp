@@ -39,11 +39,14 @@ struct EnergyTotals {
   // pressure on the faces passes from the fluid to the solid: not a term of the balance,
   // reported beside it; so are the fluid's volumes [m³] and the wellbore pressure [Pa].
   double fluid_stored = 0, fluid_viscous = 0, fluid_injection = 0;
+  // Carter's leak-off: the leaked volume [m³] (beside the account) and the energy the
+  // leaked fluid took out of the network [J] (dissipated: it left the model).
+  double fluid_leak_off = 0, fluid_leaked_volume = 0;
   double fluid_face_work = 0, fluid_volume = 0, fluid_injected_volume = 0, wellbore_pressure = 0, crack_volume = 0;
 
   double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential + fluid_stored; }
   double dissipated() const {
-    return viscous + local_damping + friction + contact_damping + fracture + absorbed + excavated + fluid_viscous;
+    return viscous + local_damping + friction + contact_damping + fracture + absorbed + excavated + fluid_viscous + fluid_leak_off;
   }
   double supplied() const { return boundary_work + load_work + fluid_injection; }
 };

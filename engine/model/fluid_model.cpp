@@ -6,6 +6,7 @@
 #include <map>
 
 #include "base/errors.hpp"
+#include "engine/model/fluid_spring.hpp"
 #include "engine/model/model.hpp"
 
 namespace fdem {
@@ -36,6 +37,7 @@ FluidModel build_fluid_model(const Model& model, const io::FluidConfig& c, const
   f.enabled = true;
   f.viscosity = c.viscosity, f.bulk_modulus = c.bulk_modulus;
   f.residual_aperture = c.residual_aperture, f.max_aperture = c.max_aperture, f.safety = c.safety;
+  f.leak_off = c.leak_off;
   f.source_name = c.source, f.crack_name = c.crack;
   f.pressure_source = c.pressure.has_value();
   f.history = c.pressure ? *c.pressure : *c.rate;
@@ -107,6 +109,30 @@ FluidModel build_fluid_model(const Model& model, const io::FluidConfig& c, const
                        "' has a vertex that is not on fluid.crack: the fluid injected there would have no room "
                        "(every source vertex must lie on the pre-existing crack)");
   return f;
+}
+
+FluidSpring fluid_spring(const Model& model) {
+  // Lumped node masses (ρ A t / 3 per triangle corner).
+  std::vector<double> mass(model.num_nodes(), 0.0);
+  for (size_t m = 0; m < model.materials.size(); ++m)
+    for (size_t t = model.block_start[m]; t < model.block_start[m + 1]; ++t) {
+      const auto& tri = model.triangles[t];
+      const double area = 0.5 * std::fabs((model.x[tri[1]] - model.x[tri[0]]) * (model.y[tri[2]] - model.y[tri[0]]) -
+                                          (model.x[tri[2]] - model.x[tri[0]]) * (model.y[tri[1]] - model.y[tri[0]]));
+      for (int k = 0; k < 3; ++k) mass[tri[k]] += model.materials[m].density * area * model.thickness / 3.0;
+    }
+  FluidSpring out;
+  out.dt = std::numeric_limits<double>::infinity();
+  for (size_t e = 0; e < model.ce4.size(); ++e) {
+    const auto& n = model.ce4[e];
+    double lightest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) lightest = std::min(lightest, mass[n[k]]);
+    const double k_fluid = 9.0 / 16.0 * model.fluid.bulk_modulus * model.fluid.segment_length[e] * model.thickness /
+                           model.fluid.residual_aperture;
+    const double dt = std::sqrt(2.0 * lightest / k_fluid);
+    if (lightest > 0 && dt < out.dt) out.dt = dt, out.ce4 = e;
+  }
+  return out;
 }
 
 }  // namespace fdem

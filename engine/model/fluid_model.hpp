@@ -20,6 +20,7 @@ struct Model;
 struct FluidModel {
   bool enabled = false;
   double viscosity = 0, bulk_modulus = 0, residual_aperture = 0, max_aperture = 0, safety = 0.5;
+  double leak_off = 0;  // Carter's C_L [m/√s]: 2 C_L / √(t - t_exposed) per unit area of a segment
   std::vector<uint32_t> segment_vertex;  // 2 per CE4: its i and j ends' vertices
   std::vector<double> segment_length;    // per CE4: reference length h [m]
   size_t vertices = 0;

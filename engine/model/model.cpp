@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "engine/model/fluid_spring.hpp"
 #include "engine/model/heterogeneity.hpp"
 #include "io/mesh.hpp"
 #include "io/suggest.hpp"
@@ -905,6 +906,14 @@ double speed_scale(const Model& model, const io::CaseConfig& config) {
 std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig& config, double dt) {
   std::vector<std::string> out;
   auto where = [&](const std::string& key) { return io::origin_of(config, key) + ": "; };
+  // [fluid]: the fluid in a closed crack is a stiff spring the mechanical step does not
+  // see (FluidModel::spring_dt); with mass scaling the masses are the engine's to choose.
+  const FluidSpring spring = model.fluid.enabled ? fluid_spring(model) : FluidSpring{};
+  if (model.fluid.enabled && !model.mass_scaling && dt > 0 && dt >= spring.dt)
+    out.push_back(where("fluid.bulk_modulus") + "the fluid in a closed crack pushes back with (9/16) K_f h t / w_r, stable " +
+                  "below " + format_number(spring.dt) + " s (CE4 " + std::to_string(spring.ce4) +
+                  "), and the step is " + format_number(dt) + " s: the faces of a crack the fluid fills can oscillate " +
+                  "and grow; lower fluid.bulk_modulus, raise fluid.residual_aperture or the step's safety");
   // A skin that the loads' speed crosses in a few steps: a detection nearly every step.
   if (config.contact && config.contact->rebuild == io::ContactRebuild::Skin && config.contact->skin && dt > 0) {
     const double speed = speed_scale(model, config), skin = *config.contact->skin;

@@ -17,6 +17,9 @@ std::vector<std::string> element_names(const Model& model) {
   // [[excavation]]: how much of each triangle is removed, 0 (whole) to 1 (gone); a
   // Threshold EXCAVATED < 1 in ParaView shows the hole.
   if (!model.excavations.empty()) names.push_back("EXCAVATED");
+  // [fluid]: the network on the cohesive block (each CE4 a segment): the mean pressure of
+  // its two vertices and its mean aperture, 0 where it carries no fluid and on triangles.
+  if (model.fluid.enabled) names.insert(names.end(), {"FLUID_PRESSURE", "FLUID_APERTURE"});
   return names;
 }
 
@@ -52,6 +55,7 @@ class ExodusFrames : public Output {
     Needs n = Need::Positions | Need::Velocities | Need::Stress | Need::GoodCopy;
     if (model_.contact.enabled) n |= Need::ContactForces;
     if (!model_.ce4.empty()) n |= Need::Ce4Flags | Need::Ce4State | Need::FragmentLabels;
+    if (model_.fluid.enabled) n |= Need::FluidSegments;
     return n;
   }
   void open(const std::string& partial, const Snapshot&) override {
@@ -128,8 +132,8 @@ void ExodusFrames::write(const Snapshot& f) {
       elem[10].back()[e] = f.broken[e] ? 0 : labels[model.ce4_triangles[e][0]] + 1;
     }
   }
-  if (!model.excavations.empty()) {  // the last variable; 0 on the CE4 block
-    const size_t k = elem.size() - 1;
+  if (!model.excavations.empty()) {  // after the CE4 variables; 0 on the CE4 block
+    const size_t k = elem.size() - 1 - (model.fluid.enabled ? 2 : 0);
     const std::vector<double> keep = excavation_factors(model, f.time);
     for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
       const size_t begin = model.block_start[m], end = model.block_start[m + 1];
@@ -138,6 +142,12 @@ void ExodusFrames::write(const Snapshot& f) {
       for (size_t t = begin; t < end; ++t) elem[k][b][t - begin] = 1.0 - keep[t];
       ++b;
     }
+  }
+  if (model.fluid.enabled) {  // the last two variables, on the CE4 block only (the last block)
+    const size_t k = elem.size() - 2;
+    for (size_t b = 0; b + 1 < elem[k].size(); ++b) elem[k][b].assign(elem[k][b].size(), 0.0), elem[k + 1][b].assign(elem[k + 1][b].size(), 0.0);
+    elem[k].back().assign(f.fluid_pressure.begin(), f.fluid_pressure.end());
+    elem[k + 1].back().assign(f.fluid_aperture.begin(), f.fluid_aperture.end());
   }
   const auto began = std::chrono::steady_clock::now();
   file_->write_frame(f.time, nodal, elem);

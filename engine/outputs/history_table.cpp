@@ -113,6 +113,12 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
         [](HistoryRow& r) { return r.snap.energy.fluid_volume; });
     add("crack_volume", "m3", "volume of the broken CE4s' openings plus the residual aperture",
         [](HistoryRow& r) { return r.snap.energy.crack_volume; });
+    if (model.fluid.leak_off > 0) {  // Carter's leak-off (fluid.leak_off)
+      add("leaked_volume", "m3", "fluid volume leaked off into the rock (Carter, at zero pressure), cumulative",
+          [](HistoryRow& r) { return r.snap.energy.fluid_leaked_volume; });
+      add("fluid_leak_off_energy", "J", "energy of the compressed fluid that leaked off, cumulative (leaves the model)",
+          [](HistoryRow& r) { return r.snap.energy.fluid_leak_off; });
+    }
     add("wellbore_pressure", "Pa", "fluid pressure at the source (mean over its vertices)",
         [](HistoryRow& r) { return r.snap.energy.wellbore_pressure; });
   }

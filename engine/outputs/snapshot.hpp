@@ -31,6 +31,7 @@ enum class Need : unsigned {
   State = 1u << 14,          // the whole state a run continues from (checkpoints)
   Masses = 1u << 15,         // (lumped mass, inertia) per node
   GoodCopy = 1u << 16,       // not read: the output is a passed state a failure may fall back to (RunGuard)
+  FluidSegments = 1u << 17,  // [fluid]: per CE4 the network's pressure and aperture (FluidFlow::segment_fields)
 };
 
 class Needs {
@@ -63,6 +64,7 @@ struct Snapshot {
   std::vector<real4> stress;
   std::vector<real> damage, opening, slip;
   std::vector<int> broken, mode, labels;
+  std::vector<real> fluid_pressure, fluid_aperture;  // FluidSegments: per CE4 [Pa, m]; 0 on a closed segment
   size_t contact_touching = 0, contact_candidates = 0;
   long contact_rebuilds = 0;
   std::vector<double> probes;            // per probe (vx, vy, sxx, syy, sxy, ps1), in PointProbes' order

@@ -128,6 +128,7 @@ Snapshot WholeDomain::read(Needs needs) {
   lap("probes, stress, contact forces, CE4 state");
   if (ce4 && (needs.has(Need::Ce4Flags) || needs.has(Need::FragmentLabels))) ce4->flags(s.broken, s.mode);
   lap("CE4 flags");
+  if (needs.has(Need::FluidSegments) && solver.fluid()) solver.fluid()->segment_fields(s.fluid_pressure, s.fluid_aperture);
   // The pieces, reused while no CE4 broke since the last labelling.
   if (ce4 && needs.has(Need::FragmentLabels))
     s.labels = solver.fragment_labels(static_cast<long>(std::count_if(s.broken.begin(), s.broken.end(), [](int b) { return b != 0; })));

@@ -24,7 +24,9 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid source", v * sizeof(cl_uchar))
       .add("fluid vertex_state", v * sizeof(real4))
       .add("fluid vertex_energy", v * sizeof(real4))
-      .add("fluid too_wide", 2 * sizeof(cl_int));
+      .add("fluid too_wide", 2 * sizeof(cl_int))
+      .add("fluid seg_exposed", ce4 * sizeof(real))
+      .add("fluid vertex_leak", v * sizeof(real2));
 }
 
 long FluidFlow::substeps(const FluidModel& f, double dt) {
@@ -47,6 +49,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
+  seg_exposed_ = make("fluid seg_exposed"), vertex_leak_ = make("fluid vertex_leak");
 
   std::vector<cl_uint4> nodes;
   for (const auto& e : model.ce4) nodes.push_back({{cl_uint(e[0]), cl_uint(e[1]), cl_uint(e[2]), cl_uint(e[3])}});
@@ -64,6 +67,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, vertex_state_, std::vector<real4>(vertices_));
   upload(cl, vertex_energy_, std::vector<real4>(vertices_));
   upload(cl, too_wide_, std::vector<cl_int>{INT_MAX, INT_MAX});
+  upload(cl, seg_exposed_, std::vector<real>(ce4_, real(-1)));  // not exposed yet
+  upload(cl, vertex_leak_, std::vector<real2>(vertices_));
   // The pre-existing crack: broken and closed (status 1, mode 0: it has no failure mode)
   // from the start; it opens, and the CE4 stage releases it, as the fluid pushes.
   if (!fluid_.crack_ce4.empty()) {
@@ -74,7 +79,9 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 
   const real thickness = static_cast<real>(model.thickness), bulk = static_cast<real>(fluid_.bulk_modulus);
   const real dt_sub = static_cast<real>(dt / static_cast<double>(substeps_));
-  std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"}};
+  const bool leak = fluid_.leak_off > 0;
+  std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
+                                             {"LEAK_OFF", leak ? "1" : "0"}};
   const compute::program program = cl.build(kernel_source::fluid_flow, defines);
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
@@ -92,16 +99,25 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 
   flux_ = compute::kernel(program, "fluid_flux");
   KernelArgs f(flux_);
-  f("n_ce4", cl_uint(ce4_))("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("vertex_state", vertex_state_)(
-       "seg_flux", seg_flux_)
-      .done();
+  f("n_ce4", cl_uint(ce4_))("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("vertex_state", vertex_state_);
+  if (leak) {
+    flux_time_ = f.later("t_sub", real(0));
+    f("seg_exposed", seg_exposed_);
+  }
+  f("seg_flux", seg_flux_).done();
 
   balance_ = compute::kernel(program, "fluid_balance");
   KernelArgs b(balance_);
   b("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_flux", seg_flux_)(
       "source", source_);
   source_value_ = b.later("source_value", real(0));
-  b("bulk", bulk)("dt_sub", dt_sub)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_).done();
+  b("bulk", bulk)("dt_sub", dt_sub);
+  if (leak) {
+    balance_time_ = b.later("t_sub", real(0));
+    b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
+        "vertex_leak", vertex_leak_);
+  }
+  b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_).done();
 
   forces_ = compute::kernel(program, "fluid_forces");
   KernelArgs g(forces_);
@@ -121,6 +137,11 @@ void FluidFlow::enqueue(double time, long step) {
     const double value = fluid_source_value(fluid_.history, t);
     // A rate is per unit thickness, shared equally by the source's vertices.
     source_value_.set(static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_));
+    if (fluid_.leak_off > 0) {  // the sub-step's start, for Carter's √(t - t_exposed)
+      const real start = static_cast<real>(time + dt_sub * static_cast<double>(k));
+      flux_time_.set(start);
+      balance_time_.set(start);
+    }
     cl_.enqueue(flux_, ce4_);
     cl_.enqueue(balance_, vertices_);
   }
@@ -133,13 +154,19 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
   // (energy columns 0-3). The items are in network order, one rank (a split run refuses [fluid]).
   PendingSums state = sums(cl_, vertex_state_, vertices_, 4, 0, 4, ItemKind::Node);
   PendingSums energy = sums(cl_, vertex_energy_, vertices_, 4, 0, 4, ItemKind::Node);
+  // Carter's leak-off: per vertex the leaked V₀ and the energy it took (columns 0-1).
+  PendingSums leak = fluid_.leak_off > 0 ? sums(cl_, vertex_leak_, vertices_, 2, 0, 2, ItemKind::Node)
+                                         : sums_now({0.0, 0.0});
   // The wellbore pressure: the mean over the source's vertices (read when the sums land).
   const std::vector<uint32_t> wells = fluid_.source_vertices;
   ClContext* cl = &cl_;
   const compute::buffer states = vertex_state_;
-  return [state, energy, wells, cl, states](EnergyTotals& e) {
+  return [state, energy, leak, wells, cl, states](EnergyTotals& e) {
     const auto s = state();
     const auto w = energy();
+    const auto l = leak();
+    e.fluid_leaked_volume += l[0];
+    e.fluid_leak_off += l[1];
     e.fluid_volume += s[0];
     e.crack_volume += s[1];
     e.fluid_stored += s[3];
@@ -172,14 +199,34 @@ void FluidFlow::check_too_wide(const std::vector<cl_int>& w) const {
 
 std::vector<real4> FluidFlow::vertex_state() { return download<real4>(cl_, vertex_state_, vertices_); }
 
+void FluidFlow::segment_fields(std::vector<real>& pressure, std::vector<real>& aperture) {
+  const auto geom = download<real4>(cl_, seg_geom_, ce4_);
+  const auto state = vertex_state();
+  pressure.assign(ce4_, 0);
+  aperture.assign(ce4_, 0);
+  for (size_t e = 0; e < ce4_; ++e) {
+    if (geom[e].z == real(0)) continue;  // closed: no conductance, no fluid
+    pressure[e] = real(0.5) * (state[fluid_.segment_vertex[2 * e]].z + state[fluid_.segment_vertex[2 * e + 1]].z);
+    aperture[e] = geom[e].w;
+  }
+}
+
 void FluidFlow::save_state(StateWriter& out) const {
   out.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   out.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+  if (fluid_.leak_off > 0) {  // only then: checkpoints without leak-off keep their items
+    out.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
+    out.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
+  }
 }
 
 void FluidFlow::load_state(StateReader& in) {
   in.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   in.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+  if (fluid_.leak_off > 0) {
+    in.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
+    in.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
+  }
 }
 
 }  // namespace fdem

@@ -44,6 +44,9 @@ class FluidFlow {
   void check_too_wide(const std::vector<cl_int>& words) const;
   // Per vertex (V₀, V, p, U) (waits; tests and output).
   std::vector<real4> vertex_state();
+  // Per CE4 the mean pressure of its two vertices [Pa] and its mean aperture w_m [m] as
+  // this step's flow had them; both 0 on a segment that carries no fluid (waits; frames).
+  void segment_fields(std::vector<real>& pressure, std::vector<real>& aperture);
   const FluidModel& network() const { return fluid_; }
   long substeps() const { return substeps_; }
 
@@ -59,9 +62,11 @@ class FluidFlow {
   double source_share_;  // a rate source's share per vertex: 1 / number of source vertices
   compute::kernel segments_, vertices_kernel_, flux_, balance_, forces_;
   KernelArg<cl_int> step_;
-  KernelArg<real> source_value_;
+  KernelArg<real> source_value_, flux_time_, balance_time_;
   compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, seg_flux_, vertex_start_, vertex_end_, source_,
       vertex_state_, vertex_energy_, too_wide_, slots_;
+  compute::buffer seg_exposed_;  // per CE4: Carter's exposure time [s], -1 before (leak-off only)
+  compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
 };
 
 }  // namespace fdem

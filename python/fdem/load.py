@@ -34,8 +34,8 @@ __all__ = ["Block", "ExodusData", "HistoryData", "load_exodus", "load_blocks", "
 # Exodus files carry no units: those of fdem-cl's variable names (SI, as the engine
 # computes; "1" for dimensionless and for flags and codes).
 _EXODUS_UNITS = [
-    (re.compile(r"^(S(XX|YY|XY)|PS[12])$"), "Pa"),
-    (re.compile(r"^DISPL[XY]$|^(OPENING|SLIP)$"), "m"),
+    (re.compile(r"^(S(XX|YY|XY)|PS[12]|FLUID_PRESSURE)$"), "Pa"),
+    (re.compile(r"^DISPL[XY]$|^(OPENING|SLIP|FLUID_APERTURE)$"), "m"),
     (re.compile(r"^VEL[XY]$"), "m/s"),
     (re.compile(r"^CONTACT_F[XY]$"), "N"),
     (re.compile(r"^(DAMAGE|BROKEN|MODE|FRAGMENT)$"), "1"),

@@ -103,7 +103,9 @@ class Run:
                node, elem (blocks concatenated; coordinates `block`, `block_elem`);
                DISPLX... on (time, node), SXX... on (time, elem), `connectivity`;
                block(name) / blocks: the same for one element block's elements;
-               positions(frame): the current node coordinates
+               positions(frame): the current node coordinates;
+               network(frame): with [fluid], the segments carrying fluid (FLUID_PRESSURE,
+               FLUID_APERTURE on the cohesive block) and their midpoints
     events     xarray.Dataset of NAME_events.nc (dimension `break`: break_time, break_x,
                break_y, break_length, break_mode, break_energy...; dimension `event`:
                event_start, event_end, event_x, event_y, event_breaks, event_energy,
@@ -176,6 +178,25 @@ class Run:
         """{block name: run.block(name)} for every element block, in file order."""
         return self._cached("blocks", lambda: {b.name: self.block(b.name)
                                                for b in self.exodus.blocks})
+
+    def network(self, frame: int = -1):
+        """The fluid network of a [fluid] run at a frame: the cohesive block's segments
+        that carry fluid (FLUID_APERTURE > 0), with FLUID_PRESSURE [Pa] (the mean of the
+        segment's two vertices), FLUID_APERTURE [m] (its mean aperture, residual included)
+        and each segment's current midpoint `segment_x`, `segment_y` [m] (mean of its four
+        nodes), on the dimension `elem`."""
+        ce4 = self.block("cohesive")
+        if "FLUID_PRESSURE" not in ce4:
+            raise KeyError(f"{self.files['frames']} has no FLUID_PRESSURE: the run had no [fluid]")
+        f = ce4.isel(time=frame)
+        keep = np.flatnonzero(f["FLUID_APERTURE"].values > 0)
+        f = f.isel(elem=keep)
+        x, y = self.positions(frame)
+        corners = f["connectivity"].values
+        mid_x = x.values[corners].mean(axis=1)
+        mid_y = y.values[corners].mean(axis=1)
+        return f[["FLUID_PRESSURE", "FLUID_APERTURE"]].assign(
+            segment_x=("elem", mid_x, {"units": "m"}), segment_y=("elem", mid_y, {"units": "m"}))
 
     def positions(self, frame: int = -1):
         """Current node coordinates at a frame: x + DISPLX, y + DISPLY (DataArrays on

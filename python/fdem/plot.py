@@ -45,11 +45,11 @@ class PlotError(Exception):
 
 # Exodus carries no units; fdem-cl's element variable names follow these conventions.
 _STRESS = re.compile(r"^(S(XX|YY|ZZ|XY|YZ|XZ|[123]|MAX|MIN|VM|MISES)|PS[123]|(VON_?)?MISES|"
-                     r"PRESSURE|STRESS\w*|SIG\w*)$", re.IGNORECASE)
+                     r"PRESSURE|FLUID_PRESSURE|STRESS\w*|SIG\w*)$", re.IGNORECASE)
 _UNITS = [
     (re.compile(r"^DISPL?[XYZ]?$|^DISP\w*$", re.IGNORECASE), "m", 1.0),
     (re.compile(r"^VEL\w*$", re.IGNORECASE), "m/s", 1.0),
-    (re.compile(r"^(OPENING|SLIP)$", re.IGNORECASE), "m", 1.0),
+    (re.compile(r"^(OPENING|SLIP|FLUID_APERTURE)$", re.IGNORECASE), "m", 1.0),
     (re.compile(r"^(STRAIN|E(XX|YY|XY))\w*$", re.IGNORECASE), "", 1.0),
 ]
 
