@@ -207,6 +207,10 @@ __kernel void cohesive_forces(const uint n_ce4,
 #ifdef IN_SITU_GAPS
                               , __global const real* restrict in_situ_gaps
 #endif
+#ifdef EXTRINSIC
+                              , __global const int* restrict inserted,
+                              __global const real2* restrict insertion_gaps
+#endif
                               ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -223,7 +227,23 @@ __kernel void cohesive_forces(const uint n_ce4,
   // The law's opening and slip: the geometric ones, plus with IN_SITU_GAPS the CE4's
   // initial ones (o₀, s₀ per Gauss point: what carries the in-situ field at o = s = 0).
   // The frame's term (moment) and the sliding release use the geometric ones.
-#ifdef IN_SITU_GAPS
+#ifdef EXTRINSIC
+  // Extrinsic CE4s (cl_kernels/extrinsic.cl): none before insertion (the copies move as
+  // one), then the law at o + o₀, s + s₀ (the offsets that carry the traction it took
+  // over; 0 for intrinsic CE4s). [in_situ] with extrinsic CE4s is refused by the host.
+  if (inserted[e] == 0) {
+    last_gap[e] = (real4)(gap_i, gap_j);
+    last_chord[e] = chord;
+    slots[4 * e] = slots[4 * e + 1] = slots[4 * e + 2] = slots[4 * e + 3] = (real2)(0, 0);
+    return;
+  }
+  real lo[3], ls[3];
+  const real2 offset = insertion_gaps[e];
+  for (int g = 0; g < 3; ++g) {
+    lo[g] = o[g] + offset.x;
+    ls[g] = s[g] + offset.y;
+  }
+#elif defined(IN_SITU_GAPS)
   real lo[3], ls[3];
   for (int g = 0; g < 3; ++g) {
     lo[g] = o[g] + in_situ_gaps[6 * e + g];
@@ -394,6 +414,11 @@ __kernel void cohesive_forces(const uint n_ce4,
     account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
                               dot(m_before + f_m, chord - chord_before));
     account.z = held * scale;
+#ifdef EXTRINSIC
+    // An inserted CE4's stored energy counts from its insertion state (w: what its law held
+    // at the offsets then, written by extrinsic_insert; 0 for intrinsic CE4s).
+    account.z -= account.w;
+#endif
 #ifdef IN_SITU_GAPS
     // The field's energy held at the start counts as work done on the CE4 before it (so
     // its fracture dissipation W - stored starts at 0).

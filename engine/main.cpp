@@ -453,6 +453,7 @@ int check_command(const Arguments& a) {
   for (const auto& r : m.regions) std::cout << r.name << " (" << r.nodes.size() << " nodes" << (r.prescribed ? ", prescribed" : "") << ")  ";
   std::cout << "\nloaded edges " << m.loaded_edges.size() << "\n";
   if (!m.ce4.empty()) std::cout << "CE4       " << m.ce4.size() << " cohesive elements\n";
+  if (const std::string e = fdem::extrinsic_summary(m); !e.empty()) std::cout << "extrinsic " << e << "\n";
   if (m.in_situ.enabled) std::cout << "in-situ   " << fdem::in_situ_summary(m) << "\n";
   for (const auto& line : fdem::heterogeneity_summary(m, p.config)) std::cout << "weibull   " << line << "\n";
   for (const auto& line : fdem::excavation_summary(m)) std::cout << "excavation " << line << "\n";
@@ -485,6 +486,7 @@ int check_command(const Arguments& a) {
                               : ", " + std::filesystem::path(p.fragments_path).filename().string() + ", " +
                                     std::filesystem::path(p.events_path).filename().string())
             << ", " << std::filesystem::path(fdem::checkpoint_path(p)).filename().string() << ")\n";
+  if (a.ranks > 1) fdem::refuse_extrinsic_split(m, p.config.path);  // as a split run would
   if (a.ranks > 0) print_partition(a, m);
   // The device as `fdem run` opens it: a selection it cannot use is refused the same way.
   std::unique_ptr<fdem::ClContext> device;

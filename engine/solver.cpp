@@ -92,6 +92,7 @@ Solver::Parts Solver::parts(const Model& model, bool account) {
   p.prescribed = model.groups.size() > 1;
   p.account_work = Integrate::accounts_work(p.prescribed, model.local_damping, account);
   p.fluid = p.ce4 && model.fluid.enabled;
+  p.extrinsic = p.ce4 && has_extrinsic(model);
   return p;
 }
 
@@ -101,7 +102,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   MemoryPlan plan = DeviceArrays::plan(model);
   if (p.ce4)
     plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0,
-                                  cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled));
+                                  cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled, p.extrinsic));
+  if (p.extrinsic) plan.add(Extrinsic::plan(model));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
     plan.add(MonitorRing::plan());
@@ -208,6 +210,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
                  step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get(), fluid_.get())),
+      extrinsic_(build_if(parts_.extrinsic, [&] { return std::make_unique<Extrinsic>(cl, arrays_, model, *cohesive_); })),
       ordered_(cl, ordered_items(model)),
       row_reads_(cl),
       ce4_count_(model.ce4.size()) {
@@ -314,6 +317,8 @@ void Solver::step(bool energy_row) {
   // Small models: the integration gathers the nodes' forces itself (step_gather).
   if (!integrate_.gathers()) gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
+  // Extrinsic CE4s: tied copies moved as one, then this step's insertions (cl_kernels/extrinsic.cl).
+  if (extrinsic_) extrinsic_->enqueue();
   if (skin_) skin_->measured(steps_ + 1);
   ++steps_;
   if (!balance_.started()) balance_.start(energy());

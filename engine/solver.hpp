@@ -11,6 +11,7 @@
 #include "engine/model/model.hpp"
 #include "engine/stages/boundary_loads.hpp"
 #include "engine/stages/cohesive_forces.hpp"
+#include "engine/stages/extrinsic.hpp"
 #include "engine/stages/contact_activation.hpp"
 #include "engine/stages/contact_detection.hpp"
 #include "engine/stages/contact_forces.hpp"
@@ -53,6 +54,7 @@ class Solver {
     bool prescribed = false;  // some node has a prescribed velocity (a BC group besides 0)
     bool account_work = false;  // Integrate accounts reactions' and damping work
     bool fluid = false;         // FluidFlow ([fluid], with CE4s)
+    bool extrinsic = false;     // Extrinsic (some CE4 has fracture.model = "extrinsic")
   };
   static Parts parts(const Model& model, bool account = true);
   // The contact detection of `model` as the Solver builds it (null unless `wanted`): under
@@ -210,6 +212,7 @@ class Solver {
   NodeGather gather_;
   BoundaryLoads boundary_loads_;
   Integrate integrate_;
+  std::unique_ptr<Extrinsic> extrinsic_;  // extrinsic CE4s: ties and insertions after the integration
   OrderedSums ordered_;  // the energy account's sums in item order (engine/energy/energy.hpp)
   RowReads row_reads_;
   size_t ce4_count_ = 0;

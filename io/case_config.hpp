@@ -67,6 +67,9 @@ struct FractureConfig {
   double tensile_strength = 0, cohesion = 0, friction_angle = 0, gf1 = 0, gf2 = 0;
   double penalty_opening = 0, penalty_sliding = 0, penalty_overlap = 0;
   double softening_a = 0.63, softening_b = 1.8, softening_c = 6.0;
+  // model = "extrinsic": a CE4 only once its edge's traction reaches the peak (ECZM);
+  // "intrinsic" (the default): a CE4 on every interior edge from the start.
+  bool extrinsic = false;
 };
 
 // [material.heterogeneity]: per-element properties drawn from a Weibull distribution of

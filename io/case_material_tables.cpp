@@ -40,6 +40,7 @@ FractureConfig read_fracture_keys(const TableReader& r) {
   f.friction_angle = r.required_number("friction_angle", Range{0.0, 90.0, false, true});
   f.gf1 = r.required_number("gf1", kPositive);
   f.gf2 = r.required_number("gf2", kPositive);
+  f.extrinsic = r.choice<bool>("model", {{"intrinsic", false}, {"extrinsic", true}}).value_or(false);
   if (!r.has("penalty")) r.missing("penalty");
   const TableReader penalty = subtable_reader(r, *subtable(r, "penalty"), "penalty");
   penalty.check_keys(kPenaltyKeys);

@@ -34,7 +34,7 @@ const Schema kStiffnessKeys{
 const Schema kPenaltyKeys{{{"opening"}, {"sliding"}, {"overlap"}}};
 const Schema kSofteningKeys{{{"a"}, {"b"}, {"c"}}};
 const Schema kFractureKeys{{{"tensile_strength"}, {"cohesion"}, {"friction_angle"}, {"gf1"},
-                            {"gf2"}, {"penalty", Shape::Table, &kPenaltyKeys},
+                            {"gf2"}, {"model"}, {"penalty", Shape::Table, &kPenaltyKeys},
                             {"softening", Shape::Table, &kSofteningKeys}}};
 const Schema kHeterogeneityKeys{{{"homogeneity"}, {"seed"}, {"properties"}}};
 const Schema kMaterialKeys{{{"name"}, {"regions"}, {"density"}, {"young"}, {"poisson"},

@@ -64,6 +64,8 @@ TEST_CASE("memory plan: a Solver allocates exactly what Solver::plan lists, for 
       {"plain bar", bar, {"time.dt=\"auto\""}},
       {"plain bar, no account", bar, {"time.dt=\"auto\""}, false},
       {"CE4s (wave bar)", test::source_path("cases/wave-bar/ce4.toml"), {"mesh.size=0.05"}},
+      {"extrinsic CE4s (wave bar)", test::source_path("cases/wave-bar/ce4.toml"),
+       {"mesh.size=0.05", "material.0.fracture.model=\"extrinsic\""}},
       {"contact, detection every step (impact)", test::source_path("cases/impact/case.toml"),
        {"mesh.size=0.03", "contact.rebuild=\"step\""}},
       {"contact by default: a skin from the mesh (impact)", test::source_path("cases/impact/case.toml"), {"mesh.size=0.03"}},

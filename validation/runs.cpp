@@ -150,6 +150,34 @@ Measured wave_bar_ce4(const Results& r) {
   return m;
 }
 
+// Extrinsic CE4s (issue 33): cases/wave-bar/ce4.toml with fracture.model = "extrinsic" at
+// 50 and 1 × E against the bar without CE4s (case.toml). Nothing is inserted (the front's
+// stress is far below the strength), so the strip is the continuum.
+Run wave_bar_extrinsic_run(int factor) {
+  const std::string p = std::to_string(factor * 60e9);  // × E, E = 60 GPa
+  return {text("wave-bar-extrinsic-", factor, "E"),
+          "cases/wave-bar/ce4.toml",
+          {"material.0.fracture.model=\"extrinsic\"",
+           "material.0.fracture.penalty={opening=" + p + ", sliding=" + p + ", overlap=" + p + "}",
+           "output.name=\"wave-bar-extrinsic\""}};
+}
+
+Measured wave_bar_extrinsic(const Results& r) {
+  const double intact = test::wave_bar_speed(r.dir("wave-bar-intact") + "/wave-bar_history.nc").speed;
+  Measured m;
+  m.notes.push_back(text("no CE4s (case.toml): V_p = ", intact, " m/s"));
+  for (int factor : {50, 1}) {
+    const std::string h = r.dir(text("wave-bar-extrinsic-", factor, "E")) + "/wave-bar-extrinsic_history.nc";
+    const double v = test::wave_bar_speed(h).speed;
+    const double inserted = test::read_variable(h, "inserted_ce4").back();
+    m.values[text(factor, "E")] = std::fabs(v / intact - 1);
+    m.values[text(factor, "E-inserted")] = inserted;
+    m.notes.push_back(text("extrinsic, penalties ", factor, " × E: V_p = ", v, " m/s (", 100 * (v / intact - 1),
+                           "% from the bar without CE4s), ", inserted, " CE4s inserted"));
+  }
+  return m;
+}
+
 // Before the front reaches the rim (4.95 m at 5000 m/s: 990 µs) the runs agree; the
 // reflection from a free rim comes back to the 4 m stations by about 1180 µs. The
 // stations' velocities (centred differences of their mean displacement) show it: the
@@ -217,6 +245,51 @@ Measured wave_penalty(const Results& r) {
   m.values["50E-10E"] = speed[50] - speed[10];
   m.values["10E-1E"] = speed[10] - speed[1];
   m.notes.push_back("apparent P-wave speeds (also in wave-penalty.md):\n" + table.str());
+  return m;
+}
+
+// Extrinsic CE4s (fracture.model = "extrinsic", issue 33): the same model at 50 and 1 × E
+// against the model without CE4s (cases/wave-penalty/intact.toml).
+Run extrinsic_run(int factor) {
+  Run run = penalty_run(factor);
+  run.dir = text("wave-penalty-extrinsic-", factor, "E");
+  run.overrides.push_back("material.0.fracture.model=\"extrinsic\"");
+  return run;
+}
+
+// Also writes OUT/wave-penalty-extrinsic.md.
+Measured wave_penalty_extrinsic(const Results& r) {
+  const std::string intact = r.dir("wave-penalty-intact") + "/wave-penalty_history.nc";
+  const double reference = test::blast_speed(intact, false).speed;
+  std::ostringstream table;
+  table << "| model | apparent V_p [m/s] | (front at 50% of the peak) | against the intact model | inserted CE4s at the end | broken CE4s at the end | worst \\|energy_error\\| |\n"
+           "|---|---|---|---|---|---|---|\n";
+  auto row = [&](const std::string& label, const std::string& h) {
+    const double v = test::blast_speed(h, false).speed, half = test::blast_speed(h, false, 0.5).speed;
+    double worst = 0;
+    for (double e : test::read_variable(h, "energy_error")) worst = std::max(worst, std::fabs(e));
+    std::string inserted = "–", broken = "–";
+    try {
+      inserted = text(std::lround(test::read_variable(h, "inserted_ce4").back()));
+    } catch (const std::exception&) {
+    }
+    try {
+      broken = text(std::lround(test::read_variable(h, "broken_ce4").back()));
+    } catch (const std::exception&) {
+    }
+    table << "| " << label << " | " << std::lround(v) << " | " << std::lround(half) << " | "
+          << text(100 * (v / reference - 1)) << "% | " << inserted << " | " << broken << " | " << worst << " |\n";
+    return v;
+  };
+  row("no CE4s (intact.toml)", intact);
+  Measured m;
+  for (int factor : {50, 1}) {
+    const double v = row(text("extrinsic, penalties ", factor, " × E"),
+                         r.dir(text("wave-penalty-extrinsic-", factor, "E")) + "/wave-penalty_history.nc");
+    m.values[text(factor, "E")] = std::fabs(v / reference - 1);
+  }
+  std::ofstream(r.out + "/wave-penalty-extrinsic.md") << table.str();
+  m.notes.push_back("apparent P-wave speeds (also in wave-penalty-extrinsic.md):\n" + table.str());
   return m;
 }
 
@@ -318,6 +391,17 @@ const std::vector<Entry>& entries() {
          "cases/wave-bar/README.md, Expected and measured: ce4.toml 4,890.1 m/s (−2.2%); seed paper Section 3.4"}},
        wave_bar_ce4},
 
+      {"wave-bar-extrinsic",
+       "wave bar with extrinsic CE4s (issue 33) at 50 and 1 × E: the intact strip's V_p at any penalty",
+       {{"wave-bar-intact", "cases/wave-bar/case.toml", {}}, wave_bar_extrinsic_run(50), wave_bar_extrinsic_run(1)},
+       {{"50E", "|V_p extrinsic at 50 × E / V_p without CE4s − 1|", below(0.005),
+         "cases/wave-bar/README.md, Extrinsic CE4s: within 0.5% of the bar without CE4s (issue 33)"},
+        {"1E", "|V_p extrinsic at 1 × E / V_p without CE4s − 1|", below(0.005),
+         "cases/wave-bar/README.md, Extrinsic CE4s: within 0.5% of the bar without CE4s (issue 33)"},
+        {"50E-inserted", "CE4s inserted at 50 × E", below(0.5), "cases/wave-bar/README.md: the front stays below the strength"},
+        {"1E-inserted", "CE4s inserted at 1 × E", below(0.5), "cases/wave-bar/README.md: the front stays below the strength"}},
+       wave_bar_extrinsic},
+
       {"blasting",
        "blasting, cases 1 (absorbing) and 2 (free): the same until the wave reaches the rim, then only the free rim reflects",
        {{"blasting", "cases/blasting/case.toml", {}}, {"blasting-free", "cases/blasting/free.toml", {}}},
@@ -342,6 +426,15 @@ const std::vector<Entry>& entries() {
         {"10E-1E", "V_p at 10 × E minus at 1 × E [m/s]", above(0),
          "cases/wave-penalty/README.md: the speed falls with the penalty (seed paper Fig. 19: 4,858 and 4,660 m/s)"}},
        wave_penalty},
+
+      {"wave-penalty-extrinsic",
+       "extrinsic CE4s (issue 33) at 50 and 1 × E: apparent P-wave speed against the same model without CE4s",
+       {{"wave-penalty-intact", "cases/wave-penalty/intact.toml", {}}, extrinsic_run(50), extrinsic_run(1)},
+       {{"50E", "|V_p extrinsic at 50 × E / V_p without CE4s − 1|", below(0.005),
+         "cases/wave-penalty/README.md, Extrinsic CE4s: within 0.5% of the intact model's at any penalty (issue 33)"},
+        {"1E", "|V_p extrinsic at 1 × E / V_p without CE4s − 1|", below(0.005),
+         "cases/wave-penalty/README.md, Extrinsic CE4s: within 0.5% of the intact model's at any penalty (issue 33)"}},
+       wave_penalty_extrinsic},
 
       {"tunnel-kirsch",
        "circular tunnel excavated under σ_H 20 MPa, σ_h 12 MPa: the hoop stress at the wall against Kirsch",

@@ -15,6 +15,7 @@ struct FractureProperties {           // one per fracturable material or interfa
   double gf1, gf2;                    // G_fI, G_fII [J/m²]
   double penalty_opening, penalty_sliding, penalty_overlap;  // P_f, P_tan, P_overlap [Pa]
   double a = 0.63, b = 1.8, c = 6.0;  // softening shape, Eq. 10
+  bool extrinsic = false;             // fracture.model = "extrinsic" (cl_kernels/extrinsic.cl)
 };
 
 // f(D) of Eq. 10: f(0) = 1, f(1) = 0, decreasing in between for the usual A, B, C.

@@ -1,4 +1,5 @@
 #include "engine/model/model.hpp"
+#include "engine/model/extrinsic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -138,6 +139,7 @@ FractureProperties fracture_properties(const io::FractureConfig& f) {
   p.a = f.softening_a;
   p.b = f.softening_b;
   p.c = f.softening_c;
+  p.extrinsic = f.extrinsic;
   return p;
 }
 
@@ -819,6 +821,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   set_heterogeneity(model, config);
   if (config.in_situ) set_in_situ(model, config);
+  check_extrinsic(model, config);  // after everything it refuses is set
   set_excavations(model, mesh, triangle_group, config);
   return model;
 }

@@ -1,3 +1,4 @@
+#include "engine/model/extrinsic.hpp"
 #include "engine/outputs/history_table.hpp"
 
 #include <algorithm>
@@ -154,6 +155,9 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
       for (size_t e = 0; e < broken.size(); ++e) n += broken[e] && (mode == 0 || modes[e] == mode) ? 1 : 0;
       return n;
     };
+    if (has_extrinsic(model))  // fracture.model = "extrinsic": CE4s appear during the run
+      add("inserted_ce4", "1", "extrinsic CE4s inserted so far (their edges reached the peak traction)",
+          [](HistoryRow& r) { return double(r.snap.inserted_ce4); });
     add("broken_ce4", "1", "broken cohesive elements", [count](HistoryRow& r) { return count(r, 0); });
     add("broken_mode1", "1", "CE4s broken in mode I", [count](HistoryRow& r) { return count(r, 1); });
     add("broken_mode2", "1", "CE4s broken in mode II", [count](HistoryRow& r) { return count(r, 2); });

@@ -70,6 +70,7 @@ struct Snapshot {
   std::vector<double> probes;            // per probe (vx, vy, sxx, syy, sxy, ps1), in PointProbes' order
   std::vector<io::BreakRecord> breaks;   // Breaks or Catalogue: global CE4 indices, with their triangles
   io::CheckpointData state;              // State: the whole model's, as one rank writes it
+  long inserted_ce4 = 0;                 // Ce4Flags: extrinsic CE4s inserted so far
   long broken_ce4 = 0;                   // State: CE4s broken so far
   double state_seconds = 0;              // State: the wall time its read took
   std::vector<real2> masses;             // Masses

@@ -184,6 +184,8 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
       {"ce4_last_chord", {ItemKind::Ce4, 1}},
       {"ce4_energy", {ItemKind::Ce4, 1}},
+      {"ce4_inserted", {ItemKind::Ce4, 1}},  // extrinsic CE4s (split runs refuse them for now)
+      {"ce4_insertion_gaps", {ItemKind::Ce4, 1}},
       {"contact_active", {ItemKind::Triangle, 1}},
       {"skin_position_at_build", {ItemKind::Node, 1}},
   };

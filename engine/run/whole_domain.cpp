@@ -126,7 +126,10 @@ Snapshot WholeDomain::read(Needs needs) {
   if (needs.has(Need::ContactForces) && solver.has_contact()) s.contact_forces = solver.contact_forces();
   if (ce4 && needs.has(Need::Ce4State)) s.damage = ce4->damage(), s.opening = ce4->opening(), s.slip = ce4->slip();
   lap("probes, stress, contact forces, CE4 state");
-  if (ce4 && (needs.has(Need::Ce4Flags) || needs.has(Need::FragmentLabels))) ce4->flags(s.broken, s.mode);
+  if (ce4 && (needs.has(Need::Ce4Flags) || needs.has(Need::FragmentLabels))) {
+    ce4->flags(s.broken, s.mode);
+    s.inserted_ce4 = static_cast<long>(ce4->count_inserted());
+  }
   lap("CE4 flags");
   if (needs.has(Need::FluidSegments) && solver.fluid()) solver.fluid()->segment_fields(s.fluid_pressure, s.fluid_aperture);
   // The pieces, reused while no CE4 broke since the last labelling.

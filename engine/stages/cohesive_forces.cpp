@@ -38,8 +38,12 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 
 }  // namespace
 
-MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ) {
+MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ, bool extrinsic) {
   MemoryPlan p;
+  if (extrinsic)
+    p.add("ce4_inserted", std::max<size_t>(1, ce4) * sizeof(cl_int))
+        .add("ce4_insertion_gaps", std::max<size_t>(1, ce4) * sizeof(real2))
+        .add("ce4_inserted_count", sizeof(cl_uint));
   // The openings and slips that carry the in-situ field, only in models with [in_situ].
   if (in_situ) p.add("ce4_in_situ_gaps", 6 * std::max<size_t>(1, ce4) * sizeof(real));
   p.add("ce4_property_rows", layout::COHP_STRIDE * std::max<size_t>(1, property_sets) * sizeof(real));
@@ -159,7 +163,19 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.vertices.size()) +
                      " mesh node pairs");
   mesh_nodes_ = model.vertex_bonded.size();
-  const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ);
+  for (const auto& f : model.fracture) extrinsic_ = extrinsic_ || f.extrinsic;
+  if (extrinsic_ && with_in_situ) throw InputError("cohesive model: extrinsic CE4s with [in_situ] are not supported yet");
+  const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_);
+  if (extrinsic_) {
+    std::vector<cl_int> inserted(std::max<size_t>(1, count_), 1);
+    for (size_t e = 0; e < count_; ++e) inserted[e] = model.fracture[model.properties[e]].extrinsic ? 0 : 1;
+    inserted_ = arrays.allocate(cl, "ce4_inserted");
+    insertion_gaps_ = arrays.allocate(cl, "ce4_insertion_gaps");
+    inserted_count_ = arrays.allocate(cl, "ce4_inserted_count");
+    upload(cl, inserted_, inserted);
+    upload(cl, insertion_gaps_, std::vector<real2>(std::max<size_t>(1, count_)));
+    upload(cl, inserted_count_, std::vector<cl_uint>(1, 0));
+  }
   if (fans_) {
     std::vector<cl_uint> pairs(2 * count_);
     for (size_t e = 0; e < count_; ++e)
@@ -224,6 +240,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
   if (with_in_situ) defines["IN_SITU_GAPS"] = "1";
+  if (extrinsic_) defines["EXTRINSIC"] = "1";
   // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
   // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
   // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
@@ -239,6 +256,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
       "break_ids", break_ids_)("break_records", break_records_);
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
   if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
+  if (extrinsic_) args("inserted", inserted_)("insertion_gaps", insertion_gaps_);
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
@@ -322,6 +340,11 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   out.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
+  if (extrinsic_) {
+    out.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
+    out.buffer<real>("ce4_insertion_gaps", insertion_gaps_, count_, 2);
+    out.buffer<cl_int>("ce4_inserted_count", inserted_count_, 1, 1);
+  }
   // The break log in catalogue order (the device's slot order is not reproducible).
   cl_uint count = 0;
   if (count_) cl_.queue().enqueue_read_buffer(break_count_, 0, sizeof(cl_uint), &count);
@@ -347,6 +370,11 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   in.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
+  if (extrinsic_) {
+    in.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
+    in.buffer<real>("ce4_insertion_gaps", insertion_gaps_, count_, 2);
+    in.buffer<cl_int>("ce4_inserted_count", inserted_count_, 1, 1);
+  }
   const std::int64_t n = in.integer("ce4_break_count");
   if (n < 0 || size_t(n) > count_) throw InputError("checkpoint: ce4_break_count " + std::to_string(n) + " is out of range");
   std::vector<cl_int> ids(2 * size_t(n));
@@ -416,6 +444,13 @@ std::pair<double, double> CohesiveForces::energy_totals() {
 double CohesiveForces::fracture_dissipation() { return energy_totals().first; }
 double CohesiveForces::stored_energy() { return energy_totals().second; }
 double CohesiveForces::dissipated_total() { return fracture_dissipation(); }
+
+size_t CohesiveForces::count_inserted() {
+  if (!extrinsic_) return 0;
+  cl_uint n = 0;
+  cl_.queue().enqueue_read_buffer(inserted_count_, 0, sizeof(cl_uint), &n);
+  return n;
+}
 
 size_t CohesiveForces::count_broken() {
   size_t n = 0;

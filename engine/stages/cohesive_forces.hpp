@@ -35,7 +35,10 @@ class CohesiveForces {
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
   // bonded fans' state: CohesiveModel::vertex_bonded; with `in_situ` the initial gaps).
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
-  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false);
+  // `extrinsic`: some CE4's set has fracture.model = "extrinsic" (FractureProperties): the
+  // insertion flags, offsets and count (cl_kernels/extrinsic.cl).
+  static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false,
+                         bool extrinsic = false);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -50,6 +53,20 @@ class CohesiveForces {
   // at it intact, 2 + n one of them broke at step n. Null without it.
   const compute::buffer* mesh_node_state() const { return fans_ ? &mesh_state_ : nullptr; }
   size_t size() const { return count_; }
+  // Extrinsic CE4s (the Extrinsic stage binds these): int per CE4, 0 while an extrinsic CE4
+  // is not inserted (it then carries nothing), 1 once it is and for every intrinsic CE4;
+  // real2 per CE4, the law's offsets (o₀, s₀) [m]; one uint, the insertions so far.
+  bool extrinsic() const { return extrinsic_; }
+  compute::buffer& inserted() { return inserted_; }
+  compute::buffer& insertion_gaps() { return insertion_gaps_; }
+  compute::buffer& inserted_count_buffer() { return inserted_count_; }
+  size_t count_inserted();  // reads the count (waits); 0 without extrinsic CE4s
+  compute::buffer& nodes() { return nodes_; }
+  compute::buffer& lengths() { return length_; }
+  compute::buffer& property() { return property_; }
+  compute::buffer& property_rows() { return property_rows_; }
+  compute::buffer& friction_slips() { return gp_slip_; }
+  compute::buffer& energy() { return energy_; }
   const std::vector<real>& parameters() const { return params_; }  // layout::COH_STRIDE per CE4 (COH_*)
 
   // Host reads (wait; for output, history and tests). Damage, opening and slip are computed
@@ -107,6 +124,8 @@ class CohesiveForces {
   KernelArg<real> time_;
   compute::buffer property_, property_rows_;  // per CE4 its property set; the sets' rows (COHP_*)
   bool fans_ = false;
+  bool extrinsic_ = false;
+  compute::buffer inserted_, insertion_gaps_, inserted_count_;
   size_t mesh_nodes_ = 0;
   compute::buffer mesh_pairs_, mesh_state_;
   compute::buffer in_situ_gaps_;  // real ×6 per CE4 (o₀ at the 3 Gauss points, then s₀), [in_situ] only

@@ -1,0 +1,248 @@
+// Extrinsic cohesive elements (fracture.model = "extrinsic", issue 33): the insertion
+// criterion against a plain C++ reference, the tied continuum against a conforming mesh,
+// determinism, restart, the energy account and the refusals.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "case_files.hpp"
+#include "engine/model/extrinsic.hpp"
+#include "engine/run/prepare_case.hpp"
+#include "engine/run/run.hpp"
+#include "engine/solver.hpp"
+#include "fixture.hpp"
+#include "fracture_tables.hpp"
+
+using namespace fdem;
+
+namespace {
+
+const std::string kExtrinsic = std::string(test::kRockFracture) + "model = \"extrinsic\"\n";
+
+const std::string kHeld = R"(
+[[boundary]]
+region = "left"
+fix = ["x"]
+[[boundary]]
+region = "bottom"
+fix = ["y"]
+)";
+
+// The bar held on its left and bottom edges, its right edge pulled at `speed` [m/s].
+std::string pull(double speed) {
+  return kHeld + "[[boundary]]\nregion = \"right\"\nvelocity = [" + std::to_string(speed) + ", 0.0]\nrise = 1e-4\n";
+}
+
+// The bar (tests/data/cases/bar.geo, 1 m × 0.2 m) with critical viscosity to `end`.
+std::string bar(const test::TempDir& dir, const std::string& out, const std::string& fracture, double end,
+                const std::string& load, const std::string& name = "bar.toml") {
+  test::BarCase c;
+  c.time = "dt = \"auto\"\nend = " + std::to_string(end) + "\n";
+  c.output = "dir = \"" + out + "\"\nname = \"bar\"\nframes = 3\nhistory_every = 2e-5\n";
+  c.material = "viscosity = \"critical\"\n" + fracture;
+  c.rest = load;
+  return dir.write(name, c.text());
+}
+
+// The insertion rule of cl_kernels/extrinsic.cl, written independently: the mean traction
+// of the two triangles on the edge from the corner forces opposite it, the intrinsic law's
+// peak envelope, and the offsets that carry the traction (capped at the peak).
+struct Reference {
+  bool inserts = false;
+  double sigma = 0, tau = 0;  // the carried traction [Pa]
+  double o0 = 0, s0 = 0;      // the law's offsets [m]
+  double margin = 0;          // distance from the envelope, relative to T_s (round-off guard)
+};
+
+Reference reference(const FractureProperties& f, double h, double thickness, real2 xi, real2 xj, real2 xj2, real2 xi2,
+                    real2 f1, real2 f2) {
+  Reference r;
+  const double cx = (double(xj.x) - xi.x) + (double(xj2.x) - xi2.x), cy = (double(xj.y) - xi.y) + (double(xj2.y) - xi2.y);
+  const double cl = std::hypot(cx, cy), tx = cx / cl, ty = cy / cl, nx = ty, ny = -tx;
+  const double l1 = std::hypot(double(xj.x) - xi.x, double(xj.y) - xi.y);
+  const double l2 = std::hypot(double(xj2.x) - xi2.x, double(xj2.y) - xi2.y);
+  // σ n_k = 2 f_k / (t L) for the corner k opposite the edge; the mean over both sides.
+  const double px = f1.x / (thickness * l1) - f2.x / (thickness * l2);
+  const double py = f1.y / (thickness * l1) - f2.y / (thickness * l2);
+  r.sigma = px * nx + py * ny;
+  r.tau = px * tx + py * ty;
+  const double tanphi = std::tan(f.friction_angle * std::acos(-1.0) / 180.0);
+  const double cap = tanphi * std::max(-r.sigma, 0.0);
+  r.margin = std::max(r.sigma - f.tensile_strength, std::fabs(r.tau) - (f.cohesion + cap)) / f.tensile_strength;
+  r.inserts = r.sigma >= f.tensile_strength || std::fabs(r.tau) >= f.cohesion + cap;
+  const double op = 2 * h * f.tensile_strength / f.penalty_opening, sp = 2 * h * f.cohesion / f.penalty_sliding;
+  const double oov = 2 * h * f.tensile_strength / f.penalty_overlap;
+  const double sn = std::min(r.sigma, f.tensile_strength);
+  r.o0 = sn >= 0 ? op * (1 - std::sqrt(1 - sn / f.tensile_strength)) : sn * oov / (2 * f.tensile_strength);
+  const double tc = std::min(std::fabs(r.tau), f.cohesion);
+  r.s0 = std::copysign(sp * (1 - std::sqrt(1 - tc / f.cohesion)), r.tau);
+  return r;
+}
+
+bool same_bytes(const std::string& a, const std::string& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+  return !sa.empty() && sa == sb;
+}
+
+}  // namespace
+
+TEST_SUITE("extrinsic") {
+
+TEST_CASE("the case key: \"extrinsic\" per material, \"intrinsic\" the default; bad values and unsupported parts refused") {
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(bar(dir, dir.str(), kExtrinsic, 1e-4, pull(0.1)), {});
+  CHECK(has_extrinsic(p.model));
+  const PreparedCase q = prepare_case(bar(dir, dir.str(), test::kRockFracture, 1e-4, pull(0.1), "i.toml"), {});
+  CHECK_FALSE(has_extrinsic(q.model));
+  auto refused = [&](const std::string& fracture, const std::string& extra) {
+    try {
+      prepare_case(bar(dir, dir.str(), fracture, 1e-4, pull(0.1) + extra, "bad.toml"), {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string typo = refused(std::string(test::kRockFracture) + "model = \"extrinsc\"\n", "");
+  CHECK(typo.find("material[0].fracture.model") != std::string::npos);
+  CHECK(typo.find("did you mean \"extrinsic\"") != std::string::npos);
+  const std::string damping = refused(kExtrinsic, "[damping]\nlocal = 0.8\n");
+  CHECK(damping.find("fracture.model = \"extrinsic\" cannot be combined with damping.local") != std::string::npos);
+  CHECK(damping.find("bad.toml") != std::string::npos);
+}
+
+TEST_CASE("insertion: an edge gets its CE4 exactly when its traction reaches the peak, at the traction it carried") {
+  test::TempDir dir;
+  // 0.5 m/s: the front's stress ρ c v is about 2.4 MPa > T_s = 2 MPa, so edges near the
+  // pulled end reach the strength, the rest of the bar does not.
+  const PreparedCase p = prepare_case(bar(dir, dir.str(), kExtrinsic, 3e-4, pull(0.5)), {});
+  Solver solver(test::context(), p.model, p.dt);
+  ClContext& cl = test::context();
+  CohesiveForces& ce4 = *solver.cohesive();
+  const size_t n = p.model.ce4.size();
+  std::vector<cl_int> was(n, 0);
+  const auto& params = ce4.parameters();
+  size_t inserted = 0, checked = 0, near_envelope = 0;
+  double worst_o = 0, worst_s = 0;
+  for (long s = 0; s < p.steps; ++s) {
+    solver.step(false);
+    const auto now = download<cl_int>(cl, ce4.inserted(), n);
+    const auto gaps = download<real2>(cl, ce4.insertion_gaps(), n);
+    const auto x = solver.positions();
+    const auto corner = download<real2>(cl, solver.arrays().corner_force, 3 * p.model.num_triangles());
+    for (size_t e = 0; e < n; ++e) {
+      if (was[e]) {
+        CHECK(now[e] == 1);  // once inserted, for good
+        continue;
+      }
+      const auto& c = p.model.ce4[e];
+      const auto& tri = p.model.ce4_triangles[e];
+      auto opposite = [&](int side) {
+        const auto& t = p.model.triangles[tri[side]];
+        const int a = side == 0 ? c[0] : c[3], b = side == 0 ? c[1] : c[2];
+        for (int k = 0; k < 3; ++k)
+          if (t[k] != a && t[k] != b) return corner[3 * tri[side] + k];
+        return real2{0, 0};
+      };
+      const double h = params[layout::COH_STRIDE * e + layout::COH_H];
+      const Reference r = reference(p.model.fracture[p.model.ce4_properties[e]], h, p.model.thickness, x[c[0]], x[c[1]],
+                                    x[c[2]], x[c[3]], opposite(0), opposite(1));
+      ++checked;
+      if (std::fabs(r.margin) < 1e-9) {  // on the envelope to round-off: either answer is right
+        ++near_envelope;
+        continue;
+      }
+      CHECK(bool(now[e]) == r.inserts);
+      if (now[e] && r.inserts) {
+        ++inserted;
+        const double op = params[layout::COH_STRIDE * e + layout::COH_OP];
+        const double sp = params[layout::COH_STRIDE * e + layout::COH_SP];
+        worst_o = std::max(worst_o, std::fabs(gaps[e].x - r.o0) / op);
+        worst_s = std::max(worst_s, std::fabs(gaps[e].y - r.s0) / sp);
+      }
+    }
+    was = now;
+  }
+  MESSAGE(inserted << " insertions over " << p.steps << " steps (" << checked << " CE4-steps checked, " << near_envelope
+                   << " on the envelope to round-off); offsets against the reference: o₀ within " << worst_o
+                   << " o_p, s₀ within " << worst_s << " s_p");
+  CHECK(inserted > 0);
+  CHECK(inserted < n);  // the bar's far end stays a continuum
+  CHECK(worst_o < 1e-6);  // √(1 - σ/T_s) near the peak magnifies the traction's round-off
+  CHECK(worst_s < 1e-6);
+  CHECK(ce4.count_inserted() == size_t(std::count(was.begin(), was.end(), 1)));  // every CE4 here is extrinsic
+}
+
+TEST_CASE("nothing inserted: the extrinsic bar moves as the conforming bar (no CE4 compliance), with no CE4 energy") {
+  test::TempDir dir;
+  // 0.1 m/s: about 0.5 MPa at the front, a quarter of T_s.
+  const PreparedCase e = prepare_case(bar(dir, dir.str() + "/e", kExtrinsic, 4e-4, pull(0.1), "e.toml"), {});
+  std::ostringstream step;
+  step.precision(17);
+  step << e.dt;
+  const std::string dt = "time.dt=" + step.str();
+  const PreparedCase c = prepare_case(bar(dir, dir.str() + "/c", "", 4e-4, pull(0.1), "c.toml"), {dt});
+  const PreparedCase i = prepare_case(bar(dir, dir.str() + "/i", test::kRockFracture, 4e-4, pull(0.1), "i.toml"), {dt});
+  REQUIRE(c.dt == e.dt);
+  Solver se(test::context(), e.model, e.dt), sc(test::context(), c.model, c.dt), si(test::context(), i.model, i.dt);
+  for (long s = 0; s < e.steps; ++s) se.step(false), sc.step(false), si.step(false);
+  CHECK(se.cohesive()->count_inserted() == 0);
+  const auto xe = se.positions(), xc = sc.positions(), xi = si.positions();
+  std::map<long, real2> by_tag;
+  for (size_t k = 0; k < xc.size(); ++k) by_tag[c.model.node_tags[k]] = xc[k];
+  double worst = 0, worst_intrinsic = 0, largest = 0;
+  for (size_t k = 0; k < xe.size(); ++k) {
+    const real2 ref = by_tag.at(e.model.node_tags[k]);
+    const double d = std::hypot(xe[k].x - ref.x, xe[k].y - ref.y);
+    worst = std::max(worst, d);
+    worst_intrinsic = std::max(worst_intrinsic, std::hypot(xi[k].x - ref.x, xi[k].y - ref.y));
+  }
+  for (size_t k = 0; k < xc.size(); ++k) largest = std::max(largest, std::fabs(double(xc[k].x) - c.model.x[k]));
+  MESSAGE("after " << e.steps << " steps the right end moved " << largest << " m; extrinsic differs from the "
+          << "conforming bar by at most " << worst << " m, intrinsic (penalties 10 E) by " << worst_intrinsic << " m");
+  CHECK(largest > 1e-5);
+  CHECK(worst < 1e-7 * largest);  // round-off: the tie's sums against the gather's
+  CHECK(worst_intrinsic > 1e3 * worst);
+  const EnergyTotals t = se.energy();
+  CHECK(t.cohesive_stored == 0.0);
+  CHECK(t.fracture == 0.0);
+}
+
+TEST_CASE("an extrinsic bar pulled apart: bitwise repeatable, restarts byte for byte, energy account closed") {
+  test::TempDir dir;
+  const std::string one = dir.str() + "/one", two = dir.str() + "/two", three = dir.str() + "/three";
+  const auto whole = test::run(bar(dir, one, kExtrinsic, 4e-4, pull(0.5), "one.toml"));
+  test::run(bar(dir, three, kExtrinsic, 4e-4, pull(0.5), "three.toml"));
+  const auto half = test::run(bar(dir, two, kExtrinsic, 2e-4, pull(0.5), "two.toml"));
+  const auto rest = test::run(bar(dir, two, kExtrinsic, 4e-4, pull(0.5), "two.toml"), {}, test::restart_from(two + "/bar.ckpt"));
+  CHECK(half.steps + rest.steps == whole.steps);
+  CHECK(same_bytes(one + "/bar_history.nc", three + "/bar_history.nc"));
+  CHECK(same_bytes(one + "/bar.exo", three + "/bar.exo"));
+  CHECK(same_bytes(one + "/bar_history.nc", two + "/bar_history.nc"));
+  CHECK(same_bytes(one + "/bar.exo", two + "/bar.exo"));
+  CHECK(same_bytes(one + "/bar_events.nc", two + "/bar_events.nc"));
+  const std::string hist = one + "/bar_history.nc";
+  const auto inserted = test::read_variable(hist, "inserted_ce4");
+  const auto broken = test::read_variable(hist, "broken_ce4");
+  const auto error = test::read_variable(hist, "energy_error");
+  const auto dissipated = test::read_variable(hist, "fracture_dissipation");
+  double worst = 0;
+  for (double x : error) worst = std::max(worst, std::fabs(x));
+  const size_t middle = inserted.size() / 2;
+  MESSAGE("inserted CE4s " << inserted[middle] << " at the checkpoint, " << inserted.back() << " at the end; broken "
+          << broken[middle] << " then " << broken.back() << "; worst |energy_error| " << worst << "; fracture_dissipation " << dissipated.back() << " J");
+  CHECK(inserted[middle] > 0);
+  CHECK(inserted.back() >= inserted[middle]);
+  CHECK(broken.back() > broken[middle]);  // inserted before the checkpoint, broken after it
+  for (size_t k = 1; k < inserted.size(); ++k) CHECK(inserted[k] >= inserted[k - 1]);
+  for (size_t k = 1; k < dissipated.size(); ++k) CHECK(dissipated[k] >= dissipated[k - 1]);
+  CHECK(worst < 1e-3);
+}
+
+}  // TEST_SUITE
