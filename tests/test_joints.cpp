@@ -105,7 +105,7 @@ TEST_CASE("joints: the CE4s of a joint follow its line and cover it, and take th
         CHECK(f.gf2 == 2.0);
       } else {
         CHECK(m.ce4_joint[e] == -1);
-        CHECK(f.cohesion == 15.0e6);
+        CHECK(f.cohesion == 9.0e6);
         // No rock CE4 lies along the line: every edge on it is the joint's.
         const double da = std::fabs(-dy * ax + dx * ay), db = std::fabs(-dy * bx + dx * by);
         CHECK(!(da < 1e-9 && db < 1e-9));
@@ -324,7 +324,7 @@ TEST_CASE("joints: bad [[joint]] entries are refused with the file, the line and
   const std::string missing = error(edited(good, "curves = [\"joint\"]\n", ""));
   CHECK(missing.find("curves") != std::string::npos);
   // The rock without [material.fracture]: a joint needs fracturable triangles.
-  const std::string elastic = error(edited(good, "[material.fracture]\ntensile_strength = 5.0e6\ncohesion = 15.0e6\n"
+  const std::string elastic = error(edited(good, "[material.fracture]\ntensile_strength = 3.0e6\ncohesion = 9.0e6\n"
                                                  "friction_angle = 30.0\ngf1 = 20.0\ngf2 = 200.0\n"
                                                  "penalty = { opening = 2.0e11, sliding = 2.0e11, overlap = 2.0e11 }   # 10 E: quasi-static, the least without a warning\n",
                                            ""));
