@@ -149,7 +149,8 @@ TEST_CASE("joints: Jaeger at beta = 45 and 60 (sigma_3 = 0): the joint slips at 
     const double expected = test::jaeger_strength(beta, 0.0, 2.0e6, 30.0);
     // σ1 rises at 10 MPa/ms: run to 1.3 × the expected peak.
     const double end = 1.3 * expected / 1e10;
-    const PreparedCase p = prepare_case(jaeger_case(), at_angle(beta, dir, {"time.end=" + std::to_string(end)}));
+    // At size 8 mm (about 220 TRI3, twice the case's Δt): a few seconds a run.
+    const PreparedCase p = prepare_case(jaeger_case(), at_angle(beta, dir, {"time.end=" + std::to_string(end), "mesh.size=8.0"}));
     size_t joint_ce4s = 0;
     for (int j : p.model.ce4_joint) joint_ce4s += j == 0;
     test::run(p);
@@ -220,7 +221,8 @@ TEST_CASE("joints: a polyline file is embedded: the joint's CE4s follow the poly
   CHECK(outside.find("lies outside the meshed region") != std::string::npos);
   CHECK(error("0.0 0.0\n0.01 0.01 0.02\n").find("bad.txt:2: expected a point") != std::string::npos);
   CHECK(error("0.0 0.0\n\n0.01 0.01\n").find("bad.txt:1: a polyline of one point") != std::string::npos);
-  const Cli check = fdem_cli("check " + dir.write("e.toml", intact_with("file = \"bad.txt\"\n")));
+  const Cli check = fdem_cli("check " + dir.write("e.toml", intact_with("file = \"bad.txt\"\n")) + " --set output.dir='\"" +
+                            dir.str() + "/out\"'");
   CHECK(check.code == 2);
   CHECK(check.output.find("bad.txt:") != std::string::npos);
 }

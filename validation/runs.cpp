@@ -241,12 +241,12 @@ Measured tunnel_kirsch(const Results& r) {
 
 // ---- cases/jaeger: Jaeger's single plane of weakness -------------------------------------
 
-// The series: σ3 = 0 (case.toml) at β = 35° ... 85° and σ3 = 5 MPa (confined.toml) at
-// 40° ... 80°, each with its intact specimen. Each run goes until σ1 is 1.3 × the smaller
+// The series: σ3 = 0 (case.toml) at β = 35° ... 85° every 5° and σ3 = 5 MPa (confined.toml)
+// at 35°, 50°, 60°, 70° and 85°, each with its intact specimen. Each run goes until σ1 is 1.3 × the smaller
 // of the formula and the intact strength's estimate (kJaegerIntact; σ1 rises at 10 MPa/ms
 // after t0), so that the joint or the rock has given.
 constexpr double kJaegerC = 2.0e6, kJaegerPhi = 30.0, kJaegerRate = 1.0e10;  // cases/jaeger/case.toml
-constexpr double kJaegerIntact[2] = {40.0e6, 60.0e6};  // the intact specimens' peaks, rounded up (README)
+constexpr double kJaegerIntact[2] = {40.0e6, 65.0e6};  // the intact specimens' peaks, rounded up (README)
 constexpr double kJaegerSigma3[2] = {0.0, 5.0e6};
 constexpr double kJaegerT0[2] = {0.0, 2.0e-4};
 const char* const kJaegerCase[2] = {"cases/jaeger/case.toml", "cases/jaeger/confined.toml"};
@@ -266,7 +266,7 @@ std::vector<std::string> jaeger_overrides(int series, int beta) {
 }
 
 std::vector<int> jaeger_angles(int series) {
-  return series ? std::vector<int>{40, 50, 60, 70, 80} : std::vector<int>{35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85};
+  return series ? std::vector<int>{35, 50, 60, 70, 85} : std::vector<int>{35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85};
 }
 
 std::vector<Run> jaeger_runs() {
@@ -450,7 +450,7 @@ const std::vector<Entry>& entries() {
        jaeger_runs(),
        {{"unconfined", "worst |σ1 / expected − 1| over β = 35° … 85°, σ3 = 0 (expected: Jaeger or the intact peak)",
          below(0.10), "cases/jaeger/README.md, Expected: within 10% (issue 31, Verification)"},
-        {"confined", "worst |σ1 / expected − 1| over β = 40° … 80°, σ3 = 5 MPa", below(0.10),
+        {"confined", "worst |σ1 / expected − 1| over β = 35°, 50°, 60°, 70°, 85°, σ3 = 5 MPa", below(0.10),
          "cases/jaeger/README.md, Expected: within 10% (issue 31, Verification)"},
         {"unconfined-mode", "angles where Jaeger is below 0.9 × the intact peak but the rock gave, σ3 = 0", equal(0),
          "cases/jaeger/README.md, Expected"},
