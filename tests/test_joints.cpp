@@ -101,8 +101,8 @@ TEST_CASE("joints: the CE4s of a joint follow its line and cover it, and take th
         CHECK(f.cohesion == 2.0e6);
         CHECK(f.tensile_strength == 0.5e6);
         CHECK(f.friction_angle == 30.0);
-        CHECK(f.gf1 == 0.5);
-        CHECK(f.gf2 == 2.0);
+        CHECK(f.gf1 == 1.0);
+        CHECK(f.gf2 == 5.0);
       } else {
         CHECK(m.ce4_joint[e] == -1);
         CHECK(f.cohesion == 9.0e6);
@@ -122,8 +122,9 @@ TEST_CASE("joints: the CE4s of a joint follow its line and cover it, and take th
 TEST_CASE("joints: a broken joint starts closed, no break of it is recorded, and JOINT marks it in the frames") {
   test::TempDir dir;
   const std::string text = edited(edited(file_text(jaeger_case()), "tensile_strength = 0.5e6\ncohesion = 2.0e6          # c_j\n", "broken = true\n"),
-                                  "gf1 = 0.5                 # small: the joint gives within a few µm of slip past its\n"
-                                  "gf2 = 2.0                 # peak, so the break marks the peak (README, How it is measured)\n", "");
+                                  "gf1 = 1.0                 # small: the joint gives within a few µm of slip past its peak,\n"
+                                  "                          # so its break marks the peak (README, How it is measured)\n"
+                                  "gf2 = 5.0\n", "");
   const std::string path = dir.write("broken.toml", edited(text, "geo = \"b45.geo\"", "geo = \"" + test::source_path("cases/jaeger/b60.geo") + "\""));
   const auto summary = test::run(path, {"output.dir=\"" + dir.str() + "/out\"", "time.end=2e-5", "output.frames=1"});
   CHECK(summary.steps > 0);
