@@ -104,6 +104,33 @@ struct InterfaceConfig {
   FractureConfig fracture;
 };
 
+// One [[joint]]: pre-existing joints, the mesh edges along the listed physical curves,
+// whose CE4s take these properties instead of their material's or interface's. A
+// broken joint has no strength: its CE4s start closed (frictional contact through the
+// CE4's compression branch and friction element), with `fracture` holding only the
+// friction angle and the penalties that matter to a closed CE4.
+//
+// The joints are the union of three sources, at least one given: `curves` (physical
+// curves of the mesh), `file` (polylines, io/joint_geometry.hpp) and `set` (a
+// statistical joint set drawn from a seed). The last two need mesh.geo: the front end
+// embeds them into the .geo it meshes, so that element edges follow them.
+struct JointSetConfig {
+  double angle = 0;          // [deg] mean trace direction, counter-clockwise from x
+  double kappa = 0;          // von Mises (2D Fisher) concentration of the directions; 0 uniform
+  double spacing = 0;        // [m] mean spacing of the joint lines along their mean normal (exponential)
+  double trace_length = 0;  // [m] length of each trace
+  double persistence = 1;    // (0, 1]: share of a joint line that is joint (the rest rock bridges)
+  std::uint64_t seed = 0;
+};
+struct JointConfig {
+  std::string name;                 // "joint<i>" when not given
+  std::vector<std::string> curves;  // Gmsh physical curves
+  std::string file;                 // polylines [m], absolute path ("" none)
+  std::optional<JointSetConfig> set;
+  bool broken = false;
+  FractureConfig fracture;
+};
+
 struct GravityConfig {
   std::array<double, 2> g{0.0, 0.0};  // [m/s²]
 };
@@ -244,6 +271,7 @@ struct CaseConfig {
   std::vector<InitialConfig> initials;
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
   std::vector<InterfaceConfig> interfaces;
+  std::vector<JointConfig> joints;        // [[joint]] entries
   std::vector<ProbeConfig> probes;        // [[probe]] entries
   std::optional<InSituConfig> in_situ;    // present when the case has an [in_situ] table
   std::vector<ExcavationConfig> excavations;  // [[excavation]] entries

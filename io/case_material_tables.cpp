@@ -3,6 +3,7 @@
 #include "io/case_tables.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "engine/model/cohesive_model.hpp"
 
@@ -170,7 +171,83 @@ InterfaceConfig read_interface(const TableReader& r,
   return i;
 }
 
+// A [[joint]]: its curves and either the CE4 law's keys (as [material.fracture]) or
+// broken = true with only friction_angle and penalty (a broken joint has no strength).
+JointConfig read_joint(const TableReader& r, std::size_t index, const std::string& case_dir, const MeshConfig& mesh) {
+  r.check_keys(kJointKeys);
+  JointConfig j;
+  j.name = r.string("name").value_or("joint" + std::to_string(index));
+  if (const std::string problem = material_name_problem(j.name); !problem.empty())
+    r.fail("name", r.key_path("name") + " = " + quoted_text(j.name) + " " + problem);
+  if (!r.has("curves") && !r.has("file") && !r.has("set"))
+    r.ctx().fail(r.table(), r.path() + " needs at least one of 'curves' (physical curves of the mesh), 'file' (a "
+                                       "file of polylines) and 'set' (a statistical joint set)");
+  if (r.has("curves")) {
+    j.curves = *r.strings("curves");
+    if (j.curves.empty()) r.fail("curves", r.key_path("curves") + " is empty: name at least one physical curve");
+  }
+  for (const char* key : {"file", "set"})
+    if (r.has(key) && mesh.geo.empty())
+      r.fail(key, r.key_path(key) + " needs mesh.geo: the joints are embedded into the .geo that gmsh meshes (with "
+                                    "mesh.file, draw them as physical curves of the mesh and list them in 'curves')");
+  if (r.has("file")) {
+    const std::filesystem::path file(r.required_string("file"));
+    j.file = (file.is_absolute() ? file : (std::filesystem::path(case_dir) / file)).lexically_normal().string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(j.file, ec)) r.fail("file", r.key_path("file") + ": file not found: " + j.file);
+  }
+  if (const toml::table* t = subtable(r, "set")) {
+    const TableReader set = subtable_reader(r, *t, "set");
+    set.check_keys(kJointSetKeys);
+    JointSetConfig c;
+    c.angle = set.required_number("angle", Range{-360.0, 360.0, false, false});
+    c.kappa = set.number("kappa", kNonNegative).value_or(0.0);
+    c.spacing = set.required_number("spacing", kPositive);
+    c.trace_length = set.required_number("trace_length", kPositive);
+    c.persistence = set.number("persistence", Range{0.0, 1.0, true, false}).value_or(1.0);
+    if (!set.has("seed")) set.missing("seed");
+    c.seed = static_cast<std::uint64_t>(*set.integer<std::int64_t>("seed", 0));
+    j.set = c;
+  }
+  j.broken = r.boolean("broken").value_or(false);
+  if (!j.broken) {
+    j.fracture = read_fracture_keys(r);
+    return j;
+  }
+  for (const char* key : {"tensile_strength", "cohesion", "gf1", "gf2", "softening"})
+    if (r.has(key))
+      r.fail(key, r.key_path(key) + " is not allowed with broken = true: a broken joint has no strength, only "
+                                    "friction (friction_angle) and the penalties of its closed faces");
+  j.fracture.friction_angle = r.required_number("friction_angle", Range{0.0, 90.0, false, true});
+  if (!r.has("penalty")) r.missing("penalty");
+  const TableReader penalty = subtable_reader(r, *subtable(r, "penalty"), "penalty");
+  penalty.check_keys(kPenaltyKeys);
+  j.fracture.penalty_opening = penalty.required_number("opening", kPositive);
+  j.fracture.penalty_sliding = penalty.required_number("sliding", kPositive);
+  j.fracture.penalty_overlap = penalty.required_number("overlap", kPositive);
+  // Unused by a closed CE4 (its state is frozen at f = 0; T_s and c cancel out of its
+  // overlap and friction stiffnesses), but the parameter row divides by them.
+  j.fracture.tensile_strength = j.fracture.cohesion = 1.0;
+  j.fracture.gf1 = j.fracture.gf2 = 1.0;
+  return j;
+}
+
 }  // namespace
+
+std::vector<JointConfig> read_joints(const TableReader& top, const std::string& case_dir, const MeshConfig& mesh) {
+  std::map<std::string, std::string> path_of_name, joint_of_curve;
+  std::size_t index = 0;
+  return read_entries(top, "joint", "", [&](const TableReader& r) {
+    JointConfig j = read_joint(r, index++, case_dir, mesh);
+    if (auto [it, fresh] = path_of_name.emplace(j.name, r.path()); !fresh)
+      r.fail("name", r.key_path("name") + ": '" + j.name + "' is already the name of " + it->second);
+    for (const std::string& curve : j.curves)
+      if (auto [it, fresh] = joint_of_curve.emplace(curve, r.path()); !fresh)
+        r.fail("curves", r.key_path("curves") + ": curve '" + curve + "' is already in " + it->second +
+                             ": a curve belongs to one joint");
+    return j;
+  });
+}
 
 std::vector<MaterialConfig> read_materials(const TableReader& top) {
   std::map<std::string, std::string> path_of_name;    // "rock" → "material[0]"

@@ -43,6 +43,9 @@ const Schema kMaterialKeys{{{"name"}, {"regions"}, {"density"}, {"young"}, {"poi
                             {"fracture", Shape::Table, &kFractureKeys},
                             {"heterogeneity", Shape::Table, &kHeterogeneityKeys}}};
 const Schema kInterfaceKeys = with_fields({{"materials"}}, kFractureKeys);
+const Schema kJointSetKeys{{{"angle"}, {"kappa"}, {"spacing"}, {"trace_length"}, {"persistence"}, {"seed"}}};
+const Schema kJointKeys = with_fields({{"name"}, {"curves"}, {"file"}, {"set", Shape::Table, &kJointSetKeys}, {"broken"}},
+                                      kFractureKeys);
 const Schema kGravityKeys{{{"g"}}};
 const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
 const Schema kBlastKeys{{{"peak"}, {"rise"}, {"ratio"}}};
@@ -69,6 +72,7 @@ const Schema kRootKeys{{{"title"},
                         {"output", Shape::Table, &kOutputKeys},
                         {"material", Shape::TableArray, &kMaterialKeys},
                         {"interface", Shape::TableArray, &kInterfaceKeys},
+                        {"joint", Shape::TableArray, &kJointKeys},
                         {"gravity", Shape::Table, &kGravityKeys},
                         {"damping", Shape::Table, &kDampingKeys},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},

@@ -42,6 +42,8 @@ constexpr const char* kCohesiveBlockName = "cohesive";
 std::vector<MaterialConfig> read_materials(const TableReader& top);  // [[material]]
 std::vector<InterfaceConfig> read_interfaces(const TableReader& top,  // [[interface]]
                                              const std::vector<MaterialConfig>& materials);
+// [[joint]]: `file` resolved against `case_dir`; `file` and `set` need mesh.geo.
+std::vector<JointConfig> read_joints(const TableReader& top, const std::string& case_dir, const MeshConfig& mesh);
 // `materials = ["rock", "steel"]` of a [[contact.pair]] or an [[interface]]: two names of
 // [[material]] entries; a misspelt one gets a suggestion.
 std::array<std::string, 2> material_names(const TableReader& r,

@@ -16,7 +16,7 @@ namespace fdem::io {
 namespace {
 
 // The catalogue's variables, in the order they are defined and written.
-enum BreakVar { B_TIME, B_X, B_Y, B_LENGTH, B_MODE, B_ENERGY, B_CE4, B_TRI_A, B_TRI_B, B_COUNT };
+enum BreakVar { B_TIME, B_X, B_Y, B_LENGTH, B_MODE, B_ENERGY, B_CE4, B_TRI_A, B_TRI_B, B_JOINT, B_COUNT };
 enum EventVar { E_START, E_END, E_X, E_Y, E_BREAKS, E_ENERGY, E_MAGNITUDE, E_COUNT };
 
 struct VarSpec {
@@ -37,6 +37,7 @@ const VarSpec kBreakVars[B_COUNT] = {
     {"break_ce4", NC_INT, "1", "CE4 index, 0-based (element break_ce4 + 1 of the Exodus cohesive block)"},
     {"break_tri_a", NC_INT, "1", "first triangle of the CE4, 0-based (Exodus TRI3 element break_tri_a + 1)"},
     {"break_tri_b", NC_INT, "1", "second triangle of the CE4, 0-based (Exodus TRI3 element break_tri_b + 1)"},
+    {"break_joint", NC_INT, "1", "the [[joint]] the CE4 lies on, 0-based (joint[break_joint] of the case); -1 not on a joint"},
 };
 
 const VarSpec kEventVars[E_COUNT] = {
@@ -108,6 +109,7 @@ void write_breaks(const NetcdfFile& f, const int ids[B_COUNT], size_t first, con
   put_i(B_CE4, [](const BreakRecord& b) { return b.ce4; });
   put_i(B_TRI_A, [](const BreakRecord& b) { return b.tri_a; });
   put_i(B_TRI_B, [](const BreakRecord& b) { return b.tri_b; });
+  put_i(B_JOINT, [](const BreakRecord& b) { return b.joint; });
 }
 
 }  // namespace
@@ -203,11 +205,15 @@ std::vector<BreakRecord> read_break_records(const std::string& path, double t_ma
     i[k].resize(n);
     ok = nc_inq_varid(nc, in[k], &v) == NC_NOERR && (n == 0 || nc_get_var_int(nc, v, i[k].data()) == NC_NOERR);
   }
+  // break_joint came later ([[joint]]): an older file's breaks are on no joint.
+  std::vector<int> joint(n, -1);
+  if (int v = -1; ok && n > 0 && nc_inq_varid(nc, "break_joint", &v) == NC_NOERR)
+    ok = nc_get_var_int(nc, v, joint.data()) == NC_NOERR;
   nc_close(nc);
   if (!ok) throw OutputError("events file '" + path + "' has no readable break catalogue");
   for (size_t r = 0; r < n; ++r) {
     if (!(d[0][r] <= t_max + 1e-12 * std::fabs(t_max))) continue;
-    out.push_back(BreakRecord{d[0][r], d[1][r], d[2][r], d[3][r], d[4][r], i[0][r], i[1][r], i[2][r], i[3][r]});
+    out.push_back(BreakRecord{d[0][r], d[1][r], d[2][r], d[3][r], d[4][r], i[0][r], i[1][r], i[2][r], i[3][r], joint[r]});
   }
   return out;
 }

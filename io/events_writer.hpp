@@ -20,6 +20,7 @@ struct BreakRecord {
   int mode = 0;       // 1 mode I, 2 mode II, 3 mixed
   long ce4 = -1;      // 0-based CE4 index (element ce4 + 1 of the Exodus cohesive block)
   long tri_a = -1, tri_b = -1;  // 0-based triangles (element + 1 of the Exodus file's TRI3 blocks)
+  int joint = -1;     // the [[joint]] it lies on, 0-based (joint[joint]); -1: not on a joint
 };
 
 // Breaks grouped by proximity in space and time (engine/outputs/fracture_events.hpp).

@@ -209,8 +209,8 @@ void check_geo_string(const std::string& geo_path, const std::string& path) {
 // factor 1 is N × factor²; a mesh that grew less than 3^1.5 times for the last step
 // does not scale so (Transfinite, Layers) and the measured exponent is used instead.
 // Above fdem_max_triangles it stops; else it meshes at the .geo's own factor and saves.
-std::string driver_script(const std::string& geo_abs, const std::string& out_path, int algorithm) {
-  return "Include \"" + geo_abs + "\";\n" +
+std::string driver_script(const std::string& geo_abs, const std::string& out_path, int algorithm, const std::string& extra) {
+  return "Include \"" + geo_abs + "\";\n" + extra +
          (algorithm > 0 ? "Mesh.Algorithm = " + std::to_string(algorithm) + ";\n" : std::string()) +
          R"(fdem_user_factor = Mesh.MeshSizeFactor;
 fdem_verbosity = General.Verbosity;
@@ -404,7 +404,7 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
 }
 
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& algorithm,
-                     const std::string& cache_dir, const GeoMeshing& options) {
+                     const std::string& cache_dir, const GeoMeshing& options, const std::string& extra) {
   const int algorithm_number = gmsh_algorithm_number(algorithm);
   const std::string geo_text = read_file_bytes(geo_path, ".geo file");
   if (!options.allow_programs) {
@@ -427,7 +427,8 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   }
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text +
-                                          (algorithm.empty() ? std::string() : "\nMesh.Algorithm=" + algorithm))));
+                                          (algorithm.empty() ? std::string() : "\nMesh.Algorithm=" + algorithm) +
+                                          (extra.empty() ? std::string() : "\nextra:\n" + extra))));
   const std::string cache_name = fs::path(geo_path).stem().string() + "-" + hash + ".msh";
   const fs::path final_path = fs::path(cache_dir) / cache_name;
   std::error_code ec;
@@ -464,7 +465,7 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
   check_geo_string(geo_path, temp_abs);
   {
     std::ofstream driver(driver_path);
-    driver << driver_script(geo_abs, temp_abs, algorithm_number);
+    driver << driver_script(geo_abs, temp_abs, algorithm_number, extra);
     if (!driver) throw InputError(geo_path + ": cannot write " + driver_path.string() + " in the mesh cache");
   }
   // What a user would type to see gmsh's own messages.

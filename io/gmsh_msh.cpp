@@ -426,6 +426,7 @@ class MshReader {
       auto name = names_.find(key);
       mesh_.groups.push_back({key.first, key.second, name == names_.end() ? std::string() : name->second});
     }
+    mesh_.triangle_entity = triangle_entity_;
     for (int& g : mesh_.triangle_group) g = index.at({2, g});
     for (int& g : mesh_.line_group) g = index.at({1, g});
     for (int& g : mesh_.point_group) g = index.at({0, g});

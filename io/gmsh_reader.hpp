@@ -60,8 +60,11 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
 // The same with gmsh's 2D algorithm chosen (the case's mesh.algorithm: "frontal-delaunay",
 // "delaunay" or "meshadapt", set as Mesh.Algorithm after the .geo's own settings; "" keeps
 // the .geo's). A named algorithm is part of the cache name's hash; "" hashes as before.
+// `extra` is .geo text gmsh reads right after the .geo (the embedded [[joint]] files and
+// sets, io/joint_geometry.hpp); it too is hashed when not empty.
 std::string mesh_geo(const std::string& geo_path, double size, const std::string& algorithm,
-                     const std::string& cache_dir, const GeoMeshing& options);
+                     const std::string& cache_dir, const GeoMeshing& options,
+                     const std::string& extra = "");
 // gmsh's Mesh.Algorithm number of a mesh.algorithm name; 0 for "" (none set). Throws
 // InputError for another name.
 int gmsh_algorithm_number(const std::string& algorithm);

@@ -22,6 +22,7 @@ struct Mesh {
   std::vector<std::array<int, 3>> triangles;  // node indices, 0-based
   std::vector<int> triangle_group;            // index into groups, one per triangle
   std::vector<long> triangle_tags;            // Gmsh element tag of each triangle
+  std::vector<int> triangle_entity;           // Gmsh elementary surface of each triangle, as read (empty after refine)
 
   std::vector<std::array<int, 2>> lines;  // 2-node line elements (physical curves)
   std::vector<int> line_group;            // index into groups

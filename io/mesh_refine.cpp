@@ -131,6 +131,7 @@ void refine_once(Mesh& m, const std::string& what) {
 
 void refine_mesh(Mesh& mesh, int levels, const std::string& what) {
   if (levels <= 0) return;
+  mesh.triangle_entity.clear();  // as read only (io/joint_geometry.cpp reads it from an unrefined mesh)
   // Refuse before any work when the triangles alone would not fit the int indices.
   long double triangles = static_cast<long double>(mesh.triangles.size());
   for (int k = 0; k < levels && triangles <= INT_MAX; ++k) triangles *= 4;

@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "case_measures.hpp"
+#include "engine/run/prepare_case.hpp"
+#include "jaeger_measure.hpp"
 #include "kirsch_measure.hpp"
 #include "validation.hpp"
 
@@ -310,6 +312,96 @@ Measured tunnel_kirsch(const Results& r) {
   return m;
 }
 
+// ---- cases/jaeger: Jaeger's single plane of weakness -------------------------------------
+
+// The series: σ3 = 0 (case.toml) at β = 35° ... 85° every 5° and σ3 = 5 MPa (confined.toml)
+// at 35°, 50°, 60°, 70° and 85°, each with its intact specimen. Each run goes until σ1 is 1.3 × the smaller
+// of the formula and the intact strength's estimate (kJaegerIntact; σ1 rises at 10 MPa/ms
+// after t0), so that the joint or the rock has given.
+constexpr double kJaegerC = 2.0e6, kJaegerPhi = 30.0, kJaegerRate = 1.0e10;  // cases/jaeger/case.toml
+constexpr double kJaegerIntact[2] = {40.0e6, 65.0e6};  // the intact specimens' peaks, rounded up (README)
+constexpr double kJaegerSigma3[2] = {0.0, 5.0e6};
+constexpr double kJaegerT0[2] = {0.0, 2.0e-4};
+const char* const kJaegerCase[2] = {"cases/jaeger/case.toml", "cases/jaeger/confined.toml"};
+
+std::string jaeger_dir(int series, int beta) {
+  return std::string(series ? "jaeger-c-" : "jaeger-") + (beta ? "b" + std::to_string(beta) : std::string("intact"));
+}
+
+std::vector<std::string> jaeger_overrides(int series, int beta) {
+  const double cap = kJaegerIntact[series];
+  const double peak = beta ? std::min(cap, test::jaeger_strength(beta, kJaegerSigma3[series], kJaegerC, kJaegerPhi)) : cap;
+  const double end = kJaegerT0[series] + (1.3 * peak - kJaegerSigma3[series]) / kJaegerRate;
+  if (!beta)  // the intact specimen: b80's mesh, its joint given the rock's properties
+    return {"mesh.geo=\"b80.geo\"", "joint.0.tensile_strength=3.0e6", "joint.0.cohesion=9.0e6", "joint.0.gf1=20.0",
+            "joint.0.gf2=200.0", "time.end=" + text(end), "output.frames=2"};
+  return {"mesh.geo=\"b" + std::to_string(beta) + ".geo\"", "time.end=" + text(end), "output.frames=2"};
+}
+
+std::vector<int> jaeger_angles(int series) {
+  return series ? std::vector<int>{35, 50, 60, 70, 85} : std::vector<int>{35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85};
+}
+
+std::vector<Run> jaeger_runs() {
+  std::vector<Run> runs;
+  for (int series : {0, 1}) {
+    runs.push_back({jaeger_dir(series, 0), kJaegerCase[series], jaeger_overrides(series, 0)});
+    for (int beta : jaeger_angles(series)) runs.push_back({jaeger_dir(series, beta), kJaegerCase[series], jaeger_overrides(series, beta)});
+  }
+  return runs;
+}
+
+// The peak of each run: σ1 when half the joint's CE4s have broken (or, for the intact
+// specimen and where the rock gives first, when as many CE4s have). Figures: the worst
+// |measured / expected − 1| per series (expected: the smaller of the formula and the
+// intact specimen's measured peak), and whether the joint gave where the formula is
+// below the intact strength. Also writes OUT/jaeger.csv (tools/jaeger-plot draws it).
+Measured jaeger(const Results& r) {
+  Measured m;
+  std::ostringstream csv;
+  csv << "sigma3,beta,measured,expected,formula,on_joint,c_j,phi_j\n";
+  for (int series : {0, 1}) {
+    const double s3 = kJaegerSigma3[series];
+    // The peak: σ1 when half the joint's CE4s have broken (10 CE4s for the intact
+    // specimen). The case is prepared again (its mesh is in the run's folder) for the
+    // joint's CE4 count and the pressure table.
+    auto peak_of = [&](int beta) {
+      const std::string dir = r.dir(jaeger_dir(series, beta));
+      std::vector<std::string> overrides = jaeger_overrides(series, beta);
+      overrides.push_back("output.dir=\"" + dir + "\"");
+      const PreparedCase p = prepare_case(test::source_path(kJaegerCase[series]), overrides);
+      size_t joint = 0;
+      for (int j : p.model.ce4_joint) joint += j == 0;
+      return test::jaeger_peak(dir + "/jaeger_events.nc", p.config, beta ? std::max<size_t>(1, joint / 2) : 10);
+    };
+    const test::JaegerPeak intact = peak_of(0);
+    csv << s3 / 1e6 << ",," << intact.sigma1 / 1e6 << "," << intact.sigma1 / 1e6 << ",,0," << kJaegerC / 1e6 << ","
+        << kJaegerPhi << "\n";
+    m.notes.push_back(text("σ3 = ", s3 / 1e6, " MPa: intact specimen ", intact.sigma1 / 1e6, " MPa (", intact.breaks,
+                           " breaks)"));
+    double worst = 0, wrong_mode = 0;
+    for (int beta : jaeger_angles(series)) {
+      const double formula = test::jaeger_strength(beta, s3, kJaegerC, kJaegerPhi);
+      const double expected = std::min(formula, intact.sigma1);
+      const test::JaegerPeak p = peak_of(beta);
+      const double error = p.sigma1 / expected - 1;
+      worst = std::max(worst, std::fabs(error));
+      if (formula < 0.9 * intact.sigma1 && !p.on_joint) ++wrong_mode;
+      csv << s3 / 1e6 << "," << beta << "," << p.sigma1 / 1e6 << "," << expected / 1e6 << ","
+          << (std::isfinite(formula) ? text(formula / 1e6) : std::string("inf")) << "," << (p.on_joint ? 1 : 0) << ","
+          << kJaegerC / 1e6 << "," << kJaegerPhi << "\n";
+      m.notes.push_back(text("σ3 = ", s3 / 1e6, " MPa, β = ", beta, "°: peak σ1 ", p.sigma1 / 1e6, " MPa, expected ",
+                             expected / 1e6, " MPa (Jaeger ", formula / 1e6, "), error ", 100 * error, "%, ",
+                             p.on_joint ? "the joint slipped" : "the rock broke", " (", p.joint_breaks, " of ", p.breaks,
+                             " breaks on the joint)"));
+    }
+    m.values[series ? "confined" : "unconfined"] = worst;
+    m.values[series ? "confined-mode" : "unconfined-mode"] = wrong_mode;
+  }
+  std::ofstream(r.out + "/jaeger.csv") << csv.str();
+  return m;
+}
+
 }  // namespace
 
 const std::vector<Entry>& entries() {
@@ -445,6 +537,18 @@ const std::vector<Entry>& entries() {
          "cases/tunnel-kirsch/README.md, Expected: within 3% (issue 31, Verification)"},
         {"energy", "worst |energy_error| of the run", below(1e-3), "cases/tunnel-kirsch/README.md, Energy"}},
        tunnel_kirsch},
+
+      {"jaeger",
+       "one joint at β through a specimen under σ3 = 0 and 5 MPa: peak σ1 against Jaeger's plane of weakness",
+       jaeger_runs(),
+       {{"unconfined", "worst |σ1 / expected − 1| over β = 35° … 85°, σ3 = 0 (expected: Jaeger or the intact peak)",
+         below(0.10), "cases/jaeger/README.md, Expected: within 10% (issue 31, Verification)"},
+        {"confined", "worst |σ1 / expected − 1| over β = 35°, 50°, 60°, 70°, 85°, σ3 = 5 MPa", below(0.10),
+         "cases/jaeger/README.md, Expected: within 10% (issue 31, Verification)"},
+        {"unconfined-mode", "angles where Jaeger is below 0.9 × the intact peak but the rock gave, σ3 = 0", equal(0),
+         "cases/jaeger/README.md, Expected"},
+        {"confined-mode", "the same, σ3 = 5 MPa", equal(0), "cases/jaeger/README.md, Expected"}},
+       jaeger},
   };
   return table;
 }

@@ -50,6 +50,9 @@ struct CohesiveModel {
   // (Model::ce4_strength_factor). A CE4 whose factors are not (1, 1) gets a property set of
   // its own, with the same fracture energies.
   std::vector<std::array<double, 2>> strength_factor;
+  // [[joint]] broken = true (else empty): per CE4 1 where it starts closed (broken, its
+  // faces touching: the compression branch and friction only), 0 where it starts intact.
+  std::vector<char> closed;
 };
 
 // The property sets the stage holds for `model`'s CE4s: one per set of `fracture`, plus

@@ -13,6 +13,7 @@
 #include "base/format.hpp"
 #include "engine/model/fluid_spring.hpp"
 #include "engine/model/heterogeneity.hpp"
+#include "io/joint_geometry.hpp"
 #include "io/mesh.hpp"
 #include "io/suggest.hpp"
 
@@ -148,7 +149,11 @@ FractureProperties fracture_properties(const io::FractureConfig& f) {
 // materials joined by an [[interface]]). Every node-indexed array of the model follows:
 // a region, boundary condition or initial velocity on an original node applies to all
 // of its copies; a loaded edge moves to the copies of its one triangle.
-void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<std::string>& notes) {
+// `joint_edges`: the [[joint]] of each mesh edge on a joint's curves (model node indices,
+// edge_key order); such an edge gets a CE4 of the joint's properties whatever its
+// materials' (both must be fracturable; joint_edges checks that).
+void split_fracturable(Model& model, const io::CaseConfig& config, const std::map<std::pair<int, int>, int>& joint_edges,
+                       std::vector<std::string>& notes) {
   const size_t n_materials = config.materials.size();
   std::vector<int> material_fracture(n_materials, -1);
   for (size_t m = 0; m < n_materials; ++m)
@@ -173,6 +178,16 @@ void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<s
     model.fracture.push_back(fracture_properties(interface.fracture));
     pair_fracture[a * n_materials + b] = pair_fracture[b * n_materials + a] = index;
   }
+  const int first_joint = static_cast<int>(model.fracture.size());
+  for (const auto& joint : config.joints) {
+    model.fracture.push_back(fracture_properties(joint.fracture));
+    model.joint_names.push_back(joint.name);
+    model.joint_broken.push_back(joint.broken ? 1 : 0);
+  }
+  auto joint_of = [&](const std::pair<int, int>& key) {
+    const auto it = joint_edges.find(key);
+    return it == joint_edges.end() ? -1 : it->second;
+  };
 
   // Interior edges of the unsplit mesh: (a, b) of triangle t1 in its CCW order, the
   // twin (b, a) of t2.
@@ -216,7 +231,9 @@ void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<s
     if (sides[1].triangle < 0) continue;  // boundary edge
     const int t1 = sides[0].triangle, t2 = sides[1].triangle;
     if (!model.triangle_fracturable[t1] || !model.triangle_fracturable[t2]) continue;
-    const int props = pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
+    const int joint = joint_of(key);
+    const int props = joint >= 0 ? first_joint + joint
+                                 : pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
     if (props < 0) {
       ++unbonded;
       continue;
@@ -226,6 +243,7 @@ void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<s
     model.ce4.push_back({triangles[t1][c1], triangles[t1][(c1 + 1) % 3], triangles[t2][c2], triangles[t2][(c2 + 1) % 3]});
     model.ce4_triangles.push_back({t1, t2});
     model.ce4_properties.push_back(props);
+    if (!config.joints.empty()) model.ce4_joint.push_back(joint);
   }
   if (unbonded)
     notes.push_back(std::to_string(unbonded) + " edges between two different fracturable materials have no [[interface]]: "
@@ -240,8 +258,12 @@ void split_fracturable(Model& model, const io::CaseConfig& config, std::vector<s
   for (const auto& [key, sides] : edges) {
     if (sides[1].triangle < 0) continue;
     const int t1 = sides[0].triangle, t2 = sides[1].triangle;
+    // A broken joint's CE4s start closed: their fan is not bonded (contact handles its
+    // corner couples, as at an unbonded interface).
+    const int joint = joint_of(key);
     const bool bonded = model.triangle_fracturable[t1] && model.triangle_fracturable[t2] &&
-                        pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]] >= 0;
+                        (joint >= 0 ? !model.joint_broken[joint]
+                                    : pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]] >= 0);
     if (!bonded) model.vertex_bonded[key.first] = model.vertex_bonded[key.second] = 0;
   }
   model.node_origin = origin;
@@ -402,6 +424,40 @@ void set_heterogeneity(Model& model, const io::CaseConfig& config) {
   }
 }
 
+std::vector<std::string> joint_summary(const Model& model, const io::CaseConfig& config) {
+  std::vector<std::string> out;
+  for (size_t j = 0; j < config.joints.size(); ++j) {
+    const io::JointConfig& joint = config.joints[j];
+    size_t count = 0;
+    double length = 0;
+    for (size_t e = 0; e < model.ce4_joint.size(); ++e)
+      if (model.ce4_joint[e] == static_cast<int>(j)) {
+        ++count;
+        const auto& c = model.ce4[e];
+        length += std::hypot(model.x[c[1]] - model.x[c[0]], model.y[c[1]] - model.y[c[0]]);
+      }
+    std::string curves;
+    for (const auto& c : joint.curves) curves += (curves.empty() ? "'" : ", '") + c + "'";
+    if (!joint.file.empty()) curves += (curves.empty() ? "file " : ", file ") + joint.file;
+    if (joint.set)
+      curves += (curves.empty() ? "" : ", ") + std::string("a set (angle ") + format_number(joint.set->angle) +
+                "°, kappa " + format_number(joint.set->kappa) + ", spacing " + format_number(joint.set->spacing) +
+                " m, trace length " + format_number(joint.set->trace_length) + " m, persistence " +
+                format_number(joint.set->persistence) + ", seed " + std::to_string(joint.set->seed) + ")";
+    const io::FractureConfig& f = joint.fracture;
+    std::string line = "joint[" + std::to_string(j) + "] '" + joint.name + "' on " + curves + ": " +
+                       std::to_string(count) + " CE4s, " + format_number(length, 4) + " m; ";
+    if (joint.broken)
+      line += "broken (closed, friction only), friction angle " + format_number(f.friction_angle) + "°";
+    else
+      line += "T_s " + format_number(f.tensile_strength) + " Pa, c " + format_number(f.cohesion) + " Pa, friction angle " +
+              format_number(f.friction_angle) + "°, G_fI " + format_number(f.gf1) + " J/m², G_fII " +
+              format_number(f.gf2) + " J/m²";
+    out.push_back(line);
+  }
+  return out;
+}
+
 std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config) {
   std::vector<std::string> out;
   std::vector<int> own_set(config.materials.size(), -1);
@@ -497,6 +553,72 @@ std::vector<InSituGaps> in_situ_ce4_gaps(const Model& model) {
   }
   return out;
 }
+
+namespace {
+
+// The mesh edges of each [[joint]]'s curves (model node indices) → the joint's index.
+// Every edge must lie between two triangles of fracturable materials (a CE4 can only go
+// there) and belong to one joint; messages name the joint's key and the curve.
+std::map<std::pair<int, int>, int> joint_edges(const io::Mesh& mesh, const std::vector<int>& new_index,
+                                               const Model& model, const io::CaseConfig& config) {
+  std::map<std::pair<int, int>, int> joints;
+  if (config.joints.empty()) return joints;
+  std::map<std::pair<int, int>, std::array<int, 2>> sides;  // the (up to) two triangles of each edge
+  for (size_t t = 0; t < model.num_triangles(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      auto& s = sides.try_emplace(edge_key(model.triangles[t][e], model.triangles[t][(e + 1) % 3]),
+                                  std::array<int, 2>{-1, -1})
+                    .first->second;
+      s[s[0] < 0 ? 0 : 1] = static_cast<int>(t);
+    }
+  for (size_t j = 0; j < config.joints.size(); ++j) {
+    const io::JointConfig& joint = config.joints[j];
+    const std::string where = io::origin_of(config, "joint." + std::to_string(j) + ".curves") + ": joint[" +
+                              std::to_string(j) + "] ('" + joint.name + "').curves";
+    // The curves named, and those the front end embedded from the joint's file and set.
+    std::vector<std::string> curves = joint.curves;
+    if ((!joint.file.empty() || joint.set) && mesh.find_group(io::embedded_joint_curve(int(j)), 1) >= 0)
+      curves.push_back(io::embedded_joint_curve(int(j)));
+    for (const std::string& curve : curves) {
+      const int g = mesh.find_group(curve, 1);
+      if (g < 0) {
+        if (mesh.find_group(curve, 2) >= 0)
+          throw InputError(where + ": '" + curve + "' is a physical surface of " + mesh.source +
+                           ", not a curve; a joint runs along physical curves");
+        throw InputError(where + ": no physical curve '" + curve + "' in " + mesh.source +
+                         io::did_you_mean(curve, group_names(mesh, 1)) + "; its curves are " +
+                         list_names(group_names(mesh, 1)));
+      }
+      size_t count = 0;
+      for (size_t l = 0; l < mesh.lines.size(); ++l) {
+        if (mesh.line_group[l] != g) continue;
+        ++count;
+        const int a = new_index[mesh.lines[l][0]], b = new_index[mesh.lines[l][1]];
+        const auto it = (a >= 0 && b >= 0) ? sides.find(edge_key(a, b)) : sides.end();
+        const std::string element = "line element " + std::to_string(mesh.line_tags[l]) + " of curve '" + curve + "'";
+        if (it == sides.end())
+          throw InputError(where + ": " + element + " is not an edge of any triangle (embed the curve in its surface, "
+                                   "e.g. Curve{..} In Surface{..}, or make it a boundary between surfaces)");
+        const auto [t1, t2] = it->second;
+        if (t2 < 0)
+          throw InputError(where + ": " + element + " lies on the boundary of the body: a joint runs inside it, "
+                                   "between two triangles");
+        for (int t : {t1, t2})
+          if (!config.materials[model.triangle_material[t]].fracture)
+            throw InputError(where + ": " + element + " borders material '" +
+                             config.materials[model.triangle_material[t]].name +
+                             "', which has no [material.fracture]: a joint's CE4s join fracturable triangles (give "
+                             "the material a [material.fracture], as strong as the intact rock is)");
+        joints[it->first] = static_cast<int>(j);
+      }
+      if (count == 0)
+        throw InputError(where + ": physical curve '" + curve + "' of " + mesh.source + " has no line elements");
+    }
+  }
+  return joints;
+}
+
+}  // namespace
 
 Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
                   std::vector<std::string>& notes) {
@@ -816,7 +938,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       remember_region(config.fluid->crack, dim, region_nodes(config.fluid->crack, config.path + ": fluid.crack", &dim), false);
     remember_region(config.fluid->source, dim, region_nodes(config.fluid->source, config.path + ": fluid.source", &dim), false);
   }
-  split_fracturable(model, config, notes);
+  split_fracturable(model, config, joint_edges(mesh, new_index, model, config), notes);
   if (config.fluid) model.fluid = build_fluid_model(model, *config.fluid, config.path);
   if (config.contact) model.contact_active = initial_candidates(model, *config.contact);
   set_heterogeneity(model, config);
@@ -991,6 +1113,8 @@ std::vector<std::string> model_warnings(const Model& model, const io::CaseConfig
               *config.materials[m].fracture);
     for (size_t i = 0; i < config.interfaces.size(); ++i)
       check("interface." + std::to_string(i), "interface[" + std::to_string(i) + "]", config.interfaces[i].fracture);
+    for (size_t j = 0; j < config.joints.size(); ++j)
+      check("joint." + std::to_string(j), "joint[" + std::to_string(j) + "]", config.joints[j].fracture);
   }
   // An in-situ field that grows with depth at another ρ than the rock's is not in
   // equilibrium with the rock's weight: the body settles (or heaves) from the start.

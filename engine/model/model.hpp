@@ -138,6 +138,11 @@ struct Model {
   std::vector<int> ce4_properties;                // index into fracture
   std::vector<FractureProperties> fracture;       // per fracturable material, then per interface
   std::vector<bool> triangle_fracturable;
+  // [[joint]] (all empty without): per CE4 the joint it lies on (-1: none), and per joint
+  // its name and whether it starts broken (its CE4s closed: friction only).
+  std::vector<int> ce4_joint;
+  std::vector<std::string> joint_names;
+  std::vector<char> joint_broken;
   // After the split (empty without CE4s): the mesh node each node is a copy of, and per
   // mesh node whether its whole fan is bonded (every triangle at it fracturable, every
   // interior edge at it a CE4): 1 bonded, 0 not. The triangles around a bonded mesh node
@@ -193,6 +198,9 @@ std::string in_situ_summary(const Model& model);
 // What `fdem check` says of each heterogeneous material: its Weibull modulus and seed, and
 // per varying property the range and mean of the factors drawn; empty without any.
 std::vector<std::string> heterogeneity_summary(const Model& model, const io::CaseConfig& config);
+// One line per [[joint]] for `fdem check`: its name, curves, CE4 count, total length and
+// its properties (or "broken" with its friction angle).
+std::vector<std::string> joint_summary(const Model& model, const io::CaseConfig& config);
 
 // The mean edge length of the model's triangles [m] (every triangle, reference
 // positions): the element size h of the contact defaults below.

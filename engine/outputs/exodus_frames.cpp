@@ -14,6 +14,9 @@ namespace {
 std::vector<std::string> element_names(const Model& model) {
   std::vector<std::string> names = {"SXX", "SYY", "SXY", "PS1", "PS2"};
   if (!model.ce4.empty()) names.insert(names.end(), {"DAMAGE", "BROKEN", "MODE", "OPENING", "SLIP", "FRAGMENT"});
+  // [[joint]]: on the cohesive block the joint's number (joint[k]: k + 1) of each CE4, 0
+  // off the joints and on the triangles; a Threshold JOINT >= 1 shows the joints.
+  if (!model.ce4_joint.empty()) names.push_back("JOINT");
   // [[excavation]]: how much of each triangle is removed, 0 (whole) to 1 (gone); a
   // Threshold EXCAVATED < 1 in ParaView shows the hole.
   if (!model.excavations.empty()) names.push_back("EXCAVATED");
@@ -131,6 +134,8 @@ void ExodusFrames::write(const Snapshot& f) {
       elem[9].back()[e] = f.slip[e];
       elem[10].back()[e] = f.broken[e] ? 0 : labels[model.ce4_triangles[e][0]] + 1;
     }
+    if (!model.ce4_joint.empty())
+      for (size_t e = 0; e < count; ++e) elem[11].back()[e] = model.ce4_joint[e] + 1;
   }
   if (!model.excavations.empty()) {  // after the CE4 variables; 0 on the CE4 block
     const size_t k = elem.size() - 1 - (model.fluid.enabled ? 2 : 0);

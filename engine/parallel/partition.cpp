@@ -431,6 +431,8 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
   m.groups = g.groups;
   m.loads = g.loads;
   m.fracture = g.fracture;
+  m.joint_names = g.joint_names;
+  m.joint_broken = g.joint_broken;
   m.gravity = g.gravity;
   m.in_situ = g.in_situ;
   m.excavations = g.excavations;
@@ -479,6 +481,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.ce4_triangles.push_back({local_tri[g.ce4_triangles[c][0]], local_tri[g.ce4_triangles[c][1]]});
       m.ce4_properties.push_back(g.ce4_properties[c]);
       if (!g.ce4_strength_factor.empty()) m.ce4_strength_factor.push_back(g.ce4_strength_factor[c]);
+      if (!g.ce4_joint.empty()) m.ce4_joint.push_back(g.ce4_joint[c]);
       if (g.contact.enabled) m.ce4_owned.push_back(partition.triangle_part[g.ce4_triangles[c][0]] == rank ? 1 : 0);
     }
   for (size_t k = 0; k < g.loaded_edges.size(); ++k) {

@@ -8,7 +8,10 @@
 namespace fdem {
 
 std::vector<io::BreakRecord> with_triangles(const Model& model, std::vector<io::BreakRecord> records) {
-  for (auto& b : records) b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
+  for (auto& b : records) {
+    b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
+    if (!model.ce4_joint.empty()) b.joint = model.ce4_joint[b.ce4];
+  }
   return records;
 }
 

@@ -12,6 +12,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "io/gmsh_reader.hpp"
+#include "io/joint_geometry.hpp"
 
 namespace fdem {
 
@@ -103,6 +104,49 @@ void check_output(const PreparedCase& p) {
   }
 }
 
+// The .geo text that embeds the [[joint]] files and sets in the surfaces of `base` (the
+// .geo meshed as it is), or "" when no joint has a file or a set. Notes what each gave.
+static std::string joint_geo_text(const io::CaseConfig& c, const io::Mesh& base, std::vector<std::string>& notes) {
+  std::vector<io::JointSegment> segments;
+  io::Point2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+  for (size_t n = 0; n < base.x.size(); ++n) {
+    lo = {std::min(lo[0], base.x[n] * c.mesh.scale), std::min(lo[1], base.y[n] * c.mesh.scale)};
+    hi = {std::max(hi[0], base.x[n] * c.mesh.scale), std::max(hi[1], base.y[n] * c.mesh.scale)};
+  }
+  bool any = false;
+  for (size_t j = 0; j < c.joints.size(); ++j) {
+    const io::JointConfig& joint = c.joints[j];
+    if (!joint.file.empty()) {
+      const auto read = io::read_polylines(joint.file, int(j));
+      segments.insert(segments.end(), read.begin(), read.end());
+      any = true;
+    }
+    if (joint.set) {
+      const auto draw = io::draw_joint_set(*joint.set, lo, hi, int(j));
+      if (draw.traces.size() > 1000000)
+        throw InputError(io::origin_of(c, "joint." + std::to_string(j) + ".set.spacing") + ": joint[" + std::to_string(j) +
+                         "].set draws more than 1,000,000 traces over the region: a larger spacing or trace_length");
+      segments.insert(segments.end(), draw.traces.begin(), draw.traces.end());
+      any = true;
+    }
+  }
+  if (!any) return "";
+  const io::JointEmbedding e = io::embed_joints(base, c.mesh.scale, segments, int(c.joints.size()));
+  for (size_t j = 0; j < c.joints.size(); ++j) {
+    if (c.joints[j].file.empty() && !c.joints[j].set) continue;
+    if (e.pieces[j] == 0 && c.joints[j].curves.empty())
+      throw InputError(io::origin_of(c, "joint." + std::to_string(j) + (c.joints[j].set ? ".set.spacing" : ".file")) +
+                       ": joint[" + std::to_string(j) + "] ('" + c.joints[j].name + "'): no joint of its " +
+                       (c.joints[j].set ? "set" : "file") + " lies inside the meshed region " + base.source +
+                       " (x " + format_number(lo[0]) + " to " + format_number(hi[0]) + ", y " + format_number(lo[1]) +
+                       " to " + format_number(hi[1]) + " m)");
+    notes.push_back("joint[" + std::to_string(j) + "] ('" + c.joints[j].name + "'): " + std::to_string(e.pieces[j]) +
+                    " straight pieces, " + format_number(e.length[j], 4) + " m, embedded into " + c.mesh.geo +
+                    " (clipped to the region, half an element off its boundaries)");
+  }
+  return e.geo;
+}
+
 PreparedCase prepare_case(const std::string& case_path, const std::vector<std::string>& overrides) {
   PreparedCase p;
   p.config = io::read_case(case_path, overrides);
@@ -116,7 +160,12 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
     // Meshes made from .geo files are cached in FDEM_MESH_CACHE when set (shared across
     // runs and machines), else next to the output.
     const char* cache = std::getenv("FDEM_MESH_CACHE");
-    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache && *cache ? cache : c.output.dir, io::geo_meshing());
+    const std::string cache_dir = cache && *cache ? cache : c.output.dir;
+    mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache_dir, io::geo_meshing());
+    // [[joint]] files and sets: embedded into the .geo, which is meshed again with them.
+    const std::string extra = joint_geo_text(c, io::read_gmsh(mesh_path), p.notes);
+    if (!extra.empty())
+      mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache_dir, io::geo_meshing(), extra);
   }
   const io::Mesh mesh = io::read_gmsh(mesh_path, &p.notes);
   p.model = build_model(mesh, c, p.notes);

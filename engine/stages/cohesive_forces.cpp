@@ -230,8 +230,16 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     in_situ_gaps_ = arrays.allocate(cl, "ce4_in_situ_gaps");
     upload(cl, in_situ_gaps_, gaps);
   }
+  if (!model.closed.empty() && model.closed.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.closed.size()) +
+                     " closed flags");
+  // A broken joint's CE4s start closed (status 1, mode 0: broken before the run, so no
+  // record in the break log) with break time 0.
+  std::vector<cl_int> status(2 * count_, 0);
+  for (size_t e = 0; e < model.closed.size(); ++e)
+    if (model.closed[e]) status[2 * e] = 1, slips[e].w = real(0);
   upload(cl, gp_slip_, slips);
-  upload(cl, status_, std::vector<cl_int>(2 * count_, 0));
+  upload(cl, status_, status);
   upload(cl, slots_, std::vector<real2>(4 * count_));
   upload(cl, last_gap_, gaps);
   upload(cl, last_chord_, chords);

@@ -1,0 +1,3 @@
+beta = 35;
+joint = 1;
+Include "specimen.geo";

@@ -1,0 +1,3 @@
+beta = 40;
+joint = 1;
+Include "specimen.geo";

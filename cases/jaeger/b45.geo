@@ -1,0 +1,3 @@
+beta = 45;
+joint = 1;
+Include "specimen.geo";

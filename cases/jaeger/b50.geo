@@ -1,0 +1,3 @@
+beta = 50;
+joint = 1;
+Include "specimen.geo";

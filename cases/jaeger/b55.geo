@@ -1,0 +1,3 @@
+beta = 55;
+joint = 1;
+Include "specimen.geo";

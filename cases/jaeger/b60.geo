@@ -1,0 +1,3 @@
+beta = 60;
+joint = 1;
+Include "specimen.geo";

@@ -1,0 +1,3 @@
+beta = 65;
+joint = 1;
+Include "specimen.geo";

@@ -1,0 +1,3 @@
+beta = 70;
+joint = 1;
+Include "specimen.geo";

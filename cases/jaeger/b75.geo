@@ -1,0 +1,3 @@
+beta = 75;
+joint = 1;
+Include "specimen.geo";

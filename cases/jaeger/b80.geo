@@ -1,0 +1,3 @@
+beta = 80;
+joint = 1;
+Include "specimen.geo";

@@ -1,0 +1,3 @@
+beta = 85;
+joint = 1;
+Include "specimen.geo";

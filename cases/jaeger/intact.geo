@@ -1,0 +1,2 @@
+joint = 0;
+Include "specimen.geo";
