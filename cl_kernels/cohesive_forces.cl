@@ -173,7 +173,11 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // changed (the same bits as storing it every step, less traffic).
 // energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
 // energy it holds now, 0) [J].
-// slots: read first (the forces of the last step, for the work), then overwritten.
+// slots: real2 ×3 per CE4, the terms (f_i, f_j, f_m) of its four nodal forces; the node
+// i, j, j', i' takes f_i + f_m, f_j - f_m, -f_j - f_m, -f_i + f_m (ce4_slot_force in
+// node_gather.cl forms them with these expressions, so a node's sum has the bits of four
+// stored slots, in 3/4 of the memory). Read first (the last step's, for the work), then
+// overwritten.
 // Break catalogue (an append buffer, read by the host with the history rows): a CE4 that
 // breaks in this step takes slot k = atomic_inc(break_count) and writes break_ids[k] =
 // (e, mode) and break_records[k] = (time, midpoint x, midpoint y of its four nodes, its
@@ -387,7 +391,9 @@ __kernel void cohesive_forces(const uint n_ce4,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
     const real4 before = last_gap[e];
     const real2 chord_before = last_chord[e];
-    const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
+    const real2 fi_before = slots[3 * e], fj_before = slots[3 * e + 1], fm_before = slots[3 * e + 2];
+    const real2 s_i = fi_before + fm_before, s_j = fj_before - fm_before;
+    const real2 s_j2 = -fj_before - fm_before, s_i2 = -fi_before + fm_before;
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);
     real4 account = energy[e];
@@ -425,10 +431,9 @@ __kernel void cohesive_forces(const uint n_ce4,
   last_gap[e] = (real4)(gap_i, gap_j);
   last_chord[e] = chord;
 
-  slots[4 * e] = f_i + f_m;
-  slots[4 * e + 1] = f_j - f_m;
-  slots[4 * e + 2] = -f_j - f_m;
-  slots[4 * e + 3] = -f_i + f_m;
+  slots[3 * e] = f_i;
+  slots[3 * e + 1] = f_j;
+  slots[3 * e + 2] = f_m;
 }
 
 // One work-item per CE4, for output only (between steps): column 0 the largest D_max over

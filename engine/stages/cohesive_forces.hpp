@@ -42,7 +42,12 @@ class CohesiveForces {
   // that are released (a broken CE4 stays closed until its faces open). Never waits.
   void enqueue(double time, long step);
 
-  compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
+  // real2 ×3 per CE4 [N]: the terms (f_i, f_j, f_m) of its four slot forces (the gather
+  // forms f_i + f_m, f_j - f_m, -f_j - f_m, -f_i + f_m: cl_kernels/node_gather.cl).
+  compute::buffer& slots() { return slots_; }
+  // The four slot forces per CE4 (order i, j, j', i'), formed on the host as the gather
+  // forms them (the same bits): for tests and tools.
+  std::vector<real2> slot_forces();
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
   // released at step n (cl_kernels/cohesive_forces.cl).
   compute::buffer& status() { return status_; }
