@@ -171,8 +171,8 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // chord c at the last step [m] (every CE4, released ones too: cohesive_output reads them
 // for the frames' mean opening and slip). Each array is stored only where a value
 // changed (the same bits as storing it every step, less traffic).
-// energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
-// energy it holds now, 0) [J].
+// energy: 3 reals per CE4 (work done on it so far, fracture dissipation so far, elastic
+// energy it holds now) [J], read and written with vload3/vstore3.
 // slots: real2 ×3 per CE4, the terms (f_i, f_j, f_m) of its four nodal forces; the node
 // i, j, j', i' takes f_i + f_m, f_j - f_m, -f_j - f_m, -f_i + f_m (ce4_slot_force in
 // node_gather.cl forms them with these expressions, so a node's sum has the bits of four
@@ -200,7 +200,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real2* restrict slots,
                               __global real4* restrict last_gap,
                               __global real2* restrict last_chord,
-                              __global real4* restrict energy,
+                              __global real* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
                               __global real4* restrict break_records
@@ -396,7 +396,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     const real2 s_j2 = -fj_before - fm_before, s_i2 = -fi_before + fm_before;
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);
-    real4 account = energy[e];
+    real3 account = vload3(e, energy);
     account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
                               dot(m_before + f_m, chord - chord_before));
     account.z = held * scale;
@@ -409,7 +409,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     // create energy (header), so this only moves up, except by the trapezoid rule's error
     // on the elastic curves; the max keeps it from ever moving down.
     account.y = fmax(account.y, account.x - account.z);
-    energy[e] = account;
+    vstore3(account, e, energy);
 #ifdef CORNER_FANS
     // The fans of its two mesh nodes are no longer whole: from the next step contact takes
     // their corner couples (every CE4 breaking at a node in one step writes the same value).
@@ -468,11 +468,11 @@ __kernel void cohesive_output(const uint n_ce4,
 // same on every run.
 __kernel void cohesive_energy_partials(const uint n_ce4,
                                        const uint n_partials,
-                                       __global const real4* restrict energy,
+                                       __global const real* restrict energy,
                                        __global real2* restrict partial) {
   const uint k = get_global_id(0);
   if (k >= n_partials) return;
   real2 sum = (real2)(0, 0);
-  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].yz;
+  for (uint e = k; e < n_ce4; e += n_partials) sum += vload3(e, energy).yz;
   partial[k] = sum;
 }

@@ -60,7 +60,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       .add("ce4_force", 3 * ce4 * sizeof(real2))
       .add("ce4_last_gap", ce4 * sizeof(real4))
       .add("ce4_last_chord", ce4 * sizeof(real2))
-      .add("ce4_energy", ce4 * sizeof(real4))
+      .add("ce4_energy", 3 * ce4 * sizeof(real))  // W, fracture dissipation, stored
       .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
       .add("ce4_break_count", sizeof(cl_uint))
       .add("ce4_break_ids", 2 * ce4 * sizeof(cl_int))
@@ -220,7 +220,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, slots_, std::vector<real2>(3 * count_));
   upload(cl, last_gap_, gaps);
   upload(cl, last_chord_, chords);
-  upload(cl, energy_, std::vector<real4>(count_));
+  upload(cl, energy_, std::vector<real>(3 * count_));
 
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
@@ -336,7 +336,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
-  out.buffer<real>("ce4_energy", energy_, count_, 4);
+  out.buffer<real>("ce4_energy", energy_, count_, 3);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   // The break log in catalogue order (the device's slot order is not reproducible).
   cl_uint count = 0;
@@ -361,7 +361,7 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
-  in.buffer<real>("ce4_energy", energy_, count_, 4);
+  in.buffer<real>("ce4_energy", energy_, count_, 3);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   const std::int64_t n = in.integer("ce4_break_count");
   if (n < 0 || size_t(n) > count_) throw InputError("checkpoint: ce4_break_count " + std::to_string(n) + " is out of range");
@@ -411,9 +411,9 @@ void CohesiveForces::flags(std::vector<int>& broken, std::vector<int>& mode) {
 }
 
 std::vector<real> CohesiveForces::energy_column(int k) {
-  const auto rows = download<real4>(cl_, energy_, count_);
+  const auto rows = download<real>(cl_, energy_, 3 * count_);
   std::vector<real> column(count_);
-  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : rows[e].z;
+  for (size_t e = 0; e < count_; ++e) column[e] = rows[3 * e + k];
   return column;
 }
 
