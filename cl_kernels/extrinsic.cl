@@ -34,7 +34,7 @@
 //   cohesive shear τ_c = sgn(τ) min(|τ|, c), s₀ from the parabola of Eq. 5 the same way;
 //   the rest τ - τ_c, within ±tanφ max(0, -σ_n), to the friction element: s_f = s₀ - τ_f / k_f.
 //   So an edge inserted in tension starts at o = o_p, the peak, and only softens as it
-//   opens (D grows from 0 past o_p). Its energy row's w takes ψ₀ h t, the energy its law
+//   opens (D grows from 0 past o_p). Its insertion row's third value takes ψ₀ h t, the energy its law
 //   holds at the offsets, which cohesive_forces.cl subtracts from the stored energy: an
 //   inserted CE4's stored energy is counted from the state it was inserted in, so the
 //   insertion itself adds nothing to the account. inserted_count counts insertions
@@ -97,9 +97,9 @@ __kernel void extrinsic_tie(const uint n_vertices,
 }
 
 // opposite: per CE4 the corner-force slots (3 t + k) of the corners opposite its edge in
-// triangle 1 and in triangle 2. gaps: per CE4 (o₀, s₀) [m]. energy: the CE4 stage's rows
-// (work, dissipation, stored, held at insertion) [J]. gp_slip: its friction slips (and in
-// w the break time, -1 while intact).
+// triangle 1 and in triangle 2. gaps: per CE4 (o₀, s₀) [m] and ψ₀ h t [J], the energy its
+// law holds at the offsets (cohesive_forces.cl counts the stored energy from it).
+// gp_slip: its friction slips (and in w the break time, -1 while intact).
 __kernel void extrinsic_insert(const uint n_ce4,
                                __global const uint4* restrict ce4_nodes,
                                __global const real* restrict ce4_length,
@@ -110,9 +110,8 @@ __kernel void extrinsic_insert(const uint n_ce4,
                                __global const real2* restrict corner_force,
                                const real thickness,
                                __global int* restrict inserted,
-                               __global real2* restrict gaps,
+                               __global real4* restrict gaps,
                                __global real4* restrict gp_slip,
-                               __global real4* restrict energy,
                                __global uint* restrict inserted_count) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -155,10 +154,7 @@ __kernel void extrinsic_insert(const uint n_ce4,
   const real held_s = coh * sp * rs * rs * ((real)1 - rs / (real)3) + (real)0.5 * tau_f * tau_f / k_fric;
 
   inserted[e] = 1;
-  gaps[e] = (real2)(o0, s0);
+  gaps[e] = (real4)(o0, s0, (held_n + held_s) * h * thickness, (real)0);
   gp_slip[e] = (real4)(sf, sf, sf, gp_slip[e].w);
-  real4 account = energy[e];
-  account.w = (held_n + held_s) * h * thickness;
-  energy[e] = account;
   atomic_inc(inserted_count);
 }

@@ -38,6 +38,13 @@
 // the result is the same bits.
 // node_mass: with MASS_SCALING 1 real2 (true mass, inertia); with 0 one real, the mass,
 // which is also the inertia (LumpedMass: half the bytes when nothing is scaled).
+// Energy rows' ordered sums: the node's terms (kinetic, gravity potential, damping work
+// and reaction work up to t) summed over each block of ORDERED_BLOCK nodes left to right,
+// which is what ordered_block_sums (ordered_sum.cl) does, into energy_partials (4 reals a
+// block): the work-group (GROUP_SIZE, a multiple of ORDERED_BLOCK) puts its nodes' terms in
+// local memory and the first work-item of each block adds them in node order, so the
+// per-node array exists only where node_rows is 1 (a split run, whose energy() gathers the
+// values per node).
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST,
 // GATHER_IN_STEP, MASS_SCALING, GRAVITY_POTENTIAL (1: the model has gravity, and
 // ref_position is the reference positions; 0: ref_position is a placeholder, not read).
@@ -76,7 +83,9 @@ __kernel void integrate(const uint n_nodes,
                         __global real2* restrict group_work,
                         __global real4* restrict group_row,
                         __global real2* restrict node_work,
-                        __global real4* restrict node_energy) {
+                        const int node_rows,
+                        __global real4* restrict node_energy,
+                        __global real* restrict energy_partials) {
 #if SKIN_TEST
   __local uint2 skin_scratch[GROUP_SIZE];
 #endif
@@ -87,6 +96,7 @@ __kernel void integrate(const uint n_nodes,
 #endif
   real4 work = (real4)(0, 0, 0, 0);  // (damping work, reaction work) this step; forward halves
   real4 row = (real4)(0, 0, 0, 0);   // (kinetic, gravity potential) on energy rows
+  real4 terms = (real4)(0, 0, 0, 0);  // the node's terms of the row's ordered sums
   if (i < n_nodes) {
 #if MASS_SCALING
     const real2 mass = node_mass[i];  // (true mass, inertia)
@@ -142,9 +152,10 @@ __kernel void integrate(const uint n_nodes,
 #else
       row.y = (real)0;  // no gravity: ±0 per node, and the ordered sums of ±0 are +0
 #endif
-      // The node's own terms, summed by the host in node order (rank-independent sums):
-      // (kinetic, gravity potential, damping and reaction work up to t).
-      node_energy[i] = (real4)(row.x, row.y, work.x - work.z, work.y - work.w);
+      // The node's own terms, summed in node order (rank-independent sums): (kinetic,
+      // gravity potential, damping and reaction work up to t).
+      terms = (real4)(row.x, row.y, work.x - work.z, work.y - work.w);
+      if (node_rows) node_energy[i] = terms;
     }
     if (!(isfinite(x.x) && isfinite(x.y) && isfinite(v.x) && isfinite(v.y))) {
       atomic_min(&conditions[COND_BAD_NODE], (int)i);
@@ -166,6 +177,18 @@ __kernel void integrate(const uint n_nodes,
   }
   // Energy sums: the flags are the same for every work-item, so no barrier is skipped by some only.
   if (energy_row) {
+    // The ordered block sums first: `terms` goes to local memory right after the region
+    // that computed it (PoCL 3 lost a private value kept across several barriers here:
+    // every work-item stored the group's last one).
+    energy_scratch[lid] = terms;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid % ORDERED_BLOCK == 0 && i < n_nodes) {
+      const uint count = min((uint)ORDERED_BLOCK, n_nodes - i);
+      real4 sum = (real4)(0, 0, 0, 0);
+      for (uint k = 0; k < count; ++k) sum += energy_scratch[lid + k];
+      vstore4(sum, i / ORDERED_BLOCK, energy_partials);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);  // the blocks are summed before the scratch is reused
     const uint g = get_group_id(0);
     const real4 w = group_sum4(energy_scratch, work);
     if (lid == 0 && account_work) group_work[g] = w.xy;

@@ -282,7 +282,9 @@ __kernel void triangle_forces(const uint n_triangles,
                               const real dt,
                               __global real2* restrict group_energy,
                               __global real4* restrict viscous_stress,
-                              __global real2* restrict triangle_energy
+                              const int item_rows,
+                              __global real2* restrict triangle_energy,
+                              __global real* restrict energy_partials
 #ifdef IN_SITU_STRESS
                               , __global const real4* restrict initial_stress
 #endif
@@ -312,11 +314,28 @@ __kernel void triangle_forces(const uint n_triangles,
 #endif
                       );
   // Energy rows: the triangle's own (strain energy, viscous dissipation so far), summed
-  // by the host in triangle order (rank-independent sums, engine/energy.hpp).
-  if ((energy_mode & 2) && t < n_triangles) triangle_energy[t] = (real2)(energy.x, (energy_mode & 1) ? energy.y : (real)0);
+  // in triangle order (rank-independent sums, engine/energy.hpp): over each block of
+  // ORDERED_BLOCK triangles left to right into energy_partials (2 reals a block), what
+  // ordered_block_sums (ordered_sum.cl) does, by the first work-item of the block (the
+  // work-group, GROUP_SIZE, holds whole blocks); per triangle only where item_rows is 1
+  // (a split run, whose energy() gathers the values per triangle).
+  const real2 terms = (real2)(energy.x, (energy_mode & 1) ? energy.y : (real)0);
+  if ((energy_mode & 2) && item_rows && t < n_triangles) triangle_energy[t] = terms;
   if (energy_mode & 2) {  // the same for every work-item: no barrier is skipped by some only
+    // The ordered block sums first: the triangle's terms go to local memory right after
+    // the region that computed them (as in integrate.cl).
+    const uint lid = get_local_id(0);
+    energy_scratch[lid] = (real4)(terms, (real)0, (real)0);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid % ORDERED_BLOCK == 0 && t < n_triangles) {
+      const uint count = min((uint)ORDERED_BLOCK, n_triangles - t);
+      real2 block = (real2)(0, 0);
+      for (uint k = 0; k < count; ++k) block += energy_scratch[lid + k].xy;
+      vstore2(block, t / ORDERED_BLOCK, energy_partials);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);  // the blocks are summed before the scratch is reused
     const real4 sum = group_sum4(energy_scratch, energy);
-    if (get_local_id(0) == 0) {
+    if (lid == 0) {
       real2 slot = group_energy[get_group_id(0)];
       slot.x = sum.x;
       if (energy_mode & 1) slot.y = sum.y;

@@ -119,9 +119,12 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   // The detection's mask and couple list (shared keys).
   if (p.contact) plan.add(ContactForces::plan(model, group_size, false, p.skin, true));
   if (p.fluid) plan.add(FluidFlow::plan(model));
-  plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled, model.excavations.size()));
+  plan.add(TriangleForces::plan(triangles, group_size, p.viscous, model.in_situ.enabled, model.excavations.size(),
+                                !model.node_owned.empty()));
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
-  plan.add(Integrate::plan(nodes, group_size, p.account_work));
+  // A split rank (with contact: its node ownership; engine/parallel/partition.cpp) keeps the
+  // energy rows' per-node values for energy()'s gather (set_scope → keep_energy_rows).
+  plan.add(Integrate::plan(nodes, group_size, p.account_work, !model.node_owned.empty()));
   plan.add(LumpedMass::plan(nodes, p.ce4));
   plan.add(OrderedSums::plan(ordered_items(model)));
   return plan;
@@ -353,11 +356,11 @@ std::function<EnergyTotals()> Solver::queue_energy() {
   };
   std::vector<EnergyPart> parts;
   parts.push_back(integrate_.queue_energy(sums, split ? nullptr : &reads));
-  parts.push_back(triangle_forces_.queue_energy(sums));
+  parts.push_back(triangle_forces_.queue_energy(sums, split ? nullptr : &reads));
   parts.push_back(boundary_loads_.queue_energy(sums));
   if (cohesive_) {
     // (fracture dissipation, stored energy): columns 1 and 2 of each CE4's energy row.
-    PendingSums pending = sums(cl_, cohesive_->energy_rows(), ce4_count_, 4, 1, 2, ItemKind::Ce4);
+    PendingSums pending = sums(cl_, cohesive_->energy_rows(), ce4_count_, 3, 1, 2, ItemKind::Ce4);
     parts.push_back([pending](EnergyTotals& e) {
       const auto sum = pending();
       e.fracture += sum[0];
@@ -401,6 +404,7 @@ void Solver::set_scope(const ItemScope* scope) {
   scope_ = scope;
   split_sums_ = scope ? std::make_unique<SplitSums>(*scope) : nullptr;
   if (scope_) integrate_.keep_energy_rows();  // the split sums read the per-node values
+  if (scope_) triangle_forces_.keep_energy_rows();  // and the per-triangle ones
 }
 
 void Solver::add_split_contact_energy(EnergyTotals& e) {

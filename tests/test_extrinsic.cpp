@@ -133,7 +133,7 @@ TEST_CASE("insertion: an edge gets its CE4 exactly when its traction reaches the
   for (long s = 0; s < p.steps; ++s) {
     solver.step(false);
     const auto now = download<cl_int>(cl, ce4.inserted(), n);
-    const auto gaps = download<real2>(cl, ce4.insertion_gaps(), n);
+    const auto gaps = download<real4>(cl, ce4.insertion_gaps(), n);  // o₀, s₀, ψ₀ h t, 0
     const auto x = solver.positions();
     const auto corner = download<real2>(cl, solver.arrays().corner_force, 3 * p.model.num_triangles());
     for (size_t e = 0; e < n; ++e) {

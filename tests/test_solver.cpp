@@ -13,6 +13,8 @@
 #include "base/errors.hpp"
 #include "engine/run/run.hpp"
 #include "engine/solver.hpp"
+#include "engine/stages/integrate.hpp"
+#include "engine/stages/triangle_forces.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;
@@ -182,6 +184,29 @@ TEST_CASE("memory plan: node_mass, ref_position and the CE4 parameters hold what
   const auto [heavy, nodes_heavy] = planned({"gravity.g=[0.0, -9.8]"});
   CHECK(heavy.bytes("ref_position") == nodes_heavy * sizeof(real2));
   CHECK(heavy.bytes("node_mass") == nodes_heavy * sizeof(real));
+}
+
+// Session 11 (issue 29, device memory): a CE4 keeps the three terms (f_i, f_j, f_m) of its
+// four slot forces and three energy reals (no always-zero fourth); one rank's energy rows
+// are summed in blocks by the integrate and triangle kernels themselves (no per-node or
+// per-triangle array), while a split rank keeps the per-item values for energy()'s gather.
+TEST_CASE("memory plan: CE4 force terms, CE4 energies and the energy rows' node values") {
+  const PreparedCase p = prepare_case(test::source_path("cases/wave-bar/ce4.toml"), {"mesh.size=0.05"});
+  const MemoryPlan plan = Solver::plan(p.model, 64);
+  const size_t ce4 = p.model.ce4.size(), nodes = p.model.num_nodes();
+  REQUIRE(ce4 > 0);
+  CHECK(plan.bytes("ce4_force") == 3 * ce4 * sizeof(real2));
+  CHECK(plan.bytes("ce4_energy") == 3 * ce4 * sizeof(real));
+  bool listed = false;
+  for (const auto& a : plan.arrays()) listed = listed || a.name == "integrate node_energy" || a.name == "triangle energy";
+  CHECK_FALSE(listed);
+  CHECK(Integrate::plan(nodes, 64, true, true).bytes("integrate node_energy") == nodes * sizeof(real4));
+  const size_t triangles = p.model.num_triangles();
+  CHECK(TriangleForces::plan(triangles, 64, false, false, 0, true).bytes("triangle energy") == triangles * sizeof(real2));
+  // The kernels' work-groups hold whole blocks of the ordered sums.
+  CHECK(Integrate::group_size(64) % kOrderedBlock == 0);
+  CHECK(TriangleForces::group_size(64) % kOrderedBlock == 0);
+  CHECK(Integrate::group_size(1024) == 1024);
 }
 
 // The contact history pool (ContactForces::pool_arrays) on the bench model: a pool that

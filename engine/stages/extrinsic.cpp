@@ -56,7 +56,7 @@ Extrinsic::Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, Co
       "property", cohesive.property())("property_rows", cohesive.property_rows())("opposite", opposite_)(
       "position", arrays.position)("corner_force", arrays.corner_force)("thickness", real(model.thickness))(
       "inserted", cohesive.inserted())("gaps", cohesive.insertion_gaps())("gp_slip", cohesive.friction_slips())(
-      "energy", cohesive.energy())("inserted_count", cohesive.inserted_count_buffer())
+      "inserted_count", cohesive.inserted_count_buffer())
       .done();
 }
 

@@ -8,24 +8,25 @@
 
 namespace fdem {
 
-MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work) {
-  const size_t groups = std::max<size_t>(1, groups_for(nodes, group_size));
-  return MemoryPlan()
-      .add("integrate group_work", groups * sizeof(real2))
+MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work, bool node_rows) {
+  const size_t groups = std::max<size_t>(1, groups_for(nodes, Integrate::group_size(group_size)));
+  MemoryPlan p;
+  p.add("integrate group_work", groups * sizeof(real2))
       .add("integrate group_row", groups * sizeof(real4))
-      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2))
-      // Per node on an energy row only (summed into the partials in that step; a split
-      // run keeps it, keep_energy_rows, for the gather), and its placeholder between rows.
-      .add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4), MemoryPlan::Lifetime::EnergyRow)
-      .add("integrate node_energy placeholder", sizeof(real4))
+      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2));
+  // The energy rows' per-node values: only a split run keeps them (keep_energy_rows, for
+  // energy()'s gather); one rank's kernel sums them into the partials itself.
+  if (node_rows) p.add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4));
+  return p.add("integrate node_energy placeholder", sizeof(real4))
       .add("integrate energy partials", 4 * std::max<size_t>(1, groups_for(nodes, kOrderedBlock)) * sizeof(real));
 }
 
 Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravity, double local_damping, double dt,
                      bool prescribed, bool account, ContactSkin* skin, std::optional<Gather> gather)
-    : cl_(cl), count_(a.num_nodes), groups_(work_groups(cl, a.num_nodes)),
+    : cl_(cl), count_(a.num_nodes), groups_(groups_for(a.num_nodes, group_size(cl.group_size()))),
       account_work_(accounts_work(prescribed, local_damping, account)), skin_test_(skin != nullptr) {
-  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())},
+  local_ = group_size(cl.group_size());
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(local_)},
                                              {"SKIN_TEST", skin_test_ ? "1" : "0"}};
   // A split run: the skin test takes the nodes this rank owns only (ghosts are integrated
   // with a part of their forces before the exchange overwrites them).
@@ -41,7 +42,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   needs_reference_ = gravity[0] != 0.0 || gravity[1] != 0.0;
   has_reference_ = a.ref_position.get() != nullptr;
   defines["GRAVITY_POTENTIAL"] = has_reference_ ? "1" : "0";
-  std::vector<const KernelSource*> libraries{&kernel_source::ordered_sum};
+  std::vector<const KernelSource*> libraries;
   if (gather) {
     for (const auto& d : NodeGather::force_defines(a, gather->ce4_slots, gather->contact_force_scale, gather->fluid_slots)) defines.insert(d);
     libraries.push_back(&kernel_source::node_gather);
@@ -50,8 +51,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   // 1.08M TRI3: 0.159 → 0.139 ms a step (docs/performance-notes.md, session 7).
   const auto program = cl.build(kernel_source::integrate, defines, libraries, 64);
   kernel_ = compute::kernel(program, "integrate");
-  block_sums_ = compute::kernel(program, "ordered_block_sums");
-  const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_);
+  const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_, true);
   group_work_ = arrays.allocate(cl, "integrate group_work");
   group_row_ = arrays.allocate(cl, "integrate group_row");
   upload(cl, group_work_, std::vector<real2>(std::max<size_t>(1, groups_)));
@@ -59,7 +59,7 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
   node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
-  node_energy_bytes_ = arrays.bytes("integrate node_energy");  // allocated by each energy row
+  node_energy_bytes_ = arrays.bytes("integrate node_energy");  // allocated by keep_energy_rows only
   placeholder_ = arrays.allocate(cl, "integrate node_energy placeholder");
   upload(cl, placeholder_, std::vector<real4>(1));
   partials_ = arrays.allocate(cl, "integrate energy partials");
@@ -84,7 +84,9 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   args("ref_position", has_reference_ ? a.ref_position : a.position)("account_work", cl_int(account_work_ ? 1 : 0));
   energy_row_ = args.later("energy_row", cl_int(0));
   args("group_work", group_work_)("group_row", group_row_)("node_work", node_work_);
+  node_rows_ = args.later("node_rows", cl_int(0));
   node_energy_arg_ = args.later("node_energy", placeholder_);
+  args("energy_partials", partials_);
   args.done();
 }
 
@@ -94,39 +96,24 @@ void Integrate::keep_energy_rows() {
   node_energy_ = cl_.allocate(node_energy_bytes_, "integrate node_energy");
   upload(cl_, node_energy_, std::vector<real4>(std::max<size_t>(1, count_)));  // zero until the first row
   node_energy_arg_.set(node_energy_);
+  node_rows_.set(1);
 }
 
 void Integrate::enqueue(double time_after, int step, bool energy_row) {
   time_after_.set(static_cast<real>(time_after));
   step_.set(step);
   energy_row_.set(energy_row ? 1 : 0);
-  // One rank: the row's per-node energies exist for this step only (the ordered block sums
-  // below take them in node order, the rule of engine/energy/energy.hpp); a split run keeps them
-  // for the gather of energy().
+  // The kernel takes the row's ordered block sums itself (the rule of
+  // engine/energy/energy.hpp); a split run also keeps the per-node values for the gather
+  // of energy().
   if (energy_row && needs_reference_ && !has_reference_)
     throw DeviceError("integrate: an energy row with gravity needs the reference positions on the device, which "
                       "DeviceArrays keeps only for a model with gravity");
-  const bool transient = energy_row && !keep_rows_;
-  if (transient) {
-    node_energy_ = cl_.allocate(node_energy_bytes_, "integrate node_energy");
-    node_energy_arg_.set(node_energy_);
-  }
   if (skin_test_) {
     slot_.set(MonitorRing::slot_of(step + 1));
     next_slot_.set(MonitorRing::slot_of(step + 2));
   }
-  cl_.enqueue(kernel_, count_);
-  if (transient) {
-    if (count_ > 0) {
-      bind_args(block_sums_)("n", static_cast<cl_uint>(count_))("stride", cl_uint(4))("first", cl_uint(0))(
-          "width", cl_uint(4))("values", node_energy_)("partial", partials_)
-          .done();
-      cl_.enqueue(block_sums_, groups_for(count_, kOrderedBlock));
-      block_sums_.set_arg(4, placeholder_);  // the kernels keep no reference to the row's array
-    }
-    node_energy_arg_.set(placeholder_);
-    node_energy_ = compute::buffer();
-  }
+  cl_.enqueue(kernel_, count_, local_);
 }
 
 EnergyPart Integrate::queue_energy(const ItemSums& sums, RowReads* reads) {

@@ -1,6 +1,7 @@
 // Stage: central-difference integration with gravity, local damping and prescribed
 // velocities (cl_kernels/integrate.cl), and the nodal part of the energy account.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <optional>
 
@@ -35,8 +36,12 @@ class Integrate {
     return account && (prescribed || local_damping != 0);
   }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
-  // `account_work`: accounts_work(...)).
-  static MemoryPlan plan(size_t nodes, size_t group_size, bool account_work);
+  // `account_work`: accounts_work(...); `node_rows`: a split run's rank, which keeps the
+  // energy rows' per-node values, keep_energy_rows()).
+  static MemoryPlan plan(size_t nodes, size_t group_size, bool account_work, bool node_rows = false);
+  // The kernel's work-group size: the device's, at least kOrderedBlock (the energy rows'
+  // block sums are taken within a work-group).
+  static size_t group_size(size_t device_group) { return std::max(device_group, kOrderedBlock); }
   // Advances every node from t to time_after = t + Δt. With energy_row, the step also
   // evaluates the kinetic energy and gravity potential at t (positions before the
   // update) for energy(). Never waits.
@@ -75,14 +80,15 @@ class Integrate {
   KernelArg<cl_uint> slot_, next_slot_;
   compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
   compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
-  // real4 per node, written on energy rows: (kinetic, gravity, damping, reaction work);
-  // one rank: allocated by an energy-row step and released in it, once block_sums_ has
-  // summed it into partials_ (4 reals per kOrderedBlock nodes); null between rows.
+  // Energy rows: the kernel sums the nodes' (kinetic, gravity, damping, reaction work)
+  // into partials_ (4 reals per kOrderedBlock nodes, in node order); a split run also keeps
+  // them per node in node_energy_ (real4 per node, after keep_energy_rows; else a
+  // one-real4 placeholder is bound).
   compute::buffer node_energy_, placeholder_, partials_;
-  compute::kernel block_sums_;
   KernelArg<compute::buffer> node_energy_arg_;
+  KernelArg<cl_int> node_rows_;
   bool needs_reference_ = false, has_reference_ = false;  // gravity; ref_position on the device
-  size_t node_energy_bytes_ = 0;
+  size_t node_energy_bytes_ = 0, local_ = 0;
   bool keep_rows_ = false;
 };
 

@@ -1,5 +1,6 @@
 #include "engine/stages/triangle_forces.hpp"
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -11,7 +12,7 @@
 namespace fdem {
 
 MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscous, bool in_situ,
-                                size_t excavations) {
+                                size_t excavations, bool item_rows) {
   MemoryPlan p;
   if (excavations > 0) {
     p.add("triangle excavation_of", std::max<size_t>(1, triangles) * sizeof(cl_int));
@@ -20,11 +21,14 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
   }
   // The in-situ reference stress S₀ per triangle, only in models with [in_situ].
   if (in_situ) p.add("triangle initial_stress", std::max<size_t>(1, triangles) * sizeof(real4));
-  p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, group_size)) * sizeof(real2));
+  p.add("triangle group_energy", std::max<size_t>(1, groups_for(triangles, TriangleForces::group_size(group_size))) * sizeof(real2));
   // A t σ_viscous of the last step per triangle, for the trapezoid rule of its work.
   p.add("triangle viscous_stress", (viscous ? std::max<size_t>(1, triangles) : 1) * sizeof(real4));
-  // (strain energy, viscous dissipation so far) per triangle at the last energy row.
-  p.add("triangle energy", std::max<size_t>(1, triangles) * sizeof(real2));
+  // (strain energy, viscous dissipation so far) at the last energy row: per block of
+  // kOrderedBlock triangles, and per triangle only in a split run (keep_energy_rows).
+  p.add("triangle energy partials", 2 * std::max<size_t>(1, groups_for(triangles, kOrderedBlock)) * sizeof(real));
+  if (item_rows) p.add("triangle energy", std::max<size_t>(1, triangles) * sizeof(real2));
+  p.add("triangle energy placeholder", sizeof(real2));
   // Bound as `stress` on the force steps, which write none (the output stress is
   // allocated for output steps only: DeviceArrays::output_stress).
   p.add("triangle stress placeholder", sizeof(real4));
@@ -37,7 +41,7 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
     : cl_(cl),
       arrays_(a),
       count_(a.num_triangles),
-      groups_(work_groups(cl, a.num_triangles)),
+      groups_(groups_for(a.num_triangles, group_size(cl.group_size()))),
       viscous_(viscous),
       excavation_(!excavation.of.empty()) {
   if (excavation_ && excavation.of.size() != count_)
@@ -47,22 +51,27 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   if (in_situ && initial_stress.size() != count_)
     throw InputError("triangle forces: " + std::to_string(initial_stress.size()) + " in-situ stresses for " +
                      std::to_string(count_) + " triangles");
-  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
+  local_ = group_size(cl.group_size());
+  std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(local_)},
+                                             {"ORDERED_BLOCK", std::to_string(kOrderedBlock)}};
   if (in_situ) defines["IN_SITU_STRESS"] = "1";
   if (a.young_count > 0) defines["HETEROGENEOUS_YOUNG"] = "1";
   if (excavation_) defines["EXCAVATION"] = "1";
   // NVIDIA: 96 registers a work-item fit two work-groups of 256 per SM, 80 three. H200,
   // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, {}, 80), "triangle_forces");
-  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size());
+  const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size(), true);
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
   viscous_stress_ = arrays.allocate(cl, "triangle viscous_stress");
   upload(cl, viscous_stress_, std::vector<real4>(viscous_ ? std::max<size_t>(1, count_) : 1));
-  triangle_energy_ = arrays.allocate(cl, "triangle energy");
+  triangle_energy_bytes_ = arrays.bytes("triangle energy");  // allocated by keep_energy_rows only
+  triangle_energy_ = arrays.allocate(cl, "triangle energy placeholder");
+  upload(cl, triangle_energy_, std::vector<real2>(1));
+  energy_partials_ = arrays.allocate(cl, "triangle energy partials");
   // Written on energy rows only: zero until the first, so a total read before it is 0
   // (uninitialised device memory gave a viscous total of -4e252 J in the energy suite).
-  upload(cl, triangle_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
+  upload(cl, energy_partials_, std::vector<real>(energy_partials_.size() / sizeof(real)));
   stress_placeholder_ = arrays.allocate(cl, "triangle stress placeholder");
   KernelArgs args(kernel_);
   args("n_triangles", static_cast<cl_uint>(count_))("tri_nodes", a.tri_nodes)("ref_inverse", a.ref_inverse)(
@@ -74,7 +83,10 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   stress_ = args.later("stress", stress_placeholder_);
   args("conditions", a.conditions);
   energy_mode_ = args.later("energy_mode", cl_int(0));
-  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_)("triangle_energy", triangle_energy_);
+  args("dt", static_cast<real>(dt))("group_energy", group_energy_)("viscous_stress", viscous_stress_);
+  item_rows_ = args.later("item_rows", cl_int(0));
+  triangle_energy_arg_ = args.later("triangle_energy", triangle_energy_);
+  args("energy_partials", energy_partials_);
   if (in_situ) {
     std::vector<real4> s0(std::max<size_t>(1, count_));
     for (size_t t = 0; t < count_; ++t)
@@ -107,7 +119,16 @@ void TriangleForces::enqueue(int step, bool energy_row) {
   stress_.set(stress_placeholder_);
   step_.set(step);
   energy_mode_.set((viscous_ ? 1 : 0) | (energy_row ? 2 : 0));
-  cl_.enqueue(kernel_, count_);
+  cl_.enqueue(kernel_, count_, local_);
+}
+
+void TriangleForces::keep_energy_rows() {
+  if (keep_rows_) return;
+  keep_rows_ = true;
+  triangle_energy_ = cl_.allocate(triangle_energy_bytes_, "triangle energy");
+  upload(cl_, triangle_energy_, std::vector<real2>(std::max<size_t>(1, count_)));  // zero until the first row
+  triangle_energy_arg_.set(triangle_energy_);
+  item_rows_.set(1);
 }
 
 void TriangleForces::enqueue_stress(int step) {
@@ -115,11 +136,32 @@ void TriangleForces::enqueue_stress(int step) {
   stress_.set(arrays_.output_stress(cl_));
   step_.set(step);
   energy_mode_.set(0);
-  cl_.enqueue(kernel_, count_);
+  cl_.enqueue(kernel_, count_, local_);
 }
 
-EnergyPart TriangleForces::queue_energy(const ItemSums& sums) {
-  PendingSums pending = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
+EnergyPart TriangleForces::queue_energy(const ItemSums& sums, RowReads* reads) {
+  PendingSums pending;
+  if (keep_rows_) {
+    pending = sums(cl_, triangle_energy_, count_, 2, 0, 2, ItemKind::Triangle);
+  } else {
+    // The blocks' sums of the last energy row, added in block order (as OrderedSums does).
+    const size_t blocks = groups_for(count_, kOrderedBlock);
+    const size_t words = 2 * std::max<size_t>(1, blocks);
+    std::function<std::vector<real>()> partial;
+    if (reads) {
+      partial = reads->read<real>(energy_partials_, words);
+    } else {
+      auto now = download<real>(cl_, energy_partials_, words);
+      partial = [now] { return now; };
+    }
+    pending = [partial, blocks] {
+      const auto values = partial();
+      std::vector<double> sum(2, 0.0);
+      for (size_t b = 0; b < blocks; ++b)
+        for (int c = 0; c < 2; ++c) sum[c] += static_cast<double>(values[2 * b + c]);
+      return sum;
+    };
+  }
   if (!excavation_)
     return [pending](EnergyTotals& e) {
       const auto sum = pending();

@@ -1,6 +1,7 @@
 // Stage: TRI3 internal forces (cl_kernels/triangle_forces.cl), with the strain energy and
 // viscous dissipation of the energy account.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -29,9 +30,14 @@ class TriangleForces {
   TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous,
                  const std::vector<std::array<double, 3>>& initial_stress = {},
                  const TriangleExcavation& excavation = {});
-  // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
+  // The arrays the constructor allocates (`group_size`: ClContext::group_size();
+  // `item_rows`: a split run's rank, which keeps the energy rows' per-triangle values,
+  // keep_energy_rows()).
   static MemoryPlan plan(size_t triangles, size_t group_size, bool viscous, bool in_situ = false,
-                         size_t excavations = 0);
+                         size_t excavations = 0, bool item_rows = false);
+  // The kernel's work-group size: the device's, at least kOrderedBlock (the energy rows'
+  // block sums are taken within a work-group).
+  static size_t group_size(size_t device_group) { return std::max(device_group, kOrderedBlock); }
   // One step's corner forces; with energy_row also the strain energy of the current shape
   // for energy(). Never waits.
   void enqueue(int step, bool energy_row = false);
@@ -40,7 +46,12 @@ class TriangleForces {
   void enqueue_stress(int step);
   // Strain energy at the last energy row and viscous dissipation up to it (waits).
   void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items) { queue_energy(sums)(totals); }
-  EnergyPart queue_energy(const ItemSums& sums);  // the same, added once `sums` have landed
+  // The same, added once `sums` have landed; one rank: from the block sums the energy-row
+  // step took on the device, read into `reads` (nullptr: at once).
+  EnergyPart queue_energy(const ItemSums& sums, RowReads* reads = nullptr);
+  // A split run (Solver::set_scope): the per-triangle energies of the rows stay on the
+  // device (resident from now on) for energy()'s gather of the owned triangles' values.
+  void keep_energy_rows();
 
   // The energy state, for checkpoints: the last row's sums and, per triangle, the viscous
   // stress of the last step and its dissipation so far.
@@ -68,7 +79,14 @@ class TriangleForces {
   compute::buffer group_energy_;  // real2 per work-group: (strain energy, viscous dissipation) at the last row
   // real4 per triangle when viscous: A t σ_viscous of the last step (xyz), its viscous dissipation so far (w)
   compute::buffer viscous_stress_;
-  compute::buffer triangle_energy_;  // real2 per triangle at the last energy row: (strain energy, viscous dissipation)
+  // (strain energy, viscous dissipation) at the last energy row: summed per block of
+  // kOrderedBlock triangles into energy_partials_ (2 reals a block); per triangle
+  // (real2) only after keep_energy_rows (else a one-real2 placeholder is bound).
+  compute::buffer triangle_energy_, energy_partials_;
+  KernelArg<compute::buffer> triangle_energy_arg_;
+  KernelArg<cl_int> item_rows_;
+  size_t local_ = 0, triangle_energy_bytes_ = 0;
+  bool keep_rows_ = false;
   compute::buffer initial_stress_;   // real4 per triangle (S₀xx, S₀yy, S₀xy, 0), models with [in_situ] only
   // Models with [[excavation]] only: per triangle its excavation (int, -1 none), per
   // excavation (start, duration) (real2), per triangle (W of the last step, strain energy
