@@ -171,13 +171,9 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // chord c at the last step [m] (every CE4, released ones too: cohesive_output reads them
 // for the frames' mean opening and slip). Each array is stored only where a value
 // changed (the same bits as storing it every step, less traffic).
-// energy: 3 reals per CE4 (work done on it so far, fracture dissipation so far, elastic
-// energy it holds now) [J], read and written with vload3/vstore3.
-// slots: real2 ×3 per CE4, the terms (f_i, f_j, f_m) of its four nodal forces; the node
-// i, j, j', i' takes f_i + f_m, f_j - f_m, -f_j - f_m, -f_i + f_m (ce4_slot_force in
-// node_gather.cl forms them with these expressions, so a node's sum has the bits of four
-// stored slots, in 3/4 of the memory). Read first (the last step's, for the work), then
-// overwritten.
+// energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
+// energy it holds now, 0) [J].
+// slots: read first (the forces of the last step, for the work), then overwritten.
 // Break catalogue (an append buffer, read by the host with the history rows): a CE4 that
 // breaks in this step takes slot k = atomic_inc(break_count) and writes break_ids[k] =
 // (e, mode) and break_records[k] = (time, midpoint x, midpoint y of its four nodes, its
@@ -200,7 +196,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real2* restrict slots,
                               __global real4* restrict last_gap,
                               __global real2* restrict last_chord,
-                              __global real* restrict energy,
+                              __global real4* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
                               __global real4* restrict break_records
@@ -238,7 +234,7 @@ __kernel void cohesive_forces(const uint n_ce4,
   if (inserted[e] == 0) {
     last_gap[e] = (real4)(gap_i, gap_j);
     last_chord[e] = chord;
-    slots[3 * e] = slots[3 * e + 1] = slots[3 * e + 2] = (real2)(0, 0);  // f_i, f_j, f_m (node_gather.cl)
+    slots[4 * e] = slots[4 * e + 1] = slots[4 * e + 2] = slots[4 * e + 3] = (real2)(0, 0);
     return;
   }
   real lo[3], ls[3];
@@ -411,12 +407,10 @@ __kernel void cohesive_forces(const uint n_ce4,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
     const real4 before = last_gap[e];
     const real2 chord_before = last_chord[e];
-    const real2 fi_before = slots[3 * e], fj_before = slots[3 * e + 1], fm_before = slots[3 * e + 2];
-    const real2 s_i = fi_before + fm_before, s_j = fj_before - fm_before;
-    const real2 s_j2 = -fj_before - fm_before, s_i2 = -fi_before + fm_before;
+    const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);
-    real3 account = vload3(e, energy);
+    real4 account = energy[e];
     account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
                               dot(m_before + f_m, chord - chord_before));
     account.z = held * scale;
@@ -434,7 +428,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     // create energy (header), so this only moves up, except by the trapezoid rule's error
     // on the elastic curves; the max keeps it from ever moving down.
     account.y = fmax(account.y, account.x - account.z);
-    vstore3(account, e, energy);
+    energy[e] = account;
 #ifdef CORNER_FANS
     // The fans of its two mesh nodes are no longer whole: from the next step contact takes
     // their corner couples (every CE4 breaking at a node in one step writes the same value).
@@ -456,9 +450,10 @@ __kernel void cohesive_forces(const uint n_ce4,
   last_gap[e] = (real4)(gap_i, gap_j);
   last_chord[e] = chord;
 
-  slots[3 * e] = f_i;
-  slots[3 * e + 1] = f_j;
-  slots[3 * e + 2] = f_m;
+  slots[4 * e] = f_i + f_m;
+  slots[4 * e + 1] = f_j - f_m;
+  slots[4 * e + 2] = -f_j - f_m;
+  slots[4 * e + 3] = -f_i + f_m;
 }
 
 // One work-item per CE4, for output only (between steps): column 0 the largest D_max over
@@ -493,11 +488,11 @@ __kernel void cohesive_output(const uint n_ce4,
 // same on every run.
 __kernel void cohesive_energy_partials(const uint n_ce4,
                                        const uint n_partials,
-                                       __global const real* restrict energy,
+                                       __global const real4* restrict energy,
                                        __global real2* restrict partial) {
   const uint k = get_global_id(0);
   if (k >= n_partials) return;
   real2 sum = (real2)(0, 0);
-  for (uint e = k; e < n_ce4; e += n_partials) sum += vload3(e, energy).yz;
+  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].yz;
   partial[k] = sum;
 }

@@ -50,20 +50,6 @@
       __global const real2 *restrict corner_value GATHER_EDGE_ARGS GATHER_CE4_ARGS GATHER_CONTACT_ARGS
 #define GATHER_PASS corner_start, corner_slot, corner_value GATHER_EDGE_PASS GATHER_CE4_PASS GATHER_CONTACT_PASS
 
-#if GATHER_CE4
-// The force of CE4 slot s = 4 e + c (c = 0..3: nodes i, j, j', i'). A CE4 stores the terms
-// (f_i, f_j, f_m) of its four forces (cohesive_forces.cl); each slot's force is formed here
-// with the expression the kernel stored before, so the bits are the same.
-inline real2 ce4_slot_force(__global const real2* restrict terms, const uint s) {
-  const uint e = s >> 2, c = s & 3u;
-  const real2 f_m = terms[3 * e + 2];
-  if (c == 0u) return terms[3 * e] + f_m;
-  if (c == 1u) return terms[3 * e + 1] - f_m;
-  if (c == 2u) return -terms[3 * e + 1] - f_m;
-  return -terms[3 * e] + f_m;
-}
-#endif
-
 // Node i's sum, parts in a fixed order: corners, loaded edges, CE4s, contact.
 inline real2 gathered_sum(const uint i, GATHER_ARGS) {
   real2 sum = (real2)(0, 0);
@@ -72,7 +58,7 @@ inline real2 gathered_sum(const uint i, GATHER_ARGS) {
   for (uint k = edge_start[i]; k < edge_start[i + 1]; ++k) sum += edge_value[edge_slot[k]];
 #endif
 #if GATHER_CE4
-  for (uint k = ce4_start[i]; k < ce4_start[i + 1]; ++k) sum += ce4_slot_force(ce4_value, ce4_slot[k]);
+  for (uint k = ce4_start[i]; k < ce4_start[i + 1]; ++k) sum += ce4_value[ce4_slot[k]];
 #if GATHER_FLUID
   for (uint k = ce4_start[i]; k < ce4_start[i + 1]; ++k) sum += fluid_value[ce4_slot[k]];
 #endif

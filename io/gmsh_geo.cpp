@@ -370,12 +370,20 @@ GmshRun run_gmsh(const std::vector<std::string>& args, const std::string& geo_pa
 
 // FDEM_MESH_RECORD=FILE (a developer's aid, tools/gpu-suite --refresh-meshes): one line
 // per mesh returned, "NAME<TAB>SIZE<TAB>GEO", so that a run of the test suite lists the
-// meshes it needs and what they were made from.
-void record_mesh(const std::string& cache_name, const std::string& size_text, const std::string& geo_path) {
+// meshes it needs and what they were made from; a fourth field holds what the cache name
+// hashes beside the .geo and the size (the algorithm, text appended to the .geo such as
+// embedded joints), with \, newline and tab written \\, \n and \t.
+void record_mesh(const std::string& cache_name, const std::string& size_text, const std::string& geo_path,
+                 const std::string& suffix) {
   const char* record = std::getenv("FDEM_MESH_RECORD");
   if (!record || !*record) return;
+  std::string escaped;
+  for (const char c : suffix) escaped += c == '\\' ? "\\\\" : c == '\n' ? "\\n" : c == '\t' ? "\\t" : std::string(1, c);
   std::error_code ec;
-  std::ofstream(record, std::ios::app) << cache_name << "\t" << size_text << "\t" << fs::absolute(geo_path, ec).string() << "\n";
+  std::ofstream out(record, std::ios::app);
+  out << cache_name << "\t" << size_text << "\t" << fs::absolute(geo_path, ec).string();
+  if (!escaped.empty()) out << "\t" << escaped;
+  out << "\n";
 }
 
 }  // namespace
@@ -426,14 +434,15 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
     if (std::strtod(size_shown, nullptr) == size) break;
   }
   char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text +
-                                          (algorithm.empty() ? std::string() : "\nMesh.Algorithm=" + algorithm) +
-                                          (extra.empty() ? std::string() : "\nextra:\n" + extra))));
+  // What the name hashes beside the .geo and the size (FDEM_MESH_RECORD's fourth field).
+  const std::string suffix = (algorithm.empty() ? std::string() : "\nMesh.Algorithm=" + algorithm) +
+                             (extra.empty() ? std::string() : "\nextra:\n" + extra);
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fnv1a(geo_text + size_text + suffix)));
   const std::string cache_name = fs::path(geo_path).stem().string() + "-" + hash + ".msh";
   const fs::path final_path = fs::path(cache_dir) / cache_name;
   std::error_code ec;
   if (fs::is_regular_file(final_path, ec)) {
-    record_mesh(cache_name, size_text, geo_path);
+    record_mesh(cache_name, size_text, geo_path, suffix);
     return final_path.string();
   }
   // Read-only caches (the committed test meshes): looked up, never written.
@@ -442,7 +451,7 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
     std::string dir;
     while (std::getline(dirs, dir, ':'))
       if (!dir.empty() && fs::is_regular_file(fs::path(dir) / cache_name, ec)) {
-        record_mesh(cache_name, size_text, geo_path);
+        record_mesh(cache_name, size_text, geo_path, suffix);
         return (fs::path(dir) / cache_name).string();
       }
   }
@@ -524,7 +533,7 @@ std::string mesh_geo(const std::string& geo_path, double size, const std::string
     fs::remove(temp_path, ec);
     throw InputError(geo_path + ": cannot write mesh cache file " + final_path.string() + ": " + ec.message());
   }
-  record_mesh(cache_name, size_text, geo_path);
+  record_mesh(cache_name, size_text, geo_path, suffix);
   return final_path.string();
 }
 

@@ -66,8 +66,8 @@ void check_fits(const io::CheckpointData& data, const PreparedCase& p, const std
   // 6 (2026-12-03): no ce4_output; a CE4's break time is the w of ce4_friction_slip.
   // 7 (2026-12-03, later): every attribute is under the checksums (io/checkpoint_file.cpp),
   // and the digests of the records the output files held (io/output_resume.hpp).
-  // 8 (2026-12-03, session 11): ce4_force holds 3 real2 per CE4 (f_i, f_j, f_m), not the
-  // four slot forces; ce4_energy 3 reals per CE4 (its fourth was always 0).
+  // 8 (2026-12-03, session 11): the energy rows' sums taken in the kernels (no per-node
+  // energy array, integrate's group slots in blocks of 256).
   if (text("format_version") != kCheckpointFormat)
     throw InputError("checkpoint '" + path + "' has format version '" + text("format_version") + "'; this fdem reads version " +
                      kCheckpointFormat + ": continue that run with the fdem that wrote it, or start it again");

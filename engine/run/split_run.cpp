@@ -179,7 +179,7 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"triangle_excavation_energy", {ItemKind::Triangle, 1}},
       {"ce4_gauss_state", {ItemKind::Ce4, 3}},
       {"ce4_status", {ItemKind::Ce4, 1}},
-      {"ce4_force", {ItemKind::Ce4, 3}},
+      {"ce4_force", {ItemKind::Ce4, 4}},
       {"ce4_last_gap", {ItemKind::Ce4, 1}},
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
       {"ce4_last_chord", {ItemKind::Ce4, 1}},

@@ -60,11 +60,10 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       // One column of the frames' CE4 values (damage, mean opening or slip), computed
       // from the state by cohesive_output when one is read (output_column).
       .add("ce4_output", std::max<size_t>(1, ce4) * sizeof(real), MemoryPlan::Lifetime::Output)
-      // The terms (f_i, f_j, f_m) of the four slot forces (cohesive_forces.cl).
-      .add("ce4_force", 3 * ce4 * sizeof(real2))
+      .add("ce4_force", 4 * ce4 * sizeof(real2))
       .add("ce4_last_gap", ce4 * sizeof(real4))
       .add("ce4_last_chord", ce4 * sizeof(real2))
-      .add("ce4_energy", 3 * ce4 * sizeof(real))  // W, fracture dissipation, stored
+      .add("ce4_energy", ce4 * sizeof(real4))
       .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
       .add("ce4_break_count", sizeof(cl_uint))
       .add("ce4_break_ids", 2 * ce4 * sizeof(cl_int))
@@ -241,10 +240,10 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     if (model.closed[e]) status[2 * e] = 1, slips[e].w = real(0);
   upload(cl, gp_slip_, slips);
   upload(cl, status_, status);
-  upload(cl, slots_, std::vector<real2>(3 * count_));
+  upload(cl, slots_, std::vector<real2>(4 * count_));
   upload(cl, last_gap_, gaps);
   upload(cl, last_chord_, chords);
-  upload(cl, energy_, std::vector<real>(3 * count_));
+  upload(cl, energy_, std::vector<real4>(count_));
 
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
@@ -280,21 +279,6 @@ void CohesiveForces::enqueue(double time, long step) {
   // the release of the last step from older ones); past 2³¹ − 3 steps the word saturates.
   step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
   cl_.enqueue(kernel_, count_);
-}
-
-std::vector<real2> CohesiveForces::slot_forces() {
-  const auto terms = download<real2>(cl_, slots_, 3 * count_);
-  std::vector<real2> out(4 * count_);
-  const auto add = [](real2 a, real2 b) { return real2{a.x + b.x, a.y + b.y}; };
-  const auto neg = [](real2 a) { return real2{-a.x, -a.y}; };
-  for (size_t e = 0; e < count_; ++e) {
-    const real2 f_i = terms[3 * e], f_j = terms[3 * e + 1], f_m = terms[3 * e + 2];
-    out[4 * e] = add(f_i, f_m);
-    out[4 * e + 1] = real2{f_j.x - f_m.x, f_j.y - f_m.y};
-    out[4 * e + 2] = real2{-f_j.x - f_m.x, -f_j.y - f_m.y};
-    out[4 * e + 3] = add(neg(f_i), f_m);
-  }
-  return out;
 }
 
 std::vector<real> CohesiveForces::output_column(int k) {
@@ -358,11 +342,11 @@ std::vector<io::BreakRecord> CohesiveForces::drain_breaks() {
 void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
-  out.buffer<real>("ce4_force", slots_, 3 * count_, 2);
+  out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
-  out.buffer<real>("ce4_energy", energy_, count_, 3);
+  out.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (extrinsic_) {
     out.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
@@ -388,11 +372,11 @@ void CohesiveForces::save_state(StateWriter& out) const {
 void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   in.buffer<cl_int>("ce4_status", status_, count_, 2);
-  in.buffer<real>("ce4_force", slots_, 3 * count_, 2);
+  in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
-  in.buffer<real>("ce4_energy", energy_, count_, 3);
+  in.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (extrinsic_) {
     in.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
@@ -447,9 +431,9 @@ void CohesiveForces::flags(std::vector<int>& broken, std::vector<int>& mode) {
 }
 
 std::vector<real> CohesiveForces::energy_column(int k) {
-  const auto rows = download<real>(cl_, energy_, 3 * count_);
+  const auto rows = download<real4>(cl_, energy_, count_);
   std::vector<real> column(count_);
-  for (size_t e = 0; e < count_; ++e) column[e] = rows[3 * e + k];
+  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : rows[e].z;
   return column;
 }
 

@@ -45,12 +45,7 @@ class CohesiveForces {
   // that are released (a broken CE4 stays closed until its faces open). Never waits.
   void enqueue(double time, long step);
 
-  // real2 ×3 per CE4 [N]: the terms (f_i, f_j, f_m) of its four slot forces (the gather
-  // forms f_i + f_m, f_j - f_m, -f_j - f_m, -f_i + f_m: cl_kernels/node_gather.cl).
-  compute::buffer& slots() { return slots_; }
-  // The four slot forces per CE4 (order i, j, j', i'), formed on the host as the gather
-  // forms them (the same bits): for tests and tools.
-  std::vector<real2> slot_forces();
+  compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
   // released at step n (cl_kernels/cohesive_forces.cl).
   compute::buffer& status() { return status_; }
@@ -88,7 +83,7 @@ class CohesiveForces {
   std::vector<real> work();         // work done on each CE4 so far [J]
   std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive_forces.cl)
   std::vector<real> stored();       // elastic energy each CE4 holds now [J]
-  const compute::buffer& energy_rows() const { return energy_; }  // 3 reals: (work, dissipation, stored) per CE4
+  const compute::buffer& energy_rows() const { return energy_; }  // real4: (work, dissipation, stored, -) per CE4
 
   // Totals over all CE4s [J]: a device pass into a fixed number of partial sums, each over
   // a fixed stride of CE4s, then the partials summed in order on the host, so the totals
@@ -138,7 +133,7 @@ class CohesiveForces {
   compute::program program_;  // for cohesive_output, built per output_column read
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
   compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_;
-  compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, 3 reals per CE4; real2 per partial
+  compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).
   compute::buffer break_count_, break_ids_, break_records_;

@@ -13,9 +13,8 @@ namespace fdem {
 class NodeGather {
  public:
   // The force gather adds what the model has: the loaded edges' slots (when it has
-  // loaded edges), the CE4 slots `ce4_slots` (CohesiveForces::slots(): 3 real2 per CE4,
-  // the terms of its four slot forces, read through DeviceArrays' node → CE4-slot map,
-  // whose slot 4 e + c names the CE4 and the slot; null: no CE4s) and the fixed-point contact forces
+  // loaded edges), the CE4 slots `ce4_slots` (4 real2 per CE4, through DeviceArrays'
+  // node → CE4-slot map; null: no CE4s) and the fixed-point contact forces
   // contact_acc / contact_force_scale (0: no contact). The mass gather adds the corner
   // values only.
   // `fluid_slots` (FluidFlow::slots(), 4 real2 per CE4 in the CE4 slots' order; null: no
