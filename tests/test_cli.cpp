@@ -21,23 +21,11 @@
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Result = fdem::test::FdemResult;
 
 // `environment`: assignments put before the command (e.g. "OMPI_COMM_WORLD_SIZE=3 ").
 Result run_fdem(const std::string& args, const std::string& environment = "") {
-  Result r;
-  const char* env = std::getenv("FDEM_BINARY");  // overrides the build's, on another machine
-  FILE* pipe = popen((fdem::test::child_environment() + environment + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buffer{};
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return fdem::test::run_fdem_cli(args, environment);
 }
 
 bool has(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }

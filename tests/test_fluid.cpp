@@ -76,15 +76,8 @@ Outcome run_steps(const PreparedCase& p, long steps, Solver** keep = nullptr) {
 
 // `fdem ARGS` with its output and exit code.
 std::pair<int, std::string> run_fdem(const std::string& args) {
-  const char* env = std::getenv("FDEM_BINARY");
-  FILE* pipe = popen((test::child_environment() + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  std::array<char, 4096> buffer{};
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  test::FdemResult r = test::run_fdem_cli(args);
+  return {r.code, std::move(r.output)};
 }
 
 // The coarse Sneddon case: 10 edges along the crack (mesh.size = 0.2).

@@ -53,22 +53,8 @@ std::string file_text(const std::string& path) {
   return text;
 }
 
-struct Cli {
-  int code = -1;
-  std::string output;
-};
-Cli fdem_cli(const std::string& args) {
-  Cli r;
-  const char* env = std::getenv("FDEM_BINARY");
-  FILE* pipe = popen((test::child_environment() + std::string(env && *env ? env : FDEM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buffer{};
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Cli = test::FdemResult;
+Cli fdem_cli(const std::string& args) { return test::run_fdem_cli(args); }
 
 }  // namespace
 
