@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "case_files.hpp"
+#include "fdem_cli.hpp"
 #include "io/gmsh_reader.hpp"
 
 namespace {

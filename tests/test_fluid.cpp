@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "fdem_cli.hpp"
 #include "engine/model/fluid_spring.hpp"
 #include "engine/run/prepare_case.hpp"
 #include "engine/solver.hpp"

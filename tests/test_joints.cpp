@@ -15,6 +15,7 @@
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "fdem_cli.hpp"
 #include "engine/model/model.hpp"
 #include "engine/run/prepare_case.hpp"
 #include "fixture.hpp"
