@@ -951,6 +951,32 @@ class UcsStudy(TempDirCase):
         self.assertAlmostEqual(p["slope"] / 1e9, -20.0, places=6)
         self.assertAlmostEqual(strain[p["c"]], 4e-3 + 0.8 * 45.5e6 / 20e9, delta=1e-5)
 
+    def test_summary_keeps_points_modes_and_breaks(self):
+        """A run's summary (kept in the repository when its outputs are gone) gives the
+        report the same points, modes and breaks as the run, on a thinned curve."""
+        study = load_study()
+        n = 10001
+        strain = np.linspace(0, 6e-3, n)
+        stress = np.where(strain <= 4e-3, 1e10 * strain, np.maximum(40e6 - 3e10 * (strain - 4e-3), 0))
+        pts = study.curve_points(stress, strain, strain * 1e-3, None)
+        breaks = dict(ce4=np.array([3, 9]), mode=np.array([1, 3]), time=np.array([1e-6, 2e-6]))
+        d = dict(run={"name": "m-v0.1", "mesh": "m", "speed": 0.1, "frames": False}, status="done",
+                 times=strain * 1e-3, strain=strain, stress=stress, points=pts,
+                 modes={"A": None, "B": (1, 0, 0), "C": (1, 0, 1), "end": (1, 0, 1)}, breaks=breaks)
+        study.write_summary(d, self.dir)
+        s = study.read_summary(os.path.join(self.dir, "m-v0.1.json"))
+        self.assertLessEqual(len(s["stress"]), study.SUMMARY_POINTS + 3)
+        self.assertLess(len(s["stress"]), n)
+        for key in ("a", "b", "c"):
+            self.assertEqual(s["strain"][s["points"][key]], strain[pts[key]], key)
+            self.assertEqual(s["stress"][s["points"][key]], stress[pts[key]], key)
+        self.assertEqual(s["points"]["peak"], pts["peak"])
+        self.assertEqual(s["modes"]["C"], (1, 0, 1))
+        self.assertIsNone(s["modes"]["A"])
+        np.testing.assert_array_equal(s["breaks"]["ce4"], [3, 9])
+        np.testing.assert_array_equal(s["breaks"]["mode"], [1, 3])
+        self.assertEqual(s["status"], "done")
+
     def test_plan_writes_a_script_bash_accepts(self):
         script = os.path.join(self.dir, "s.sh")
         proc = subprocess.run([sys.executable, STUDY, "plan", "--preset", "x8", "--dt", "1e-9", "-o", script],
