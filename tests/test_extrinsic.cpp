@@ -245,4 +245,68 @@ TEST_CASE("an extrinsic bar pulled apart: bitwise repeatable, restarts byte for 
   CHECK(worst < 1e-3);
 }
 
+TEST_CASE("the time step: an inserted CE4's penalty sets it; at the rock's own step inserted CE4s make energy") {
+  // The bar with no viscosity (so the stable step is h/c with no damping correction), its
+  // right edge loaded by a pressure pulse: 4 MPa of tension (twice T_s: edges near the
+  // loaded end get their CE4 at the peak), then 8 MPa of compression, which drives the
+  // inserted CE4s onto their stiff branches (unloading, overlap) with slope P/h.
+  test::TempDir dir;
+  auto pulse = [&](const std::string& out, const std::string& fracture, double tension, const std::string& name) {
+    test::BarCase c;
+    c.time = "dt = \"auto\"\nend = 4e-4\n";
+    c.output = "dir = \"" + out + "\"\nname = \"bar\"\nframes = 2\nhistory_every = 2e-5\nenergy_limit = 1e6\n";
+    c.material = fracture;
+    c.rest = kHeld + "[[boundary]]\nregion = \"right\"\npressure = { times = [0.0, 2e-5, 4e-5, 6e-5, 8e-5], values = [0.0, " +
+             std::to_string(-tension) + ", 0.0, " + std::to_string(2 * tension) + ", 0.0] }\n";
+    return dir.write(name, c.text());
+  };
+  const PreparedCase e = prepare_case(pulse(dir.str() + "/e", kExtrinsic, 4e6, "e.toml"), {});
+  const PreparedCase c = prepare_case(pulse(dir.str() + "/c", "", 4e6, "c.toml"), {});
+  // The stable step by hand (model.cpp's estimate, written out for this case): the
+  // smallest triangle height h over the wave speed √(M/ρ), M the plane-strain P-wave
+  // modulus of the rock (tests/case_files.hpp: ρ 2000, E 10 GPa, ν 0.2) or, in a
+  // fracturable triangle, the stiffest CE4 branch: the sliding penalty twice (the
+  // cohesive part and the friction element's stick spring act together).
+  const double rho = 2000, E = 10e9, nu = 0.2, P = 100e9;  // P: kRockFracture's penalties
+  REQUIRE(e.model.fracture.size() == 1);
+  REQUIRE(e.model.fracture[0].penalty_sliding == P);
+  const double M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+  double h = 1e300;
+  for (const auto& t : e.model.triangles) {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, std::hypot(e.model.x[t[(k + 1) % 3]] - e.model.x[t[k]], e.model.y[t[(k + 1) % 3]] - e.model.y[t[k]]));
+    const double area2 = std::fabs((e.model.x[t[1]] - e.model.x[t[0]]) * (e.model.y[t[2]] - e.model.y[t[0]]) -
+                                   (e.model.y[t[1]] - e.model.y[t[0]]) * (e.model.x[t[2]] - e.model.x[t[0]]));
+    h = std::min(h, area2 / longest);
+  }
+  const double penalty_step = h / std::sqrt(2 * P / rho), rock_step = h / std::sqrt(M / rho);
+  CHECK(e.stable.dt == doctest::Approx(penalty_step).epsilon(1e-12));
+  CHECK(c.stable.dt == doctest::Approx(rock_step).epsilon(1e-12));
+  CHECK(e.dt == doctest::Approx(0.5 * penalty_step).epsilon(1e-12));  // time.safety's default
+  // Runs at a forced step, past prepare_case's check (which refuses a numeric dt above
+  // the estimate): the worst |energy_error| and the CE4s inserted.
+  auto at = [&](PreparedCase p, double dt) {
+    p.dt = dt;
+    p.steps = io::run_steps(p.config, dt);
+    const RunSummary s = test::run(p);
+    const auto inserted = has_extrinsic(p.model) ? test::read_variable(p.history_path, "inserted_ce4") : std::vector<double>{0};
+    return std::make_pair(s.worst_energy_error, inserted.back());
+  };
+  const auto own = at(e, e.dt), rock = at(e, c.dt), intact = at(c, c.dt);
+  const auto quiet = at(prepare_case(pulse(dir.str() + "/q", kExtrinsic, 1e6, "q.toml"), {}), c.dt);
+  MESSAGE("steps: CE4 penalty " << e.dt << " s, rock " << c.dt << " s (" << c.dt / e.dt << " ×); worst |energy_error| "
+          << own.first << " at the CE4 step (" << own.second << " inserted), " << rock.first << " at the rock's ("
+          << rock.second << " inserted); at the rock's step the bar without CE4s " << intact.first
+          << ", the extrinsic bar under a quarter of the pulse " << quiet.first << " (" << quiet.second << " inserted)");
+  CHECK(c.dt / e.dt == doctest::Approx(std::sqrt(2 * P / M)).epsilon(1e-9));
+  CHECK(own.second > 0);
+  CHECK(own.first < 1e-3);
+  CHECK(rock.second > 0);
+  CHECK(rock.first > 0.1);  // energy made by the inserted CE4s' springs stepped past their limit
+  CHECK(intact.first < 1e-4);  // the rock alone is stable at its step
+  CHECK(quiet.second == 0);
+  CHECK(quiet.first < 1e-4);  // so is the extrinsic bar as long as nothing is inserted
+}
+
 }  // TEST_SUITE
