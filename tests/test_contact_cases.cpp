@@ -9,6 +9,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "approx.hpp"
 #include "case_files.hpp"
 #include "engine/device/checkpoint.hpp"
 #include "engine/run/run.hpp"
@@ -66,7 +67,7 @@ TEST_CASE("default tangential penalty: 6 P_n / h with h the mean triangle edge; 
   const std::string path = undamped_incline_case(dir, 19.62, 0.4, "");
   const PreparedCase p = prepare_case(path, {});
   const double h = mean_edge_length(p.model);
-  CHECK(h == doctest::Approx(5 * default_skin(p.model)));  // the h of the default skin
+  CHECK(h == test::rel(5 * default_skin(p.model), 1e-12));  // the h of the default skin
   const double ptan = p.model.contact.pair_props[layout::PAIR_TANGENTIAL_PENALTY];
   CHECK(ptan == doctest::Approx(6 * 1e8 / h).epsilon(1e-12));
   MESSAGE("sliding mesh at size 0.025: mean edge h = " << h << " m, default P_tan = " << ptan << " Pa/m for P_n = 1e8 Pa");

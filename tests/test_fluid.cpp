@@ -10,6 +10,7 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "approx.hpp"
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "fdem_cli.hpp"
@@ -90,8 +91,8 @@ TEST_SUITE("fluid") {
 
 // On 10 edges the mesh is too coarse for 3% (PoCL: centre -4.4%, volume -9.8%): the
 // tolerances are 10% and 15%, which a force of the wrong size or sign fails by far.
-// (`.scale(0)`: doctest's Approx otherwise adds 1 to its scale, and on figures of 1e-4
-// m or m³ an epsilon of 0.1 would pass anything.)
+// (test::rel, tests/approx.hpp: doctest's Approx adds 1 to its scale, and on figures of
+// 1e-4 m or m³ an epsilon of 0.1 would pass anything.)
 TEST_CASE("fluid: Sneddon's crack on a coarse mesh (10 edges) opens as the formula says, within 10-15%") {
   const PreparedCase p = sneddon(kCoarse);
   REQUIRE(p.model.fluid.enabled);
@@ -100,8 +101,8 @@ TEST_CASE("fluid: Sneddon's crack on a coarse mesh (10 edges) opens as the formu
   const Outcome o = run_steps(p, steps);
   MESSAGE("centre opening " << o.opening.centre << " m (Sneddon " << sneddon_centre() << "), volume " << o.opening.volume
                             << " m² (Sneddon " << sneddon_volume() << "), energy_error " << o.energy_error);
-  CHECK(o.opening.centre == doctest::Approx(sneddon_centre()).epsilon(0.10).scale(0));
-  CHECK(o.opening.volume == doctest::Approx(sneddon_volume()).epsilon(0.15).scale(0));
+  CHECK(o.opening.centre == test::rel(sneddon_centre(), 0.10));
+  CHECK(o.opening.volume == test::rel(sneddon_volume(), 0.15));
   CHECK(std::fabs(o.energy_error) < 0.01);
   // The work of the pressure on the faces went into the solid, less what the damping took.
   CHECK(o.energy.fluid_face_work > 0);
@@ -122,8 +123,8 @@ TEST_CASE("fluid: Sneddon's case (40 edges): opening at the centre and volume wi
                    << 100 * (o.opening.volume / sneddon_volume() - 1) << "%), energy_error " << o.energy_error
                    << ", injected " << o.energy.fluid_injected_volume << " m³, in the network " << o.energy.fluid_volume
                    << " m³, crack volume " << o.energy.crack_volume << " m³");
-  CHECK(o.opening.centre == doctest::Approx(sneddon_centre()).epsilon(0.03).scale(0));
-  CHECK(o.opening.volume == doctest::Approx(sneddon_volume()).epsilon(0.03).scale(0));
+  CHECK(o.opening.centre == test::rel(sneddon_centre(), 0.03));
+  CHECK(o.opening.volume == test::rel(sneddon_volume(), 0.03));
   CHECK(std::fabs(o.energy_error) < 0.01);
 }
 
@@ -165,8 +166,8 @@ TEST_CASE("fluid: mass balance of a rate source at the well: injected = stored w
   MESSAGE("injected " << o.energy.fluid_injected_volume << " m³ (Q t " << expected << "), in the network "
                       << o.energy.fluid_volume << " m³, crack volume " << o.energy.crack_volume << ", well pressure "
                       << o.energy.wellbore_pressure << " Pa, energy_error " << o.energy_error);
-  CHECK(o.energy.fluid_injected_volume == doctest::Approx(expected).epsilon(1e-6).scale(0));
-  CHECK(o.energy.fluid_volume == doctest::Approx(o.energy.fluid_injected_volume).epsilon(0.001).scale(0));
+  CHECK(o.energy.fluid_injected_volume == test::rel(expected, 1e-6));
+  CHECK(o.energy.fluid_volume == test::rel(o.energy.fluid_injected_volume, 0.001));
   CHECK(o.energy.wellbore_pressure > 0);
   CHECK(o.energy.fluid_viscous > 0);
   CHECK(std::fabs(o.energy_error) < 0.01);
@@ -213,15 +214,14 @@ TEST_CASE("fluid: Carter leak-off from a held-pressure crack: leaked volume = 4 
   // Early on a vertex cannot leak more than it holds (a closed crack holds w_r per metre
   // while Carter's rate is infinite at t_e): the total falls a little short of the formula;
   // from t/4 on the leak is the formula's to 0.1%: 4 C_L L t_z (√t - √(t/4)).
-  // (Relative checks: doctest's Approx adds 1 to its scale, so on volumes of 1e-4 m³ an
-  // epsilon of 1e-3 would pass anything.)
-  auto close = [](double a, double b, double rel) { return std::fabs(a - b) <= rel * std::fabs(b); };
+  // (Relative checks, test::rel: doctest's Approx adds 1 to its scale, so on volumes of
+  // 1e-4 m³ an epsilon of 1e-3 would pass anything.)
   CHECK(end.fluid_leaked_volume <= expected * (1 + 1e-9));
   CHECK(end.fluid_leaked_volume >= 0.85 * expected);  // the ramp from p = 0: a closed crack holds w_r
   const double late = 4 * kLeakOff * 2 * kHalfLength * p.model.thickness * (std::sqrt(t - t_e) - std::sqrt(t / 4 - t_e));
-  CHECK(close(end.fluid_leaked_volume - rows.front().fluid_leaked_volume, late, 1e-3));
+  CHECK(end.fluid_leaked_volume - rows.front().fluid_leaked_volume == test::rel(late, 1e-3));
   CHECK(end.fluid_leaked_volume > end.fluid_volume);  // a leak that matters
-  CHECK(close(end.fluid_injected_volume, end.fluid_volume + end.fluid_leaked_volume, 1e-3));
+  CHECK(end.fluid_injected_volume == test::rel(end.fluid_volume + end.fluid_leaked_volume, 1e-3));
   CHECK(end.fluid_leak_off > 0);
   CHECK(std::fabs(error) < 0.01);
 }
@@ -260,10 +260,10 @@ TEST_CASE("fluid: KGD coarse: the crack grows along the weak line only, both win
   CHECK(off_line == 0);
   CHECK(on_line >= 14);  // the seed's 10 and at least 2 more edges on each side
   CHECK(left == doctest::Approx(right).epsilon(0.25));
-  // Relative, by hand: doctest's Approx adds 1 to its scale (no use on 1e-2 m³).
-  CHECK(std::fabs(e.fluid_volume - e.fluid_injected_volume) <= 1e-3 * e.fluid_injected_volume);
+  // Relative (test::rel): doctest's Approx adds 1 to its scale (no use on 1e-2 m³).
+  CHECK(e.fluid_volume == test::rel(e.fluid_injected_volume, 1e-3));
   const double injected = 10 * p.model.thickness * p.dt * static_cast<double>(steps);
-  CHECK(std::fabs(e.fluid_injected_volume - injected) <= 1e-6 * injected);
+  CHECK(e.fluid_injected_volume == test::rel(injected, 1e-6));
 }
 
 TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same history (the fluid's state is in the checkpoint)") {

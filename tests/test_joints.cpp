@@ -13,6 +13,7 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "approx.hpp"
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "fdem_cli.hpp"
@@ -102,7 +103,7 @@ TEST_CASE("joints: the CE4s of a joint follow its line and cover it, and take th
                     << worst << " m off the line");
     CHECK(on >= 10);
     CHECK(worst < 1e-9);
-    CHECK(length == doctest::Approx(2 * half).epsilon(1e-9));
+    CHECK(length == test::rel(2 * half, 1e-9));
   }
 }
 
@@ -192,7 +193,7 @@ TEST_CASE("joints: a polyline file is embedded: the joint's CE4s follow the poly
   MESSAGE(on << " joint CE4s, " << length << " m of " << expected << " m, worst " << worst << " m off the polyline");
   CHECK(on >= 10);
   CHECK(worst < 1e-9);
-  CHECK(length == doctest::Approx(expected).epsilon(1e-9));
+  CHECK(length == test::rel(expected, 1e-9));
 
   // Outside the specimen, a bad line, a polyline of one point: refused with the file and line.
   auto error = [&](const std::string& text) -> std::string {

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "approx.hpp"
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "case_reader_fixture.hpp"
@@ -203,14 +204,14 @@ TEST_CASE("refine: areas per surface and lengths per curve kept, children inside
     const auto len = length_per_group(m);
     REQUIRE(area.size() == area0.size());
     REQUIRE(len.size() == len0.size());
-    for (const auto& [g, a] : area0) CHECK(area.at(g) == doctest::Approx(a).epsilon(1e-13));
+    for (const auto& [g, a] : area0) CHECK(area.at(g) == fdem::test::rel(a, 1e-13));
     for (const auto& [g, l] : len0) CHECK(len.at(g) == doctest::Approx(l).epsilon(1e-13));
     for (size_t t = 0; t < m.triangles.size(); ++t) {
       const size_t parent = t >> (2 * n);
       CHECK(m.triangle_group[t] == coarse.triangle_group[parent]);
       const double a = signed_area(m, m.triangles[t]);
       CHECK(a > 0);
-      CHECK(a == doctest::Approx(signed_area(coarse, coarse.triangles[parent]) / (1 << (2 * n))).epsilon(1e-9));
+      CHECK(a == fdem::test::rel(signed_area(coarse, coarse.triangles[parent]) / (1 << (2 * n)), 1e-9));
     }
     // Every refined line lies on its parent line element, in the same direction.
     for (size_t l = 0; l < m.lines.size(); ++l) {
@@ -309,7 +310,7 @@ TEST_CASE("refine in build_model: loads, supports and regions on refined curves;
       CHECK(m.y[e.b] > m.y[e.a]);
     }
     for (const auto& e : coarse.loaded_edges) loaded0 += std::hypot(coarse.x[e.b] - coarse.x[e.a], coarse.y[e.b] - coarse.y[e.a]);
-    CHECK(loaded == doctest::Approx(loaded0).epsilon(1e-14));
+    CHECK(loaded == fdem::test::rel(loaded0, 1e-14));
     CHECK(loaded * m.thickness * m.loads[0].tx == doctest::Approx(0.5 * 0.5 * 2e6).epsilon(1e-14));
     // Every node on x = 0 is held (the support covers the new midpoints), and no other.
     size_t on_left = 0;
@@ -320,7 +321,7 @@ TEST_CASE("refine in build_model: loads, supports and regions on refined curves;
     }
     CHECK(on_left == static_cast<size_t>(2 * (1 << n) + 1));
     // A uniform split halves every triangle's height, so the stable step.
-    CHECK(fdem::stable_time_step(m).dt == doctest::Approx(dt0 / (1 << n)).epsilon(1e-12));
+    CHECK(fdem::stable_time_step(m).dt == fdem::test::rel(dt0 / (1 << n), 1e-12));
   }
 }
 
@@ -459,7 +460,7 @@ TEST_CASE("contact defaults: skin rebuild, margin a fifth of the mean edge, halv
     const Model m = fdem::build_model(mesh, config, notes);
     CHECK(m.contact.rebuild_skin);
     CHECK(m.contact.skin_from_mesh);
-    CHECK(m.contact.skin == doctest::Approx(0.2 * mean_edge / (1 << n)).epsilon(1e-12));
+    CHECK(m.contact.skin == fdem::test::rel(0.2 * mean_edge / (1 << n), 1e-12));
     // A given skin is kept; "step" without a skin does not enlarge the boxes.
     config.contact->skin = 1e-3;
     const Model given = fdem::build_model(mesh, config, notes);

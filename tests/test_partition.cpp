@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include "approx.hpp"
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "engine/parallel/halo.hpp"
@@ -535,7 +536,7 @@ TEST_SUITE("partition") {
       else right_min = std::min(right_min, cx);
     }
     CHECK(left_max < right_min);
-    CHECK(left_max == doctest::Approx(0.2).epsilon(0.05));
+    CHECK(left_max == test::rel(0.2, 0.05));
   }
 
   // Runs `check(contact, partition)` on `m` without and with contact, split by each method

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "approx.hpp"
 #include "case_files.hpp"
 #include "engine/run/run.hpp"
 #include "fixture.hpp"
@@ -54,7 +55,7 @@ TEST_CASE("probe history values are the frames' values of the probe's node and e
     for (size_t f = 1; f < frame_times.size(); ++f) {
       const size_t row = std::lround(frame_times[f] / stride_time) - 1;
       REQUIRE(row < row_times.size());
-      REQUIRE(row_times[row] == doctest::Approx(frame_times[f]).epsilon(1e-12));
+      REQUIRE(row_times[row] == test::rel(frame_times[f], 1e-12));
       const size_t n = f * nodes + probe.node, e = f * elements + probe.triangle;
       CHECK(vx[row] == velx[n]);
       CHECK(vy[row] == vely[n]);
