@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "approx.hpp"
 #include "case_files.hpp"
 #include "engine/model/extrinsic.hpp"
 #include "engine/run/prepare_case.hpp"
@@ -281,9 +282,9 @@ TEST_CASE("the time step: an inserted CE4's penalty sets it; at the rock's own s
     h = std::min(h, area2 / longest);
   }
   const double penalty_step = h / std::sqrt(2 * P / rho), rock_step = h / std::sqrt(M / rho);
-  CHECK(e.stable.dt == doctest::Approx(penalty_step).epsilon(1e-12));
-  CHECK(c.stable.dt == doctest::Approx(rock_step).epsilon(1e-12));
-  CHECK(e.dt == doctest::Approx(0.5 * penalty_step).epsilon(1e-12));  // time.safety's default
+  CHECK(e.stable.dt == test::rel(penalty_step, 1e-12));
+  CHECK(c.stable.dt == test::rel(rock_step, 1e-12));
+  CHECK(e.dt == test::rel(0.5 * penalty_step, 1e-12));  // time.safety's default
   // Runs at a forced step, past prepare_case's check (which refuses a numeric dt above
   // the estimate): the worst |energy_error| and the CE4s inserted.
   auto at = [&](PreparedCase p, double dt) {
