@@ -246,6 +246,7 @@ compute::buffer ClContext::allocate(std::size_t bytes, const std::string& what) 
 void ClContext::collect_profile() {
   if (!profiling_) return;
   finish();
+  const std::lock_guard<std::mutex> lock(*profile_lock_);
   for (auto& [name, event] : pending_) {
     auto& entry = profile_[name];
     entry.seconds += 1e-9 * static_cast<double>(event.duration<std::chrono::nanoseconds>().count());
@@ -255,6 +256,7 @@ void ClContext::collect_profile() {
 }
 
 void ClContext::add_host_time(const std::string& name, double seconds) {
+  const std::lock_guard<std::mutex> lock(*profile_lock_);
   auto& entry = profile_[name];
   entry.seconds += seconds;
   entry.launches++;

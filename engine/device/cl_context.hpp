@@ -9,6 +9,7 @@
 #include <boost/compute/event.hpp>
 #include <cstddef>
 #include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -91,7 +92,8 @@ class ClContext {
     long launches = 0;
   };
   const std::map<std::string, KernelTime>& profile() const { return profile_; }
-  // Host-timed sections (e.g. a whole detection with its sorts), added by callers.
+  // Host-timed sections (e.g. a whole detection with its sorts), added by callers; also
+  // from the outputs' record thread (OutputSet), so the table is locked.
   void add_host_time(const std::string& name, double seconds);
 
  private:
@@ -107,6 +109,7 @@ class ClContext {
   };
   std::shared_ptr<LiveBytes> live_ = std::make_shared<LiveBytes>();
   std::map<std::string, KernelTime> profile_;
+  std::shared_ptr<std::mutex> profile_lock_ = std::make_shared<std::mutex>();
 };
 
 }  // namespace fdem

@@ -59,6 +59,10 @@ OutputSet::OutputSet(const PreparedCase& p, ClContext& cl, long first_step, bool
 }
 
 OutputSet::~OutputSet() {
+  try {
+    records_.drain();
+  } catch (...) {  // the run is failing already (the error that matters is on its way)
+  }
   const bool remove = open_ && !placed_;
   std::vector<std::string> paths;
   for (const auto& o : outputs_)
@@ -125,7 +129,27 @@ Needs OutputSet::frame_needs() const {
   return n;
 }
 
+void OutputSet::write(const Due& due, Snapshot&& snap) {
+  const bool records_only = std::all_of(due.outputs.begin(), due.outputs.end(),
+                                        [](const Output* o) { return o->role() == Output::Role::Record; });
+  if (!records_only || !open_) return write(due, static_cast<const Snapshot&>(snap));
+  auto shared = std::make_shared<const Snapshot>(std::move(snap));
+  std::vector<Output*> records = due.outputs;
+  for (Output* o : records) o->trigger().passed(shared->time);
+  ClContext* cl = &cl_;
+  records_.submit([records = std::move(records), shared, cl] {
+    for (Output* o : records) {
+      const auto began = std::chrono::steady_clock::now();
+      o->write(*shared);
+      if (cl->profiling())
+        cl->add_host_time("output write (host wall, record thread): " + std::filesystem::path(o->path()).filename().string(),
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+    }
+  });
+}
+
 void OutputSet::write(const Due& due, const Snapshot& snap) {
+  records_.drain();  // the rows before this snapshot's, in order
   bool frame = false;
   for (Output* o : due.outputs) {
     if (o->role() != Output::Role::Record) sync();  // every row up to a frame or checkpoint is on disk
@@ -161,11 +185,13 @@ void OutputSet::write_frame(const Snapshot& snap) {
 }
 
 void OutputSet::finish(const Snapshot& last) {
+  records_.drain();
   if (!open_) return;
   for (const auto& o : outputs_) o->finish(last);
 }
 
 OutputTotals OutputSet::totals() const {
+  records_.drain();
   OutputTotals t;
   if (open_)
     for (const auto& o : outputs_) o->add_totals(t);
@@ -175,6 +201,7 @@ OutputTotals OutputSet::totals() const {
 const std::string& OutputSet::checkpoint_path() const { return checkpoints_->path(); }
 
 void OutputSet::place() {
+  records_.drain();
   if (!open_ || placed_) return;
   placed_ = true;
   for (const auto& o : outputs_) {
@@ -187,6 +214,7 @@ void OutputSet::place() {
 }
 
 void OutputSet::sync() {
+  records_.drain();
   if (open_)
     for (const auto& o : outputs_) o->sync();
 }

@@ -12,6 +12,7 @@
 #include "engine/device/cl_context.hpp"
 #include "engine/outputs/output.hpp"
 #include "engine/model/prepared_case.hpp"
+#include "engine/outputs/record_thread.hpp"
 
 namespace fdem {
 
@@ -47,6 +48,10 @@ class OutputSet {
   Needs frame_needs() const;
   // Writes what is due (where the files are) and moves the schedules on (everywhere).
   void write(const Due& due, const Snapshot& snap);
+  // The same for the step loop: when only records are due (history rows, break events),
+  // they are written by the record thread while the caller goes on stepping; their files
+  // hold the rows once anything else is written, synced or closed, or totals() is asked.
+  void write(const Due& due, Snapshot&& snap);
   // A failed step: only its records (history row, breaks).
   void write_records(const Due& due, const Snapshot& snap);
   // A frame of `snap` now (the last good state of a failed run).
@@ -68,6 +73,7 @@ class OutputSet {
   const bool writes_files_;
   bool open_ = false, placed_ = false;
   long last_frame_step_ = -1;
+  mutable RecordThread records_;  // destroyed first (declared last): no task outlives the files
 };
 
 }  // namespace fdem

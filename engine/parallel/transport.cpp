@@ -156,7 +156,10 @@ MpiSession::MpiSession(int* argc, char*** argv) {
   // Only under a real launch (Open MPI's PMIx or ORTE contact, MPICH's PMI): MPI_Init in a
   // process that merely has OMPI_COMM_WORLD_SIZE set would wait for a launcher.
   if (!std::getenv("PMIX_RANK") && !std::getenv("OMPI_MCA_orte_hnp_uri") && !std::getenv("PMI_RANK")) return;
-  MPI_Init(argc, argv);
+  // FUNNELED: the outputs' record thread (engine/outputs/record_thread.hpp) writes files
+  // beside the main thread and never calls MPI.
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   active_ = true;
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);

@@ -96,7 +96,7 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
       Snapshot snap = domain->read(due.needs | Need::Conditions);
       if (cl.profiling()) cl.add_host_time("output step: snapshot read (host wall, incl. the wait for the queue)", seconds_since(began));
       guard.check(snap, *domain, outputs, due);
-      outputs.write(due, snap);
+      outputs.write(due, std::move(snap));  // records: on the record thread, while the next steps run
       // The copy a failure rolls back to: at the checks and at frames and checkpoints, not
       // at every history row (a row every few steps would read the state back as often).
       if (check || due.needs.has(Need::GoodCopy)) domain->keep_good_copy();
