@@ -86,13 +86,14 @@ struct FracturingResult {
 
 // Steps the row's case as `fdem run` does (no output; an energy row every kBenchRowEvery
 // steps) on `timed` for its window, then times detections of the broken model.
-FracturingResult run_fracturing(const FracturingRow& row, ClContext& timed) {
+FracturingResult run_fracturing(const FracturingRow& row, const std::vector<std::string>& overrides, ClContext& timed) {
   if (!std::filesystem::exists(row.case_path))
     throw InputError("fdem bench --fracturing: " + row.case_path +
                      " not found (run from the source tree, or give --cases DIR)");
   const std::string dir = (std::filesystem::temp_directory_path() / "fdem-bench").string();
-  const PreparedCase p =
-      prepare_case(row.case_path, {"mesh.refine=" + std::to_string(row.refine), "output.dir=\"" + dir + "\""});
+  std::vector<std::string> keys{"mesh.refine=" + std::to_string(row.refine), "output.dir=\"" + dir + "\""};
+  keys.insert(keys.end(), overrides.begin(), overrides.end());
+  const PreparedCase p = prepare_case(row.case_path, keys);
   FracturingResult r;
   r.tri3 = p.model.num_triangles();
   r.ce4 = p.model.ce4.size();
@@ -156,6 +157,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
   csv << "h_ave_mm,tri3,ce4,nodes,initial_couples,touching,rebuilds,ms_per_step,paper_ms_per_step,speedup,"
          "device_mib,bytes_per_tri3,roofline_ms,roofline_fraction,ms_per_step_without_account,planned_mib\n";
   out << "fdem bench on " << cl.description() << "\n";
+  for (const auto& o_set : o.overrides) out << "every row with --set " << o_set << "\n";
   if (!o.sizes.empty()) {
     out << o.warmup << " warm-up + " << o.steps
         << " timed steps, dt 0.5 ns (halved per mesh.refine level), activation \"all\", skin 0.15 h_ave (rebuild when exceeded);\n"
@@ -186,9 +188,10 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
     const double dt = std::ldexp(0.5e-9, -refine);
     std::ostringstream dt_key;
     dt_key << std::setprecision(17) << "time.dt=" << dt;
-    const PreparedCase p = prepare_case(o.case_path, {size.str(), levels.str(), dt_key.str(),
-                                                      "output.dir=\"" + dir + "\"", "contact.activation=\"all\"",
-                                                      "contact.rebuild=\"skin\"", skin.str()});
+    std::vector<std::string> keys{size.str(), levels.str(), dt_key.str(), "output.dir=\"" + dir + "\"",
+                                  "contact.activation=\"all\"", "contact.rebuild=\"skin\"", skin.str()};
+    keys.insert(keys.end(), o.overrides.begin(), o.overrides.end());
+    const PreparedCase p = prepare_case(o.case_path, keys);
     // The step time with the energy account and without it, in the same process: the
     // account's per-step totals (reactions, damping, viscous work) and its energy rows are
     // what it costs. A row every 100 steps: denser than any case's history (the cases
@@ -279,7 +282,7 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
            "broken_ce4,ns_per_tri3_step,intact_ns_per_tri3_step,device_mib,planned_mib,bytes_per_tri3\n";
     for (const std::string& name : o.fracturing) {
       const FracturingRow row = fracturing_row(name, o);
-      const FracturingResult r = run_fracturing(row, timed);
+      const FracturingResult r = run_fracturing(row, o.overrides, timed);
       const double steps = static_cast<double>(std::max<long>(r.steps, 1)), tri3 = static_cast<double>(r.tri3);
       const double ms = 1e3 * r.seconds / steps, ns = 1e6 * ms / tri3;
       const double intact = fit_b > 0 ? 1e6 * (fit_a + fit_b * tri3) / tri3 : 0;

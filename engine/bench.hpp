@@ -26,6 +26,9 @@ struct BenchOptions {
   std::vector<std::string> fracturing;
   double blast_window = 400e-6;
   std::string cases_dir = "cases";  // where the fracturing rows' cases are
+  // `--set KEY=VALUE` case overrides, applied to every row after the bench's own keys
+  // (e.g. material.0.fracture.model="extrinsic" for the extrinsic model's rows).
+  std::vector<std::string> overrides;
 };
 
 // The names `--fracturing` accepts ("all": blasting, blasting:2, blasting:3, ucs-fast).

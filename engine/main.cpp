@@ -108,8 +108,8 @@ const std::vector<CommandSpec>& commands() {
       {"bench", "fdem bench [OPTION]...",
        "The seed paper's Table 2: the UCS specimen at several element sizes, ms/step and device memory;\n"
        "with --fracturing, rows where rock breaks (the blasting case, refined, and the fast UCS test).",
-       {"--device", "--sizes", "--steps", "--refine-rows", "--fracturing", "--window", "--cases", "--csv", "--case",
-        "--max-triangles", "--allow-geo-programs"}},
+       {"--device", "--set", "--sizes", "--steps", "--refine-rows", "--fracturing", "--window", "--cases", "--csv",
+        "--case", "--max-triangles", "--allow-geo-programs"}},
   };
   return list;
 }
@@ -859,7 +859,9 @@ int guarded_main(int argc, char** argv) {
     if (a.command != "run" && a.command != "check") refuse_parallel_launch(a.command, false);
     if (a.command == "devices") return list_devices_command();
     if (a.command == "bench") {
-      return fdem::run_bench(a.bench, a.device, std::cout);
+      fdem::BenchOptions bench = a.bench;
+      bench.overrides = a.overrides;
+      return fdem::run_bench(bench, a.device, std::cout);
     }
     if (a.command == "run" || a.command == "check") {
       if (a.ranks > 0 && a.command != "check") throw fdem::InputError("--ranks belongs to fdem check");

@@ -320,6 +320,18 @@ TEST_CASE("bench prints a Table 2 row and its CSV") {
   CHECK(has(r, "contact_forces"));
   CHECK(std::filesystem::exists(dir.str() + "/bench.csv"));
   CHECK(run_fdem("bench --sizes abc").code == 2);
+  // --set reaches every row: the extrinsic model's rows have its two kernels.
+  const auto x = run_fdem("bench --device cpu --sizes 3.0 --steps 2 --case " + fdem::test::source_path("cases/ucs/case.toml") +
+                          " --set 'material.0.fracture.model=\"extrinsic\"'");
+  INFO(x.output);
+  CHECK(x.code == 0);
+  CHECK(has(x, "every row with --set material.0.fracture.model=\"extrinsic\""));
+  CHECK(has(x, "extrinsic_tie"));
+  CHECK_FALSE(has(r, "extrinsic_tie"));
+  const auto bad = run_fdem("bench --device cpu --sizes 3.0 --steps 2 --case " + fdem::test::source_path("cases/ucs/case.toml") +
+                            " --set material.0.fracture.model=1");
+  CHECK(bad.code == 2);
+  CHECK(has(bad, "material[0].fracture.model must be a string"));
 }
 
 // Issue 28, rows 6, 11 and 12: what `check` accepted and `run` refused (or ran into).

@@ -56,6 +56,20 @@ ExtrinsicTies extrinsic_ties(const Model& model) {
     ties.copy_start.push_back(uint32_t(ties.copy_node.size()));
     for (const auto& l : links[v]) ties.link.push_back({local(l[0]), local(l[1]), l[2], 0});
     ties.link_start.push_back(uint32_t(ties.link.size()));
+    // Whether the links join every copy (a vertex inside the region: its fan closes; one
+    // where two parts of a region meet at a point, or on a region's edge, may not).
+    std::vector<uint32_t> root(cv.size());
+    for (uint32_t k = 0; k < root.size(); ++k) root[k] = k;
+    auto find = [&root](uint32_t k) {
+      while (root[k] != k) k = root[k] = root[root[k]];
+      return k;
+    };
+    size_t runs = cv.size();
+    for (const auto& l : links[v]) {
+      const uint32_t a = find(local(l[0])), b = find(local(l[1]));
+      if (a != b) root[std::max(a, b)] = std::min(a, b), --runs;
+    }
+    ties.whole.push_back(runs == 1 ? 1 : 0);
   }
   ties.opposite.resize(model.ce4.size(), {0, 0});
   for (size_t e = 0; e < model.ce4.size(); ++e) {

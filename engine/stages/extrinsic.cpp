@@ -14,6 +14,7 @@ MemoryPlan plan_of(const ExtrinsicTies& t, size_t ce4) {
       .add("extrinsic copy_node", std::max<size_t>(1, t.copy_node.size()) * sizeof(cl_uint))
       .add("extrinsic link_start", t.link_start.size() * sizeof(cl_uint))
       .add("extrinsic link", std::max<size_t>(1, t.link.size()) * 4 * sizeof(cl_uint))
+      .add("extrinsic whole", std::max<size_t>(1, t.whole.size()) * sizeof(cl_uchar))
       .add("extrinsic opposite", std::max<size_t>(1, ce4) * 2 * sizeof(cl_uint));
   return p;
 }
@@ -33,6 +34,8 @@ Extrinsic::Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, Co
   copy_node_ = p.allocate(cl, "extrinsic copy_node");
   link_start_ = p.allocate(cl, "extrinsic link_start");
   link_ = p.allocate(cl, "extrinsic link");
+  whole_ = p.allocate(cl, "extrinsic whole");
+  if (!ties.whole.empty()) upload(cl, whole_, std::vector<cl_uchar>(ties.whole.begin(), ties.whole.end()));
   opposite_ = p.allocate(cl, "extrinsic opposite");
   upload(cl, copy_start_, std::vector<cl_uint>(ties.copy_start.begin(), ties.copy_start.end()));
   if (!ties.copy_node.empty()) upload(cl, copy_node_, std::vector<cl_uint>(ties.copy_node.begin(), ties.copy_node.end()));
@@ -48,7 +51,7 @@ Extrinsic::Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, Co
   const auto program = cl.build(kernel_source::extrinsic, defines);
   tie_ = compute::kernel(program, "extrinsic_tie");
   bind_args(tie_)("n_vertices", cl_uint(vertices_))("copy_start", copy_start_)("copy_node", copy_node_)(
-      "link_start", link_start_)("link", link_)("inserted", cohesive.inserted())("node_mass", arrays.node_mass)(
+      "link_start", link_start_)("link", link_)("whole", whole_)("inserted", cohesive.inserted())("node_mass", arrays.node_mass)(
       "position", arrays.position)("velocity", arrays.velocity)
       .done();
   insert_ = compute::kernel(program, "extrinsic_insert");

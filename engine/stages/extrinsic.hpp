@@ -28,7 +28,7 @@ class Extrinsic {
   ClContext& cl_;
   size_t vertices_, ce4_;
   compute::kernel tie_, insert_;
-  compute::buffer copy_start_, copy_node_, link_start_, link_, opposite_;
+  compute::buffer copy_start_, copy_node_, link_start_, link_, whole_, opposite_;
 };
 
 }  // namespace fdem
