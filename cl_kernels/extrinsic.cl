@@ -15,11 +15,13 @@
 //   copies that share v⁻ and x (they did after the last step's tie) then end with exactly
 //   the cluster's step, v⁺ = v⁻ + Σf/Σm Δt, x⁺ = x + v⁺ Δt. Each work-item writes only its
 //   own vertex's copies, in a fixed order: no atomics, the same bits on any device and
-//   work-group size. Fast path (`whole`, from the host: the vertex's links join every
-//   copy): while none of its CE4s is inserted, all copies are one run, and the sums are
-//   taken straight over them in copy order, the same operations as the labelled path's run
-//   of copy 0, without the label relaxation (H200, 1.08M TRI3, nothing inserted: 0.600 →
-//   0.545 ms a step; what is left is the copies' scattered reads and writes).
+//   work-group size. Fast path: `whole` per vertex, bit 0 from the host (the vertex's links
+//   join every copy), bit 1 set by extrinsic_insert when it inserts a CE4 at the vertex
+//   (and by extrinsic_mark after a checkpoint's flags are loaded). While it is exactly 1,
+//   all copies are one run, and the sums are taken straight over them in copy order, the
+//   same operations as the labelled path's run of copy 0, without reading the links or
+//   relaxing labels (H200, 1.08M TRI3, nothing inserted: 0.600 ms a step for the tie with
+//   the relaxation at every vertex).
 // extrinsic_insert, one work-item per CE4 (order-free: it reads the triangles' forces of
 //   this step and writes only its own CE4): for a CE4 not yet inserted, the traction on
 //   its edge t = σ̄·n, σ̄ the mean of its two triangles' stresses. A triangle's corner
@@ -57,32 +59,28 @@ __kernel void extrinsic_tie(const uint n_vertices,
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   const uint first = copy_start[v], n = copy_start[v + 1] - first;
-  const uint l0 = link_start[v], l1 = link_start[v + 1];
-  if (whole[v] != 0) {
-    bool intact = true;
-    for (uint l = l0; l < l1 && intact; ++l) intact = inserted[link[l].z] == 0;
-    if (intact) {
-      if (n < 2) return;
-      const uint a = copy_node[first];
-      const real2 x0 = position[a], v0 = velocity[a];
-      real mass = 0;
-      real2 dx = (real2)(0, 0), dv = (real2)(0, 0);
-      for (uint q = 0; q < n; ++q) {
-        const uint b = copy_node[first + q];
-        const real m = node_mass[b];
-        mass += m;
-        dx += m * (position[b] - x0);
-        dv += m * (velocity[b] - v0);
-      }
-      const real2 x = x0 + dx / mass, vel = v0 + dv / mass;
-      for (uint q = 0; q < n; ++q) {
-        const uint b = copy_node[first + q];
-        position[b] = x;
-        velocity[b] = vel;
-      }
-      return;
+  if (whole[v] == 1) {
+    if (n < 2) return;
+    const uint a = copy_node[first];
+    const real2 x0 = position[a], v0 = velocity[a];
+    real mass = 0;
+    real2 dx = (real2)(0, 0), dv = (real2)(0, 0);
+    for (uint q = 0; q < n; ++q) {
+      const uint b = copy_node[first + q];
+      const real m = node_mass[b];
+      mass += m;
+      dx += m * (position[b] - x0);
+      dv += m * (velocity[b] - v0);
     }
+    const real2 x = x0 + dx / mass, vel = v0 + dv / mass;
+    for (uint q = 0; q < n; ++q) {
+      const uint b = copy_node[first + q];
+      position[b] = x;
+      velocity[b] = vel;
+    }
+    return;
   }
+  const uint l0 = link_start[v], l1 = link_start[v + 1];
   uchar label[EXTRINSIC_MAX_COPIES];
   for (uint k = 0; k < n; ++k) label[k] = (uchar)k;
   bool changed = true;
@@ -130,6 +128,20 @@ __kernel void extrinsic_tie(const uint n_vertices,
 // triangle 1 and in triangle 2. gaps: per CE4 (o₀, s₀) [m] and ψ₀ h t [J], the energy its
 // law holds at the offsets (cohesive_forces.cl counts the stored energy from it).
 // gp_slip: its friction slips (and in w the break time, -1 while intact).
+// One work-item per tie vertex: sets bit 1 of whole where a CE4 at the vertex is inserted
+// (after a checkpoint's flags were loaded; the insertion marks its own as it goes).
+__kernel void extrinsic_mark(const uint n_vertices,
+                             __global const uint* restrict link_start,
+                             __global const uint4* restrict link,
+                             __global const int* restrict inserted,
+                             __global uchar* restrict whole) {
+  const uint v = get_global_id(0);
+  if (v >= n_vertices) return;
+  uchar any = 0;
+  for (uint l = link_start[v]; l < link_start[v + 1]; ++l) any |= inserted[link[l].z] != 0 ? 2 : 0;
+  whole[v] = (uchar)((whole[v] & 1) | any);
+}
+
 __kernel void extrinsic_insert(const uint n_ce4,
                                __global const uint4* restrict ce4_nodes,
                                __global const real* restrict ce4_length,
@@ -142,7 +154,9 @@ __kernel void extrinsic_insert(const uint n_ce4,
                                __global int* restrict inserted,
                                __global real4* restrict gaps,
                                __global real4* restrict gp_slip,
-                               __global uint* restrict inserted_count) {
+                               __global uint* restrict inserted_count,
+                               __global const uint2* restrict ce4_vertex,
+                               __global uchar* restrict whole) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   if (inserted[e] != 0) return;
@@ -184,6 +198,11 @@ __kernel void extrinsic_insert(const uint n_ce4,
   const real held_s = coh * sp * rs * rs * ((real)1 - rs / (real)3) + (real)0.5 * tau_f * tau_f / k_fric;
 
   inserted[e] = 1;
+  // The tie's fast path ends at both ends' vertices. Every work-item that writes a vertex's
+  // byte writes the same value (its bit 0 never changes), so no atomic is needed.
+  const uint2 ends = ce4_vertex[e];
+  whole[ends.x] = (uchar)(whole[ends.x] | 2);
+  whole[ends.y] = (uchar)(whole[ends.y] | 2);
   gaps[e] = (real4)(o0, s0, (held_n + held_s) * h * thickness, (real)0);
   gp_slip[e] = (real4)(sf, sf, sf, gp_slip[e].w);
   atomic_inc(inserted_count);

@@ -536,6 +536,7 @@ void Solver::load_state(StateReader& in) {
   triangle_forces_.load_state(in);
   boundary_loads_.load_state(in);
   if (cohesive_) cohesive_->load_state(in);
+  if (extrinsic_) extrinsic_->mark_inserted();
   if (fluid_) fluid_->load_state(in);
   if (contact_) {
     contact_->load_state(in);

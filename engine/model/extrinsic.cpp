@@ -41,8 +41,10 @@ ExtrinsicTies extrinsic_ties(const Model& model) {
     for (const auto& [a, b] : {std::array<int, 2>{c[0], c[3]}, std::array<int, 2>{c[1], c[2]}})
       links[size_t(model.node_origin[a])].push_back({uint32_t(a), uint32_t(b), uint32_t(e)});
   }
+  std::vector<uint32_t> tie_index(vertices, 0);
   for (size_t v = 0; v < vertices; ++v) {
     if (links[v].empty()) continue;
+    tie_index[v] = uint32_t(ties.whole.size());
     const auto& cv = copies[v];
     if (cv.size() > size_t(kExtrinsicMaxCopies))
       throw InputError("mesh node " + std::to_string(model.node_tags.empty() ? long(v) : model.node_tags[cv[0]]) +
@@ -71,6 +73,11 @@ ExtrinsicTies extrinsic_ties(const Model& model) {
     }
     ties.whole.push_back(runs == 1 ? 1 : 0);
   }
+  ties.ce4_vertex.resize(model.ce4.size(), {0, 0});
+  for (size_t e = 0; e < model.ce4.size(); ++e)
+    if (flags[e])
+      ties.ce4_vertex[e] = {tie_index[size_t(model.node_origin[model.ce4[e][0]])],
+                            tie_index[size_t(model.node_origin[model.ce4[e][1]])]};
   ties.opposite.resize(model.ce4.size(), {0, 0});
   for (size_t e = 0; e < model.ce4.size(); ++e) {
     const auto& c = model.ce4[e];

@@ -24,11 +24,14 @@ bool has_extrinsic(const Model& model);
 // copies, as indices among the vertex's copies, joined by an end of an extrinsic CE4, and
 // that CE4), CSR; and per CE4 the corner-force slots (3 t + k) of the corners opposite its
 // edge in its two triangles.
-// whole: per such vertex 1 when its links, all uninserted, join every copy into one run
-// (the tie kernel's fast path while nothing is inserted there), else 0.
+// whole: per such vertex 1 when its links join every copy into one run (the tie kernel's
+// fast path while none of them is inserted), else 0. ce4_vertex: per CE4 the tie
+// vertices (indices into the lists) of its two ends, (i, i') and (j, j'); 0 for an
+// intrinsic CE4.
 struct ExtrinsicTies {
   std::vector<uint32_t> copy_start{0}, copy_node, link_start{0};
   std::vector<uint8_t> whole;
+  std::vector<std::array<uint32_t, 2>> ce4_vertex;
   std::vector<std::array<uint32_t, 4>> link;
   std::vector<std::array<uint32_t, 2>> opposite;
   size_t vertices() const { return copy_start.size() - 1; }

@@ -15,7 +15,8 @@ MemoryPlan plan_of(const ExtrinsicTies& t, size_t ce4) {
       .add("extrinsic link_start", t.link_start.size() * sizeof(cl_uint))
       .add("extrinsic link", std::max<size_t>(1, t.link.size()) * 4 * sizeof(cl_uint))
       .add("extrinsic whole", std::max<size_t>(1, t.whole.size()) * sizeof(cl_uchar))
-      .add("extrinsic opposite", std::max<size_t>(1, ce4) * 2 * sizeof(cl_uint));
+      .add("extrinsic opposite", std::max<size_t>(1, ce4) * 2 * sizeof(cl_uint))
+      .add("extrinsic ce4_vertex", std::max<size_t>(1, ce4) * 2 * sizeof(cl_uint));
   return p;
 }
 
@@ -37,6 +38,10 @@ Extrinsic::Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, Co
   whole_ = p.allocate(cl, "extrinsic whole");
   if (!ties.whole.empty()) upload(cl, whole_, std::vector<cl_uchar>(ties.whole.begin(), ties.whole.end()));
   opposite_ = p.allocate(cl, "extrinsic opposite");
+  ce4_vertex_ = p.allocate(cl, "extrinsic ce4_vertex");
+  std::vector<cl_uint> ends;
+  for (const auto& o : ties.ce4_vertex) ends.insert(ends.end(), o.begin(), o.end());
+  if (!ends.empty()) upload(cl, ce4_vertex_, ends);
   upload(cl, copy_start_, std::vector<cl_uint>(ties.copy_start.begin(), ties.copy_start.end()));
   if (!ties.copy_node.empty()) upload(cl, copy_node_, std::vector<cl_uint>(ties.copy_node.begin(), ties.copy_node.end()));
   upload(cl, link_start_, std::vector<cl_uint>(ties.link_start.begin(), ties.link_start.end()));
@@ -59,8 +64,16 @@ Extrinsic::Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, Co
       "property", cohesive.property())("property_rows", cohesive.property_rows())("opposite", opposite_)(
       "position", arrays.position)("corner_force", arrays.corner_force)("thickness", real(model.thickness))(
       "inserted", cohesive.inserted())("gaps", cohesive.insertion_gaps())("gp_slip", cohesive.friction_slips())(
-      "inserted_count", cohesive.inserted_count_buffer())
+      "inserted_count", cohesive.inserted_count_buffer())("ce4_vertex", ce4_vertex_)("whole", whole_)
       .done();
+  mark_ = compute::kernel(program, "extrinsic_mark");
+  bind_args(mark_)("n_vertices", cl_uint(vertices_))("link_start", link_start_)("link", link_)("inserted",
+      cohesive.inserted())("whole", whole_)
+      .done();
+}
+
+void Extrinsic::mark_inserted() {
+  if (vertices_ > 0) cl_.enqueue(mark_, vertices_);
 }
 
 void Extrinsic::enqueue() {

@@ -23,12 +23,15 @@ class Extrinsic {
   static MemoryPlan plan(const Model& model);
   // The tie, then the insertions (reading this step's corner forces). Never waits.
   void enqueue();
+  // After the CE4 flags were loaded (a checkpoint): marks every vertex with an inserted
+  // CE4 at it, so the tie's fast path skips it (the insertion marks its own). Never waits.
+  void mark_inserted();
 
  private:
   ClContext& cl_;
   size_t vertices_, ce4_;
-  compute::kernel tie_, insert_;
-  compute::buffer copy_start_, copy_node_, link_start_, link_, whole_, opposite_;
+  compute::kernel tie_, insert_, mark_;
+  compute::buffer copy_start_, copy_node_, link_start_, link_, whole_, opposite_, ce4_vertex_;
 };
 
 }  // namespace fdem
