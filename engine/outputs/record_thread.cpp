@@ -1,5 +1,8 @@
 #include "engine/outputs/record_thread.hpp"
 
+#include <csignal>
+#include <pthread.h>
+
 namespace fdem {
 
 RecordThread::~RecordThread() {
@@ -38,6 +41,12 @@ void RecordThread::drain() {
 }
 
 void RecordThread::loop() {
+  // The stop signals (fdem run's SIGTERM, SIGINT, SIGUSR1) go to the main thread, which
+  // checks their flag between steps; this thread's file writes are not interrupted.
+  sigset_t stops;
+  sigemptyset(&stops);
+  for (int signal : {SIGTERM, SIGINT, SIGUSR1}) sigaddset(&stops, signal);
+  pthread_sigmask(SIG_BLOCK, &stops, nullptr);
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     changed_.wait(lock, [this] { return !tasks_.empty() || stop_; });
