@@ -2,7 +2,7 @@
 // "Extrinsic cohesive elements"). The mesh is split as for intrinsic CE4s (every
 // fracturable triangle has its own three nodes, every interior edge a CE4), but an
 // extrinsic CE4 carries nothing until it is inserted: before that, the copies of a mesh
-// vertex joined through uninserted CE4s move as one body. Two kernels, run after the
+// vertex joined through uninserted CE4s move as one body. Two kernels run after the
 // integration (engine/stages/extrinsic.cpp):
 //
 // extrinsic_tie, one work-item per mesh vertex that has an extrinsic CE4 at it: its copies
@@ -45,6 +45,8 @@
 //   inserted CE4's stored energy is counted from the state it was inserted in, so the
 //   insertion itself adds nothing to the account. inserted_count counts insertions
 //   (integer atomic; its total does not depend on the order).
+// A third, extrinsic_mark, runs once when a checkpoint is loaded: it rebuilds the tie's
+// per-vertex `whole` bits from the loaded flags.
 
 __kernel void extrinsic_tie(const uint n_vertices,
                             __global const uint* restrict copy_start,
@@ -124,10 +126,6 @@ __kernel void extrinsic_tie(const uint n_vertices,
   }
 }
 
-// opposite: per CE4 the corner-force slots (3 t + k) of the corners opposite its edge in
-// triangle 1 and in triangle 2. gaps: per CE4 (o₀, s₀) [m] and ψ₀ h t [J], the energy its
-// law holds at the offsets (cohesive_forces.cl counts the stored energy from it).
-// gp_slip: its friction slips (and in w the break time, -1 while intact).
 // One work-item per tie vertex: sets bit 1 of whole where a CE4 at the vertex is inserted
 // (after a checkpoint's flags were loaded; the insertion marks its own as it goes).
 __kernel void extrinsic_mark(const uint n_vertices,
@@ -142,6 +140,10 @@ __kernel void extrinsic_mark(const uint n_vertices,
   whole[v] = (uchar)((whole[v] & 1) | any);
 }
 
+// opposite: per CE4 the corner-force slots (3 t + k) of the corners opposite its edge in
+// triangle 1 and in triangle 2. gaps: per CE4 (o₀, s₀) [m] and ψ₀ h t [J], the energy its
+// law holds at the offsets (cohesive_forces.cl counts the stored energy from it).
+// gp_slip: its friction slips (and in w the break time, -1 while intact).
 __kernel void extrinsic_insert(const uint n_ce4,
                                __global const uint4* restrict ce4_nodes,
                                __global const real* restrict ce4_length,

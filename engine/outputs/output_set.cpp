@@ -34,6 +34,15 @@ std::vector<long> frame_steps(const io::OutputConfig& out, long steps, double dt
   return list;
 }
 
+// Writes `snap` to `o`; with profiling, books the host time under `what` and the file's name.
+void timed_write(ClContext& cl, Output& o, const Snapshot& snap, const char* what) {
+  const auto began = std::chrono::steady_clock::now();
+  o.write(snap);
+  if (cl.profiling())
+    cl.add_host_time(std::string(what) + std::filesystem::path(o.path()).filename().string(),
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+}
+
 }  // namespace
 
 OutputSet::OutputSet(const PreparedCase& p, ClContext& cl, long first_step, bool writes_files)
@@ -138,13 +147,7 @@ void OutputSet::write(const Due& due, Snapshot&& snap) {
   for (Output* o : records) o->trigger().passed(shared->time);
   ClContext* cl = &cl_;
   records_.submit([records = std::move(records), shared, cl] {
-    for (Output* o : records) {
-      const auto began = std::chrono::steady_clock::now();
-      o->write(*shared);
-      if (cl->profiling())
-        cl->add_host_time("output write (host wall, record thread): " + std::filesystem::path(o->path()).filename().string(),
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
-    }
+    for (Output* o : records) timed_write(*cl, *o, *shared, "output write (host wall, record thread): ");
   });
 }
 
@@ -154,13 +157,7 @@ void OutputSet::write(const Due& due, const Snapshot& snap) {
   for (Output* o : due.outputs) {
     if (o->role() != Output::Role::Record) sync();  // every row up to a frame or checkpoint is on disk
     if (o->role() == Output::Role::Checkpoint) place();  // the files it continues are in place
-    if (open_) {
-      const auto began = std::chrono::steady_clock::now();
-      o->write(snap);
-      if (cl_.profiling())
-        cl_.add_host_time("output write (host wall): " + std::filesystem::path(o->path()).filename().string(),
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
-    }
+    if (open_) timed_write(cl_, *o, snap, "output write (host wall): ");
     frame = frame || o->role() == Output::Role::Frame;
     o->trigger().passed(snap.time);
   }

@@ -34,9 +34,8 @@ void RecordThread::submit(std::function<void()> task) {
 
 void RecordThread::drain() {
   std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait(lock, [this] { return (tasks_.empty() && !running_) || failure_; });
-  // A failure while others wait: let the running task finish before the caller goes on.
-  changed_.wait(lock, [this] { return !running_; });
+  // A failure clears the queue (loop), so this also ends once a failed task has returned.
+  changed_.wait(lock, [this] { return tasks_.empty() && !running_; });
   rethrow_failure();
 }
 
