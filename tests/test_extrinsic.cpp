@@ -118,6 +118,41 @@ TEST_CASE("the case key: \"extrinsic\" per material, \"intrinsic\" the default; 
   CHECK(damping.find("bad.toml") != std::string::npos);
 }
 
+TEST_CASE("node numbering: extrinsic models by mesh vertex (a vertex's copies consecutive), intrinsic by triangle") {
+  test::TempDir dir;
+  const PreparedCase pe = prepare_case(bar(dir, dir.str(), kExtrinsic, 1e-4, pull(0.1)), {});
+  const PreparedCase pi = prepare_case(bar(dir, dir.str(), test::kRockFracture, 1e-4, pull(0.1), "i.toml"), {});
+  const Model &e = pe.model, &i = pi.model;
+  REQUIRE(e.num_nodes() == i.num_nodes());
+  REQUIRE(e.num_triangles() == i.num_triangles());
+  REQUIRE(e.ce4.size() == i.ce4.size());
+  // Extrinsic: the copies of each mesh vertex are one run of node indices, vertices in order.
+  CHECK(std::is_sorted(e.node_origin.begin(), e.node_origin.end()));
+  // Intrinsic: each fracturable triangle owns three consecutive nodes, in triangle order.
+  size_t consecutive = 0;
+  for (size_t t = 0; t < i.num_triangles(); ++t)
+    consecutive += i.triangle_fracturable[t] && i.triangles[t][1] == i.triangles[t][0] + 1 && i.triangles[t][2] == i.triangles[t][0] + 2;
+  CHECK(consecutive == size_t(std::count(i.triangle_fracturable.begin(), i.triangle_fracturable.end(), true)));
+  CHECK(consecutive > 0);
+  // The same mesh either way: every triangle's and CE4's corners copy the same mesh vertices
+  // at the same coordinates, and every node is a corner of exactly one fracturable triangle.
+  size_t same = 0;
+  for (size_t t = 0; t < e.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = e.triangles[t][k], b = i.triangles[t][k];
+      same += e.node_origin[a] == i.node_origin[b] && e.x[a] == i.x[b] && e.y[a] == i.y[b];
+    }
+  CHECK(same == 3 * e.num_triangles());
+  size_t same_ce4 = 0;
+  for (size_t c = 0; c < e.ce4.size(); ++c)
+    for (int k = 0; k < 4; ++k) same_ce4 += e.node_origin[e.ce4[c][k]] == i.node_origin[i.ce4[c][k]];
+  CHECK(same_ce4 == 4 * e.ce4.size());
+  std::vector<int> uses(e.num_nodes(), 0);
+  for (const auto& tri : e.triangles)
+    for (int n : tri) ++uses[size_t(n)];
+  CHECK(std::all_of(uses.begin(), uses.end(), [](int u) { return u == 1; }));
+}
+
 TEST_CASE("insertion: an edge gets its CE4 exactly when its traction reaches the peak, at the traction it carried") {
   test::TempDir dir;
   // 0.5 m/s: the front's stress ρ c v is about 2.4 MPa > T_s = 2 MPa, so edges near the

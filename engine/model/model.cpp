@@ -225,6 +225,32 @@ void split_fracturable(Model& model, const io::CaseConfig& config, const std::ma
       }
     }
 
+  // With extrinsic CE4s the copies of each mesh vertex are numbered consecutively (nodes
+  // in mesh-vertex order, a vertex's copies in triangle order): the tie kernel
+  // (cl_kernels/extrinsic.cl), which reads and writes every copy of a vertex each step,
+  // then reads one short run of memory per vertex instead of one line per copy.
+  // Intrinsic models keep the triangle order: their triangle and gather kernels read a
+  // triangle's three nodes as one run (H200, 1.08M TRI3: 0.956 ms a step, 1.023 ms in
+  // vertex order; docs/performance-notes.md).
+  const bool vertex_order = std::any_of(model.fracture.begin(), model.fracture.end(),
+                                        [](const FractureProperties& f) { return f.extrinsic; });
+  if (vertex_order) {
+    std::vector<int> renumbered(origin.size());
+    std::vector<int> next(old_nodes + 1, 0);
+    for (int o : origin) ++next[size_t(o) + 1];
+    for (size_t v = 0; v < old_nodes; ++v) next[v + 1] += next[v];
+    std::vector<int> new_origin(origin.size());
+    for (size_t n = 0; n < origin.size(); ++n) {  // n in creation (triangle) order
+      renumbered[n] = next[size_t(origin[n])]++;
+      new_origin[size_t(renumbered[n])] = origin[n];
+    }
+    for (auto& tri : triangles)
+      for (int& n : tri) n = renumbered[size_t(n)];
+    for (auto& list : copies)
+      for (int& n : list) n = renumbered[size_t(n)];
+    origin = std::move(new_origin);
+  }
+
   // CE4s on interior fracturable edges.
   size_t unbonded = 0;
   for (const auto& [key, sides] : edges) {
