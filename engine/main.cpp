@@ -487,7 +487,6 @@ int check_command(const Arguments& a) {
                               : ", " + std::filesystem::path(p.fragments_path).filename().string() + ", " +
                                     std::filesystem::path(p.events_path).filename().string())
             << ", " << std::filesystem::path(fdem::checkpoint_path(p)).filename().string() << ")\n";
-  if (a.ranks > 1) fdem::refuse_extrinsic_split(m, p.config.path);  // as a split run would
   if (a.ranks > 0) print_partition(a, m);
   // The device as `fdem run` opens it: a selection it cannot use is refused the same way.
   std::unique_ptr<fdem::ClContext> device;

@@ -277,6 +277,14 @@ double Solver::strain_round_off(const Model& model) {
 }
 
 void Solver::step(bool energy_row) {
+  step_forces(energy_row);
+  if (extrinsic_ && after_integration_) after_integration_();
+  step_tie();
+  if (extrinsic_ && after_tie_) after_tie_();
+  step_finish();
+}
+
+void Solver::step_forces(bool energy_row) {
   const double t = time();
   // The first step always evaluates the account: its stored energy is the balance's start.
   energy_row = energy_row || steps_ == 0;
@@ -325,8 +333,18 @@ void Solver::step(bool energy_row) {
   // Small models: the integration gathers the nodes' forces itself (step_gather).
   if (!integrate_.gathers()) gather_.enqueue_forces();
   integrate_.enqueue(t + dt_, static_cast<int>(steps_), energy_row);
-  // Extrinsic CE4s: tied copies moved as one, then this step's insertions (cl_kernels/extrinsic.cl).
-  if (extrinsic_) extrinsic_->enqueue();
+}
+
+// Extrinsic CE4s: tied copies moved as one, then this step's insertions
+// (cl_kernels/extrinsic.cl). A split run's ghost copies take their owners' integrated
+// state before the tie, and every ghost its owner's tied one before the insertions read
+// them (set_extrinsic_hooks).
+void Solver::step_tie() {
+  if (extrinsic_) extrinsic_->enqueue_tie();
+}
+
+void Solver::step_finish() {
+  if (extrinsic_) extrinsic_->enqueue_insert();
   if (skin_) skin_->measured(steps_ + 1);
   ++steps_;
   if (!balance_.started()) balance_.start(energy());

@@ -85,6 +85,13 @@ class Solver {
   // energy account (read once) starts the balance. With `energy_row` the step also
   // evaluates the stored energies at t (the positions its forces use) for energy().
   void step(bool energy_row = false);
+  // step() in its three parts, for a test that steps emulated ranks in one process and
+  // exchanges their ghosts between the parts (what the extrinsic hooks do in a split
+  // run): the forces and the integration; the extrinsic tie; the insertions and the rest.
+  // step(r) is step_forces(r), the first hook, step_tie(), the second, step_finish().
+  void step_forces(bool energy_row = false);
+  void step_tie();
+  void step_finish();
   // The energy account at the time of the last energy row (waits): stored terms at that
   // time, dissipated and supplied terms from t = 0 up to it.
   EnergyTotals energy();
@@ -178,6 +185,16 @@ class Solver {
     contact_sent_ = std::move(contact_sent);
     contact_received_ = std::move(contact_received);
   }
+  // A split run with extrinsic CE4s (engine/run/split_run.*): the ghost exchanges inside
+  // the step, `after_integration` before the tie (a rank ties every mesh node it owns a
+  // copy of, so it needs every copy's integrated state) and `after_tie` before the
+  // insertions (which read the tied positions of ghost CE4s' nodes too). Collective; set
+  // before the first step. Not set: nothing is exchanged inside the step.
+  void set_extrinsic_hooks(std::function<void()> after_integration, std::function<void()> after_tie) {
+    after_integration_ = std::move(after_integration);
+    after_tie_ = std::move(after_tie);
+  }
+  bool has_extrinsic_stage() const { return extrinsic_ != nullptr; }
   ContactSkin* skin() { return skin_.get(); }
   // The round-off floor of the strain energy (EnergyTotals::resolution) of `model`; a
   // split run sets the whole model's (its local model would give its own share).
@@ -233,6 +250,7 @@ class Solver {
   std::vector<cl_ulong> split_keys_;
   size_t split_keys_generation_ = ~size_t(0);  // none read yet
   std::function<void()> before_detection_, contact_sent_, contact_received_;
+  std::function<void()> after_integration_, after_tie_;
   size_t split_touching_ = 0, split_candidates_ = 0;
   // A split run: the contact terms of energy() over every rank (collective).
   void add_split_contact_energy(EnergyTotals& e);

@@ -9,7 +9,8 @@
 # code and message; checkpoints continue at any number of ranks, with contact too; a node
 # travelling beyond the contact ghosts stops every rank with exit 2; the column in its
 # in-situ state with a heterogeneous E over 2 ranks; a tunnel excavated over 2 ranks and
-# across a restart from 2 ranks to one.
+# across a restart from 2 ranks to one; the small blast with extrinsic CE4s, with and
+# without contact, over 2 and 4 ranks and across restarts.
 # Usage: test_mpi.sh FDEM [MPIRUN]
 set -u
 fdem=$(readlink -f "$1")
@@ -221,6 +222,43 @@ check "one process continues it" test $? -eq 0
 for f in tunnel.exo tunnel_history.nc; do
   check "tun2/$f byte-identical to one process" cmp -s "tun1/$f" "tun2/$f"
   check "tunr/$f (2 ranks, then one) byte-identical to one process" cmp -s "tun1/$f" "tunr/$f"
+done
+
+# Extrinsic CE4s (issue 33): the small blast without and with contact, its rock's CE4s
+# inserted where an edge reaches the peak. A rank ties every mesh node it owns a copy of
+# and exchanges its ghosts after the integration and after the tie: 2 and 4 ranks give one
+# process's bytes; a checkpoint of 2 ranks continues on 4, one process's on 2.
+xset=(--set 'material.0.fracture.model="extrinsic"')
+"$fdem" run blast.toml --quiet "${xset[@]}" --set 'output.dir="xone"' > xone.log 2>&1
+check "extrinsic: one process runs the small blast" test $? -eq 0
+check "... breaking CE4s (each inserted first)" grep -q "[1-9][0-9]* CE4s broken" xone.log
+split 2 xnp2 --partition metis "${xset[@]}"
+check "extrinsic: mpirun -np 2 (METIS) runs" test $? -eq 0
+split 4 xnp4 --partition bisection "${xset[@]}"
+check "extrinsic: mpirun -np 4 (bisection) runs" test $? -eq 0
+split 2 xhalf "${xset[@]}" --set 'time.end=1e-4'
+check "extrinsic: 2 ranks to half the time" test $? -eq 0
+split 4 xhalf "${xset[@]}" --restart
+check "extrinsic: 4 ranks continue its checkpoint" test $? -eq 0
+"$fdem" run blast.toml --quiet "${xset[@]}" --set 'output.dir="xhalf1"' --set 'time.end=1e-4' > xhalf1.log 2>&1
+split 2 xhalf1 "${xset[@]}" --restart
+check "extrinsic: 2 ranks continue one process's checkpoint" test $? -eq 0
+for out in xnp2 xnp4 xhalf xhalf1; do
+  for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
+    check "extrinsic: $out/$f byte-identical to one process" cmp -s "xone/$f" "$out/$f"
+  done
+done
+"$fdem" run contact.toml --quiet "${xset[@]}" --set 'output.dir="xcone"' > xcone.log 2>&1
+check "extrinsic with contact: one process" test $? -eq 0
+# (The default contact travel: the extrinsic rock's pieces fly further than 0.02 m.)
+csplit 2 xcnp2 "${xset[@]}" --partition metis
+check "extrinsic with contact: 2 ranks (METIS)" test $? -eq 0
+csplit 4 xcnp4 "${xset[@]}" --partition bisection
+check "extrinsic with contact: 4 ranks (bisection)" test $? -eq 0
+for out in xcnp2 xcnp4; do
+  for f in blast.exo blast_history.nc blast_fragments.nc blast_events.nc; do
+    check "extrinsic with contact: $out/$f byte-identical to one process" cmp -s "xcone/$f" "$out/$f"
+  done
 done
 
 if [ "$fails" -ne 0 ]; then

@@ -15,6 +15,7 @@
 #include "approx.hpp"
 #include "base/errors.hpp"
 #include "case_files.hpp"
+#include "engine/model/extrinsic.hpp"
 #include "engine/parallel/halo.hpp"
 #include "engine/parallel/partition.hpp"
 #include "engine/run/split_run.hpp"
@@ -142,11 +143,12 @@ void check_equal(const std::vector<PartStats>& got, const std::vector<PartStats>
 // The bar of tests/data/cases/bar.geo, fracturable, critical viscosity, gravity, pulled
 // at 5 m/s on its right edge (CE4s there break within tens of steps) and pressed by a
 // traction on its top edge (loaded edges).
-std::string pulled_bar(const test::TempDir& dir) {
+// `fracture_extra`: more [material.fracture] keys (e.g. the extrinsic model).
+std::string pulled_bar(const test::TempDir& dir, const std::string& fracture_extra = "") {
   test::BarCase c;
   c.time = "dt = \"auto\"\nsteps = 400\n";
   c.output = "dir = \"" + dir.str() + "\"\nframes = 2\n";
-  c.material = std::string("viscosity = \"critical\"\n") + test::kRockFracture;
+  c.material = std::string("viscosity = \"critical\"\n") + test::kRockFracture + fracture_extra;
   c.rest = R"(
 [gravity]
 g = [0.0, -9.81]
@@ -238,6 +240,112 @@ TEST_SUITE("partition") {
         CHECK(differ == 0);
         CHECK(broken_owned == broken);
         // Without the exchange the ghosts drift and the owned nodes next to them with them.
+        if (method == PartitionMethod::Bisection && parts == 2) {
+          for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
+          make_halos();
+          for (long k = 0; k < steps; ++k) step_all(false);
+          size_t drift = 0;
+          for (int r = 0; r < parts; ++r) {
+            const auto xl = ranks[r]->positions();
+            for (size_t i = 0; i < xl.size(); ++i)
+              drift += locals[r].node_owner[i] == r && !same_bits(xl[i], x_whole[locals[r].node_global[i]]);
+          }
+          CHECK(drift > 0);
+        }
+      }
+  }
+
+  // Extrinsic CE4s (issue 33): a rank ties every mesh node it owns a copy of, so it holds
+  // all of its copies and extrinsic CE4s, and the step exchanges the ghosts twice: after
+  // the integration (the tie reads every copy) and after the tie (the insertions read the
+  // tied positions of ghost CE4s). Here the parts of the step run rank by rank with the
+  // engine's exchange between them, as the hooks of a split run place it.
+  TEST_CASE("ranks emulated in one process, extrinsic CE4s: every node bitwise as one rank, CE4s inserted and broken") {
+    test::TempDir dir;
+    const PreparedCase p = prepare_case(pulled_bar(dir, "model = \"extrinsic\"\n"), {});
+    REQUIRE(has_extrinsic(p.model));
+    ClContext& cl = test::context();
+    const long steps = p.steps;
+    Solver whole(cl, p.model, p.dt);
+    for (long k = 0; k < steps; ++k) whole.step();
+    const auto x_whole = whole.positions(), v_whole = whole.velocities();
+    const size_t inserted = whole.cohesive()->count_inserted(), broken = whole.cohesive()->count_broken();
+    CHECK(inserted > 0);
+    CHECK(broken > 0);
+    CHECK(inserted < p.model.ce4.size());
+    CHECK(count_inserted(p.model, whole.cohesive()->inserted_flags()) == inserted);
+    for (auto method : methods())
+      for (int parts : {2, 3}) {
+        CAPTURE(partition_method_name(method));
+        CAPTURE(parts);
+        const auto partition = partition_model(p.model, parts, method);
+        std::vector<LocalModel> locals;
+        std::vector<std::unique_ptr<Solver>> ranks;
+        for (int r = 0; r < parts; ++r) {
+          locals.push_back(local_model(p.model, partition, r));
+          ranks.push_back(std::make_unique<Solver>(cl, locals.back().model, p.dt));
+          REQUIRE(ranks.back()->has_extrinsic_stage());
+        }
+        // Every copy of a mesh node a rank owns a copy of is in its local model.
+        for (int r = 0; r < parts; ++r) {
+          std::set<int> tied;
+          for (size_t i = 0; i < locals[r].node_global.size(); ++i)
+            if (locals[r].node_owner[i] == r) tied.insert(p.model.node_origin[locals[r].node_global[i]]);
+          size_t copies = 0, held = 0;
+          std::set<int> held_global(locals[r].node_global.begin(), locals[r].node_global.end());
+          for (size_t g = 0; g < p.model.num_nodes(); ++g)
+            if (tied.count(p.model.node_origin[g])) ++copies, held += held_global.count(int(g));
+          CHECK(held == copies);
+        }
+        InProcessHub hub(parts);
+        std::vector<std::unique_ptr<HaloExchange>> halos;
+        auto make_halos = [&] {
+          halos.clear();
+          for (int r = 0; r < parts; ++r)
+            halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(p.model, partition, locals[r], r),
+                                                           hub.rank(r)));
+        };
+        auto exchange_all = [&] {
+          for (auto& h : halos) h->send();
+          for (auto& h : halos) h->receive();
+        };
+        // in_step: the split run's order; else one exchange after the whole step, as
+        // for intrinsic CE4s.
+        auto step_all = [&](bool in_step) {
+          for (auto& s : ranks) s->step_forces();
+          if (in_step) exchange_all();
+          for (auto& s : ranks) s->step_tie();
+          if (in_step) exchange_all();
+          for (auto& s : ranks) s->step_finish();
+          if (!in_step) exchange_all();
+        };
+        make_halos();
+        for (long k = 0; k < steps; ++k) step_all(true);
+        size_t owned = 0, differ = 0, inserted_owned = 0, broken_owned = 0;
+        std::vector<cl_int> flags_whole(p.model.ce4.size(), 0);
+        for (int r = 0; r < parts; ++r) {
+          const auto xl = ranks[r]->positions(), vl = ranks[r]->velocities();
+          for (size_t i = 0; i < xl.size(); ++i) {  // owned nodes and ghosts
+            owned += locals[r].node_owner[i] == r;
+            const int g = locals[r].node_global[i];
+            differ += !same_bits(xl[i], x_whole[g]) || !same_bits(vl[i], v_whole[g]);
+          }
+          const auto b = ranks[r]->cohesive()->broken();
+          const auto f = ranks[r]->cohesive()->inserted_flags();
+          for (size_t c = 0; c < b.size(); ++c) {
+            const int g = locals[r].ce4_global[c];
+            if (partition.triangle_part[p.model.ce4_triangles[g][0]] != r) continue;
+            broken_owned += b[c] != 0;
+            flags_whole[g] = f[c];
+          }
+        }
+        inserted_owned = count_inserted(p.model, flags_whole);
+        CHECK(owned == p.model.num_nodes());
+        CHECK(differ == 0);
+        CHECK(inserted_owned == inserted);
+        CHECK(broken_owned == broken);
+        // With one exchange after the step, as for intrinsic CE4s, the ties at the ranks'
+        // borders read stale ghost copies and the owned nodes drift from one rank's.
         if (method == PartitionMethod::Bisection && parts == 2) {
           for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
           make_halos();
@@ -606,6 +714,25 @@ TEST_SUITE("partition") {
       const auto beyond = check_held(c.model, partition_model(c.model, parts, PartitionMethod::Bisection), reach);
       CHECK(beyond[0] > 0);
       CHECK(beyond[1] > 0);
+    }
+    // Extrinsic CE4s (the pulled bar, no contact): a rank holds every copy of the mesh
+    // nodes it owns a copy of, and the extrinsic CE4s there, beyond the intrinsic ghosts.
+    test::TempDir dir;
+    const PreparedCase in = prepare_case(pulled_bar(dir), {});
+    const PreparedCase ex = prepare_case(pulled_bar(dir, "model = \"extrinsic\"\n"), {});
+    REQUIRE(has_extrinsic(ex.model));
+    REQUIRE(!ex.model.contact.enabled);
+    for (int parts : {2, 3}) {
+      CAPTURE(parts);
+      const auto pe = partition_model(ex.model, parts, PartitionMethod::Bisection);
+      const auto pi = partition_model(in.model, parts, PartitionMethod::Bisection);
+      const auto beyond = check_held(ex.model, pe, 0.0);
+      CHECK(beyond[1] > 0);  // extrinsic CE4s that use no owned node
+      const auto se = partition_stats(ex.model, pe, 0.0), si = partition_stats(in.model, pi, 0.0);
+      for (int r = 0; r < parts; ++r) {
+        CHECK(se[r].held_ce4 > si[r].held_ce4);
+        CHECK(se[r].held_tri3 > si[r].held_tri3);
+      }
     }
   }
 

@@ -94,11 +94,6 @@ ExtrinsicTies extrinsic_ties(const Model& model) {
   return ties;
 }
 
-void refuse_extrinsic_split(const Model& model, const std::string& case_path) {
-  if (has_extrinsic(model))  // the ties and insertions are not split over ranks yet (issue 33)
-    throw InputError(case_path + ": fracture.model = \"extrinsic\" runs on one rank only; run it without mpirun");
-}
-
 std::string extrinsic_summary(const Model& model) {
   const auto flags = extrinsic_ce4(model);
   const size_t n = size_t(std::count(flags.begin(), flags.end(), char(1)));
@@ -106,7 +101,7 @@ std::string extrinsic_summary(const Model& model) {
   const ExtrinsicTies ties = extrinsic_ties(model);
   return std::to_string(n) + " of the CE4s (fracture.model = \"extrinsic\") carry nothing until their edge's traction "
          "reaches the peak; until then the copies of " + std::to_string(ties.vertices()) +
-         " mesh nodes move as one (one rank only)";
+         " mesh nodes move as one";
 }
 
 void check_extrinsic(const Model& model, const io::CaseConfig& config) {

@@ -39,10 +39,6 @@ struct ExtrinsicTies {
 // Throws InputError naming the vertex when one has more than kExtrinsicMaxCopies copies.
 ExtrinsicTies extrinsic_ties(const Model& model);
 
-// A split run (mpirun, or fdem check --ranks N > 1) of a model with extrinsic CE4s: refused
-// for now with one message naming the case file (InputError; nothing when none).
-void refuse_extrinsic_split(const Model& model, const std::string& case_path);
-
 // What `fdem check` says of the extrinsic CE4s ("" without any).
 std::string extrinsic_summary(const Model& model);
 

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <unordered_map>
 #include "base/errors.hpp"
+#include "engine/model/extrinsic.hpp"
 #ifdef FDEM_HAVE_METIS
 #include <metis.h>
 #endif
@@ -371,6 +372,26 @@ Held held(const Model& g, const Partition& partition, const std::vector<int>& ow
         }
     }
   }
+  // Extrinsic CE4s (engine/model/extrinsic.hpp): the tie moves all copies of a mesh node
+  // as one, so a rank that owns a copy holds every copy (the triangles at the mesh node)
+  // and every extrinsic CE4 with an end there (the links), with both their triangles:
+  // after the post-integration exchange it ties the node as one rank does.
+  const auto extrinsic = extrinsic_ce4(g);
+  if (!extrinsic.empty() && g.node_origin.size() == g.num_nodes()) {
+    std::vector<char> tied(size_t(*std::max_element(g.node_origin.begin(), g.node_origin.end())) + 1, 0);
+    for (size_t c = 0; c < g.ce4.size(); ++c)
+      if (extrinsic[c])
+        for (int k : {0, 1})
+          if (owner[g.ce4[c][k]] == rank || owner[g.ce4[c][3 - k]] == rank) tied[g.node_origin[g.ce4[c][k]]] = 1;
+    for (size_t t = 0; t < g.num_triangles(); ++t)
+      for (int v : g.triangles[t])
+        if (tied[g.node_origin[v]]) h.tri[t] = 1;
+    for (size_t c = 0; c < g.ce4.size(); ++c)
+      if (extrinsic[c] && (tied[g.node_origin[g.ce4[c][0]]] || tied[g.node_origin[g.ce4[c][1]]])) {
+        h.ce4[c] = 1;
+        h.tri[g.ce4_triangles[c][0]] = h.tri[g.ce4_triangles[c][1]] = 1;
+      }
+  }
   for (size_t t = 0; t < g.num_triangles(); ++t)
     if (h.tri[t])
       for (int v : g.triangles[t]) h.node[v] = 1;
@@ -455,6 +476,8 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       for (int v : l.node_global) m.node_origin.push_back(g.node_origin[v]);
       m.vertex_bonded = g.vertex_bonded;
     }
+  } else if (g.node_origin.size() == g.num_nodes() && has_extrinsic(g)) {
+    for (int v : l.node_global) m.node_origin.push_back(g.node_origin[v]);  // the tie's copies
   }
   // Triangles stay grouped by material: a filtered global order is still in blocks.
   m.block_start.assign(g.materials.size() + 1, 0);

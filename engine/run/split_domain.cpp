@@ -99,6 +99,10 @@ Snapshot SplitDomain::read(Needs needs) {
   if (ce4 && (needs.has(Need::Ce4Flags) || needs.has(Need::FragmentLabels))) {
     s.broken = split.gather(ItemKind::Ce4, ce4->broken());
     s.mode = split.gather(ItemKind::Ce4, ce4->mode());
+    if (solver.has_extrinsic_stage()) {  // each rank's counter counts its ghosts' insertions too
+      const auto inserted = split.gather(ItemKind::Ce4, ce4->inserted_flags());
+      if (root) s.inserted_ce4 = static_cast<long>(count_inserted(p_.model, inserted));
+    }
   }
   if (ce4 && needs.has(Need::FragmentLabels) && root) s.labels = host_fragment_labels(p_.model, s.broken);
   if (needs.has(Need::State)) {

@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/format.hpp"
+#include "engine/model/extrinsic.hpp"
 #include "engine/model/layouts.hpp"
 
 namespace fdem {
@@ -56,6 +57,14 @@ void SplitRun::attach(ClContext& cl, Solver& solver) {
                                          transport_, contact);
   solver.set_scope(&scope_);
   solver.set_strain_round_off(Solver::strain_round_off(global_));  // the account's floor: one rank's
+  if (solver.has_extrinsic_stage()) {
+    // Extrinsic CE4s (local_model holds every copy of each mesh node a rank owns a copy
+    // of, and every extrinsic CE4 at it): the owners' integrated states before the tie,
+    // so that each rank ties those nodes as one rank does, then the tied states before the
+    // insertions. The insertions move no node: that second exchange is the step's last.
+    solver.set_extrinsic_hooks([this] { halo_->exchange(); }, [this] { halo_->exchange(); });
+    exchanged_in_step_ = true;
+  }
   if (!contact) return;
   // Contact: each couple is listed by the owner of its lower triangle (the detection's
   // owned mask, Model::triangle_owned); its forces on nodes owned elsewhere travel to them
@@ -184,7 +193,7 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
       {"ce4_last_chord", {ItemKind::Ce4, 1}},
       {"ce4_energy", {ItemKind::Ce4, 1}},
-      {"ce4_inserted", {ItemKind::Ce4, 1}},  // extrinsic CE4s (split runs refuse them for now)
+      {"ce4_inserted", {ItemKind::Ce4, 1}},  // extrinsic CE4s (ce4_inserted_count: whole_count_array)
       {"ce4_insertion_gaps", {ItemKind::Ce4, 1}},
       {"contact_active", {ItemKind::Triangle, 1}},
       {"skin_position_at_build", {ItemKind::Node, 1}},
@@ -215,9 +224,13 @@ bool contact_other_array(const std::string& name) {
 // Per-work-group sums (not read by the account any more; kept for the file's layout): rank 0's.
 bool rank_zero_array(const std::string& name) { return name == "integrate_work" || name == "triangle_energy"; }
 bool break_log_array(const std::string& name) { return name == "ce4_break_ids" || name == "ce4_break_records"; }
+// The extrinsic insertions' counter: each rank's counts its ghost CE4s' insertions too, so
+// the whole model's is counted from the gathered flags (gather_state); a rank reads the
+// whole count back and never uses it (the history counts the gathered flags too).
+bool whole_count_array(const std::string& name) { return name == "ce4_inserted_count"; }
 
 void check_known(const std::string& name) {
-  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name) &&
+  if (!checkpoint_items().count(name) && !rank_zero_array(name) && !break_log_array(name) && !whole_count_array(name) &&
       !contact_list_array(name) && !contact_other_array(name))
     throw InputError("checkpoint array '" + name + "' is not known to the split run (engine/run/split_run.cpp, "
                      "checkpoint_items): a checkpoint of this model cannot be written or read over several ranks");
@@ -241,6 +254,24 @@ void put_break_log(io::CheckpointData& data, const std::vector<io::BreakRecord>&
   }
 }
 
+}  // namespace
+
+namespace {
+io::CheckpointArray* array_named(io::CheckpointData& data, const std::string& name) {
+  for (auto& a : data.arrays)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+template <class T>
+std::vector<T> values_of(const io::CheckpointArray& a) {
+  std::vector<T> v(a.bytes.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), a.bytes.data(), v.size() * sizeof(T));
+  return v;
+}
+template <class T>
+void set_values(io::CheckpointArray& a, const std::vector<T>& v) {
+  a.bytes.assign(reinterpret_cast<const unsigned char*>(v.data()), reinterpret_cast<const unsigned char*>(v.data() + v.size()));
+}
 }  // namespace
 
 io::CheckpointData SplitRun::gather_state(const io::CheckpointData& local, const std::vector<io::BreakRecord>& catalogue) {
@@ -271,26 +302,20 @@ io::CheckpointData SplitRun::gather_state(const io::CheckpointData& local, const
   }
   if (root() && global.find("ce4_break_ids")) put_break_log(global, catalogue);
   if (global.find("contact_keys")) gather_contact(global, local);
+  if (root())
+    if (io::CheckpointArray* count = array_named(global, "ce4_inserted_count"))
+      if (const io::CheckpointArray* flags = global.find("ce4_inserted"))
+        set_values(*count, std::vector<cl_uint>{cl_uint(count_inserted(global_, values_of<cl_int>(*flags)))});
   return global;
 }
 
-namespace {
-io::CheckpointArray* array_named(io::CheckpointData& data, const std::string& name) {
-  for (auto& a : data.arrays)
-    if (a.name == name) return &a;
-  return nullptr;
+size_t count_inserted(const Model& global, const std::vector<cl_int>& inserted) {
+  const auto extrinsic = extrinsic_ce4(global);
+  size_t n = 0;
+  for (size_t e = 0; e < extrinsic.size() && e < inserted.size(); ++e) n += extrinsic[e] && inserted[e] != 0;
+  return n;
 }
-template <class T>
-std::vector<T> values_of(const io::CheckpointArray& a) {
-  std::vector<T> v(a.bytes.size() / sizeof(T));
-  if (!v.empty()) std::memcpy(v.data(), a.bytes.data(), v.size() * sizeof(T));
-  return v;
-}
-template <class T>
-void set_values(io::CheckpointArray& a, const std::vector<T>& v) {
-  a.bytes.assign(reinterpret_cast<const unsigned char*>(v.data()), reinterpret_cast<const unsigned char*>(v.data() + v.size()));
-}
-}  // namespace
+
 
 void SplitRun::gather_contact(io::CheckpointData& global, const io::CheckpointData& local) {
   const auto* keys_array = local.find("contact_keys");

@@ -23,6 +23,10 @@ namespace fdem {
 
 struct PreparedCase;
 
+// How many of the whole model's extrinsic CE4s `inserted` (its flags, per CE4 of `global`)
+// marks inserted: what one rank's insertion counter holds.
+size_t count_inserted(const Model& global, const std::vector<cl_int>& inserted);
+
 class SplitRun {
  public:
   // Partitions `global` (the whole model, the same on every rank) and builds this rank's
@@ -40,8 +44,11 @@ class SplitRun {
   // with contact, the contact force exchange, the detection guard and the skin's reduction).
   void attach(ClContext& cl, Solver& solver);
   double contact_travel() const { return travel_; }
-  // The ghost exchange after a step.
-  void exchange() { halo_->exchange(); }
+  // The ghost exchange after a step; none with extrinsic CE4s, whose step exchanges the
+  // ghosts itself after the tie, and nothing moves a node after that (attach).
+  void exchange() {
+    if (!exchanged_in_step_) halo_->exchange();
+  }
 
   // The owned items' values of every rank, on rank 0 in global order (empty elsewhere).
   // Collective.
@@ -94,6 +101,7 @@ class SplitRun {
   ItemScope scope_;
   std::unique_ptr<HaloExchange> halo_;
   double travel_ = 0;
+  bool exchanged_in_step_ = false;  // extrinsic CE4s: the step's own exchanges (attach)
   // The contact arrays of a checkpoint that are not per item (engine/run/split_run.cpp).
   void gather_contact(io::CheckpointData& global, const io::CheckpointData& local);
   void local_contact(io::CheckpointData& local) const;

@@ -409,6 +409,11 @@ std::vector<real> CohesiveForces::opening() { return output_column(1); }
 std::vector<real> CohesiveForces::slip() { return output_column(2); }
 std::vector<real> CohesiveForces::broken_time() { return output_column(3); }
 
+std::vector<cl_int> CohesiveForces::inserted_flags() {
+  if (!extrinsic_) return {};
+  return download<cl_int>(cl_, inserted_, count_);
+}
+
 std::vector<int> CohesiveForces::broken() {
   const auto s = download<cl_int>(cl_, status_, 2 * count_);
   std::vector<int> out(count_);

@@ -61,6 +61,7 @@ class CohesiveForces {
   compute::buffer& insertion_gaps() { return insertion_gaps_; }
   compute::buffer& inserted_count_buffer() { return inserted_count_; }
   size_t count_inserted();  // reads the count (waits); 0 without extrinsic CE4s
+  std::vector<cl_int> inserted_flags();  // reads the flags (waits); empty without extrinsic CE4s
   compute::buffer& nodes() { return nodes_; }
   compute::buffer& lengths() { return length_; }
   compute::buffer& property() { return property_; }

@@ -76,8 +76,11 @@ void Extrinsic::mark_inserted() {
   if (vertices_ > 0) cl_.enqueue(mark_, vertices_);
 }
 
-void Extrinsic::enqueue() {
+void Extrinsic::enqueue_tie() {
   if (vertices_ > 0) cl_.enqueue(tie_, vertices_);
+}
+
+void Extrinsic::enqueue_insert() {
   if (ce4_ > 0) cl_.enqueue(insert_, ce4_);
 }
 

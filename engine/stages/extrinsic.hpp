@@ -21,8 +21,11 @@ class Extrinsic {
   Extrinsic(ClContext& cl, DeviceArrays& arrays, const Model& model, CohesiveForces& cohesive);
   // The arrays the constructor allocates for `model`.
   static MemoryPlan plan(const Model& model);
-  // The tie, then the insertions (reading this step's corner forces). Never waits.
-  void enqueue();
+  // The tie (after the integration), then the insertions (reading this step's corner
+  // forces and the tied positions); a split run exchanges its ghost nodes between the
+  // two (Solver::step). Never wait.
+  void enqueue_tie();
+  void enqueue_insert();
   // After the CE4 flags were loaded (a checkpoint): marks every vertex with an inserted
   // CE4 at it, so the tie's fast path skips it (the insertion marks its own). Never waits.
   void mark_inserted();
