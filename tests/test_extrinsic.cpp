@@ -250,6 +250,36 @@ TEST_CASE("nothing inserted: the extrinsic bar moves as the conforming bar (no C
   CHECK(t.fracture == 0.0);
 }
 
+TEST_CASE("history: the out-of-balance force of tied copies is their sum, as the conforming bar's node's") {
+  // Each copy's force is its own triangle's share; the tie moves the copies as one body,
+  // whose out-of-balance force is the sum: the conforming bar's, to round-off.
+  test::TempDir dir;
+  const PreparedCase e = prepare_case(bar(dir, dir.str() + "/e", kExtrinsic, 4e-4, pull(0.1), "e.toml"), {});
+  std::ostringstream step;
+  step.precision(17);
+  step << e.dt;
+  test::run(dir.str() + "/e.toml", {});
+  test::run(bar(dir, dir.str() + "/c", "", 4e-4, pull(0.1), "c.toml"), {"time.dt=" + step.str()});
+  const auto fe = test::read_variable(dir.str() + "/e/bar_history.nc", "max_unbalanced_force");
+  const auto fc = test::read_variable(dir.str() + "/c/bar_history.nc", "max_unbalanced_force");
+  REQUIRE(fe.size() == fc.size());
+  double largest = 0, worst = 0;
+  for (size_t k = 0; k < fc.size(); ++k) largest = std::max(largest, fc[k]);
+  for (size_t k = 0; k < fc.size(); ++k) worst = std::max(worst, std::fabs(fe[k] - fc[k]));
+  // Each copy alone: what the column held before it summed the tied copies.
+  Solver se(test::context(), e.model, e.dt);
+  for (long s = 0; s < e.steps; ++s) se.step(false);
+  const auto f = se.forces();
+  double per_copy = 0;
+  for (size_t k = 0; k < f.size(); ++k)
+    if (!(e.model.groups[e.model.node_group[k]].mask & 1u)) per_copy = std::max(per_copy, std::fabs(double(f[k].x)));
+  MESSAGE("largest out-of-balance force " << largest << " N; extrinsic against conforming at most " << worst
+          << " N apart; one copy alone at the end " << per_copy << " N against " << fe.back() << " N summed");
+  CHECK(largest > 0);
+  CHECK(worst <= 1e-6 * largest);
+  CHECK(per_copy > 10 * fe.back());
+}
+
 TEST_CASE("an extrinsic bar pulled apart: bitwise repeatable, restarts byte for byte, energy account closed") {
   test::TempDir dir;
   const std::string one = dir.str() + "/one", two = dir.str() + "/two", three = dir.str() + "/three";

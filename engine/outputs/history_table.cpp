@@ -29,22 +29,66 @@ namespace {
 struct Unbalance {
   double largest = 0, mean_internal = 0;
 };
+// With extrinsic CE4s the tie moves the copies of a mesh vertex joined by uninserted CE4s
+// as one body, and each copy's force is only its own triangle's share: the body's
+// out-of-balance force is their sum. `vertex_start`: per node, the first node of its run
+// of consecutive nodes that copy one mesh vertex with an extrinsic CE4 at it (extrinsic
+// models number their nodes by vertex), else the node itself; empty for models without
+// extrinsic CE4s. Within a run, the copies at bitwise the same position (what the tie
+// leaves) are one body; every other node counts alone.
+std::vector<uint32_t> vertex_runs(const Model& model) {
+  std::vector<uint32_t> first;
+  const auto extrinsic = extrinsic_ce4(model);
+  if (extrinsic.empty() || model.node_origin.size() != model.num_nodes()) return first;
+  std::vector<char> tied(size_t(*std::max_element(model.node_origin.begin(), model.node_origin.end())) + 1, 0);
+  for (size_t e = 0; e < model.ce4.size(); ++e)
+    if (extrinsic[e])
+      for (int k : {0, 1}) tied[size_t(model.node_origin[model.ce4[e][k]])] = 1;
+  first.resize(model.num_nodes());
+  for (size_t i = 0; i < model.num_nodes(); ++i)
+    first[i] = i > 0 && tied[size_t(model.node_origin[i])] && model.node_origin[i] == model.node_origin[i - 1]
+                   ? first[i - 1] : uint32_t(i);
+  return first;
+}
 // fixed[i]: node i's prescribed components (bit 0: x, bit 1: y), from its group's mask.
 Unbalance unbalance(const Model& model, const std::vector<double>& mass, const std::vector<uint8_t>& fixed,
-                    HistoryRow& row) {
+                    const std::vector<uint32_t>& vertex_start, HistoryRow& row) {
   if (row.unbalance) return {(*row.unbalance)[0], (*row.unbalance)[1]};
   const auto& f = row.snap.forces;
   Unbalance u;
   double internal_sum = 0;
-  for (size_t i = 0; i < f.size(); ++i) {
-    if (!(fixed[i] & 1u)) u.largest = std::max(u.largest, std::fabs(double(f[i].x)));
-    if (!(fixed[i] & 2u)) u.largest = std::max(u.largest, std::fabs(double(f[i].y)));
+  size_t bodies = 0;
+  // One body (a node, or tied copies): its summed force and mass.
+  auto body = [&](size_t i, double fx, double fy, double m) {
+    if (!(fixed[i] & 1u)) u.largest = std::max(u.largest, std::fabs(fx));
+    if (!(fixed[i] & 2u)) u.largest = std::max(u.largest, std::fabs(fy));
     // sqrt(x² + y²), not std::hypot: no force comes near where x² overflows, and glibc's
     // hypot made this loop most of a history row's host time (4 ms a row at 139k nodes).
-    const double gx = f[i].x - mass[i] * model.gravity[0], gy = f[i].y - mass[i] * model.gravity[1];
+    const double gx = fx - m * model.gravity[0], gy = fy - m * model.gravity[1];
     internal_sum += std::sqrt(gx * gx + gy * gy);
+    ++bodies;
+  };
+  const auto& x = row.snap.positions;
+  if (vertex_start.size() != f.size() || x.size() != f.size()) {
+    for (size_t i = 0; i < f.size(); ++i) body(i, f[i].x, f[i].y, mass[i]);
+  } else {
+    std::vector<char> taken;
+    for (size_t a = 0; a < f.size();) {
+      size_t b = a + 1;
+      while (b < f.size() && vertex_start[b] == a) ++b;
+      taken.assign(b - a, 0);
+      for (size_t i = a; i < b; ++i) {
+        if (taken[i - a]) continue;
+        double fx = f[i].x, fy = f[i].y, m = mass[i];
+        for (size_t k = i + 1; k < b; ++k)
+          if (!taken[k - a] && x[k].x == x[i].x && x[k].y == x[i].y)
+            taken[k - a] = 1, fx += f[k].x, fy += f[k].y, m += mass[k];
+        body(i, fx, fy, m);
+      }
+      a = b;
+    }
   }
-  u.mean_internal = f.empty() ? 0 : internal_sum / f.size();
+  u.mean_internal = bodies == 0 ? 0 : internal_sum / bodies;
   row.unbalance = std::array<double, 2>{u.largest, u.mean_internal};
   return u;
 }
@@ -129,11 +173,14 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
   for (const auto& mk : masses) mass->push_back(mk.x);
   auto fixed = std::make_shared<std::vector<uint8_t>>(model.num_nodes());
   for (size_t i = 0; i < fixed->size(); ++i) (*fixed)[i] = static_cast<uint8_t>(model.groups[model.node_group[i]].mask & 3u);
-  add("max_unbalanced_force", "N", "largest out-of-balance force component on a free degree of freedom",
-      [&model, mass, fixed](HistoryRow& r) { return unbalance(model, *mass, *fixed, r).largest; });
+  auto runs = std::make_shared<std::vector<uint32_t>>(vertex_runs(model));
+  add("max_unbalanced_force", "N",
+      runs->empty() ? "largest out-of-balance force component on a free degree of freedom"
+                    : "largest out-of-balance force component on a free degree of freedom (tied copies summed)",
+      [&model, mass, fixed, runs](HistoryRow& r) { return unbalance(model, *mass, *fixed, *runs, r).largest; });
   add("unbalanced_ratio", "1", "max_unbalanced_force / mean internal-force magnitude per node",
-      [&model, mass, fixed](HistoryRow& r) {
-        const Unbalance u = unbalance(model, *mass, *fixed, r);
+      [&model, mass, fixed, runs](HistoryRow& r) {
+        const Unbalance u = unbalance(model, *mass, *fixed, *runs, r);
         return u.mean_internal > 0 ? u.largest / u.mean_internal : 0.0;
       });
 
