@@ -167,6 +167,30 @@ traction = [0.0, -1e6]
 
 bool same_bits(const real2& a, const real2& b) { return std::memcmp(&a, &b, sizeof(real2)) == 0; }
 
+// Emulated ranks in one process: the engine's exchange for each rank's Solver, through the
+// hub's in-process transports.
+std::vector<std::unique_ptr<HaloExchange>> emulated_halos(ClContext& cl, const std::vector<std::unique_ptr<Solver>>& ranks,
+                                                          const Model& model, const Partition& partition,
+                                                          const std::vector<LocalModel>& locals, InProcessHub& hub) {
+  std::vector<std::unique_ptr<HaloExchange>> halos;
+  for (size_t r = 0; r < ranks.size(); ++r)
+    halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(model, partition, locals[r], int(r)),
+                                                   hub.rank(int(r))));
+  return halos;
+}
+
+// Owned nodes of the emulated ranks whose positions differ from one rank's (`x_whole`).
+size_t owned_drift(const std::vector<std::unique_ptr<Solver>>& ranks, const std::vector<LocalModel>& locals,
+                   const std::vector<real2>& x_whole) {
+  size_t drift = 0;
+  for (size_t r = 0; r < ranks.size(); ++r) {
+    const auto xl = ranks[r]->positions();
+    for (size_t i = 0; i < xl.size(); ++i)
+      drift += locals[r].node_owner[i] == int(r) && !same_bits(xl[i], x_whole[locals[r].node_global[i]]);
+  }
+  return drift;
+}
+
 }  // namespace
 
 TEST_SUITE("partition") {
@@ -204,12 +228,7 @@ TEST_SUITE("partition") {
         // rank posts its owned boundary nodes, then every rank takes its ghosts.
         InProcessHub hub(parts);
         std::vector<std::unique_ptr<HaloExchange>> halos;
-        auto make_halos = [&] {
-          halos.clear();
-          for (int r = 0; r < parts; ++r)
-            halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(p.model, partition, locals[r], r),
-                                                           hub.rank(r)));
-        };
+        auto make_halos = [&] { halos = emulated_halos(cl, ranks, p.model, partition, locals, hub); };
         make_halos();
         for (int r = 0; r < parts; ++r) {
           // Every ghost is received from its owner, and what one rank sends another receives.
@@ -244,13 +263,7 @@ TEST_SUITE("partition") {
           for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
           make_halos();
           for (long k = 0; k < steps; ++k) step_all(false);
-          size_t drift = 0;
-          for (int r = 0; r < parts; ++r) {
-            const auto xl = ranks[r]->positions();
-            for (size_t i = 0; i < xl.size(); ++i)
-              drift += locals[r].node_owner[i] == r && !same_bits(xl[i], x_whole[locals[r].node_global[i]]);
-          }
-          CHECK(drift > 0);
+          CHECK(owned_drift(ranks, locals, x_whole) > 0);
         }
       }
   }
@@ -299,12 +312,7 @@ TEST_SUITE("partition") {
         }
         InProcessHub hub(parts);
         std::vector<std::unique_ptr<HaloExchange>> halos;
-        auto make_halos = [&] {
-          halos.clear();
-          for (int r = 0; r < parts; ++r)
-            halos.push_back(std::make_unique<HaloExchange>(cl, ranks[r]->arrays(), halo_plan(p.model, partition, locals[r], r),
-                                                           hub.rank(r)));
-        };
+        auto make_halos = [&] { halos = emulated_halos(cl, ranks, p.model, partition, locals, hub); };
         auto exchange_all = [&] {
           for (auto& h : halos) h->send();
           for (auto& h : halos) h->receive();
@@ -350,13 +358,7 @@ TEST_SUITE("partition") {
           for (int r = 0; r < parts; ++r) ranks[r] = std::make_unique<Solver>(cl, locals[r].model, p.dt);
           make_halos();
           for (long k = 0; k < steps; ++k) step_all(false);
-          size_t drift = 0;
-          for (int r = 0; r < parts; ++r) {
-            const auto xl = ranks[r]->positions();
-            for (size_t i = 0; i < xl.size(); ++i)
-              drift += locals[r].node_owner[i] == r && !same_bits(xl[i], x_whole[locals[r].node_global[i]]);
-          }
-          CHECK(drift > 0);
+          CHECK(owned_drift(ranks, locals, x_whole) > 0);
         }
       }
   }
