@@ -2,7 +2,10 @@
 // The network: every CE4 is a segment between two network vertices (the mesh vertices
 // at its ends i = i' and j = j'; every split copy of a vertex is the same vertex) and
 // carries fluid while it is broken (CohesiveForces status.x >= 1; CE4s on [fluid] crack
-// start broken). Per step, in order, on the positions the other force stages use:
+// start broken) or, with DAMAGED_SEGMENTS (fluid.segments = "damaged", the default),
+// from the step one of its Gauss points has softened (D_max > 0: past the peak of its
+// law), so the fluid fills and loads the cohesive zone ahead of the broken crack as well.
+// Per step, in order, on the positions the other force stages use:
 //   fluid_segments  one work-item per CE4: end openings o = (x' - x).n (n the right normal
 //                   of the chord, as cohesive_forces.cl), apertures w = max(o, 0) + w_r, the
 //                   volume of each half (lumped: h t (3 w_a + w_b) / 8 to the i end), the
@@ -39,6 +42,9 @@ __kernel void fluid_segments(const uint n_ce4,
                              __global const uint4* restrict ce4_nodes,
                              __global const real2* restrict position,
                              __global const int2* restrict status,
+#if DAMAGED_SEGMENTS
+                             __global const real4* restrict gp_state,
+#endif
                              __global const real* restrict seg_h,
                              const real thickness,
                              const real residual,
@@ -49,7 +55,15 @@ __kernel void fluid_segments(const uint n_ce4,
                              __global int* restrict too_wide) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
-  if (status[e].x < 1) {
+#if DAMAGED_SEGMENTS
+  // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
+  // (irreversible, so a segment never closes to the network again).
+  const bool carries = status[e].x >= 1 || gp_state[3 * e].x > (real)0 || gp_state[3 * e + 1].x > (real)0 ||
+                       gp_state[3 * e + 2].x > (real)0;
+#else
+  const bool carries = status[e].x >= 1;
+#endif
+  if (!carries) {
     seg_geom[e] = (real4)(0, 0, 0, 0);
     return;
   }

@@ -210,7 +210,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                                                                  parts_.skin ? ring_.get() : nullptr, true);
                         })),
       fluid_(build_if(parts_.fluid,
-                      [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(), dt); })),
+                      [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(),
+                                                               cohesive_->gauss_state(), dt); })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
                        triangle_excavation(model)),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,

@@ -199,6 +199,7 @@ struct FluidConfig {
   double max_aperture = 0;       // w_max [m]: the stable fluid step is planned for it
   double safety = 0.5;           // fluid sub-step = safety × stable fluid step
   double leak_off = 0;           // Carter's C_L [m/√s]; 0: no leak-off
+  bool damaged_segments = true;  // segments = "damaged": softened intact CE4s carry fluid; "broken": broken ones only
   std::string crack;             // physical curve whose CE4s start broken ("": none)
   std::string source;            // physical point or curve the fluid enters at
   std::optional<PressureTable> rate;      // Q(t) [m²/s] (volume per second per metre of thickness)

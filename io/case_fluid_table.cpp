@@ -46,6 +46,7 @@ FluidConfig read_fluid(const TableReader& r) {
                                " must be larger than residual_aperture = " + format_number(f.residual_aperture, kDigits));
   f.safety = r.number("safety", Range{0.0, 1.0, true, false}).value_or(0.5);
   f.leak_off = r.number("leak_off", kNonNegative).value_or(0.0);
+  f.damaged_segments = r.choice<bool>("segments", {{"damaged", true}, {"broken", false}}).value_or(true);
   if (auto crack = r.string("crack")) {
     check_region_name(r, "crack", *crack);
     f.crack = *crack;

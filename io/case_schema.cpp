@@ -64,7 +64,7 @@ const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
                           {"azimuth"}}};
 const Schema kExcavationKeys{{{"region"}, {"start"}, {"duration"}}};
-const Schema kFluidKeys{{{"viscosity"}, {"bulk_modulus"}, {"residual_aperture"}, {"max_aperture"}, {"safety"}, {"leak_off"},
+const Schema kFluidKeys{{{"viscosity"}, {"bulk_modulus"}, {"residual_aperture"}, {"max_aperture"}, {"safety"}, {"leak_off"}, {"segments"},
                          {"crack"}, {"source"}, {"rate"}, {"pressure"}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},

@@ -266,6 +266,53 @@ TEST_CASE("fluid: KGD coarse: the crack grows along the weak line only, both win
   CHECK(e.fluid_injected_volume == test::rel(injected, 1e-6));
 }
 
+// fluid.segments: with "damaged" (the default) a CE4 carries fluid from the step one of its
+// Gauss points softens, so the fluid fills the cohesive zone ahead of the broken crack; with
+// "broken" only broken CE4s do. The coarse KGD case of the test above at 2 ms: every
+// segment that carries fluid is broken or softened (D_max > 0), the "damaged" run has
+// softened intact segments with fluid in them and the "broken" run none.
+TEST_CASE("fluid: segments = \"damaged\" lets the fluid into softened intact CE4s, \"broken\" only into broken ones") {
+  for (const std::string rule : {"damaged", "broken"}) {
+    CAPTURE(rule);
+    const PreparedCase p = prepare_case(
+        test::source_path("cases/kgd/viscosity.toml"),
+        {"mesh.size=0.2", "fluid.rate=10", "fluid.segments=\"" + rule + "\"", "output.dir=\"/tmp/fdem_test_fluid_seg\""});
+    Solver solver(test::context(), p.model, p.dt);
+    const long steps = static_cast<long>(std::lround(2.0e-3 / p.dt));
+    for (long k = 0; k < steps; ++k) solver.step(k + 1 == steps);
+    std::vector<int> broken, mode;
+    solver.cohesive()->flags(broken, mode);
+    const size_t n = p.model.ce4.size();
+    const auto gauss = download<real4>(test::context(), solver.cohesive()->gauss_state(), 3 * n);
+    std::vector<real> pressure, aperture;
+    solver.fluid()->segment_fields(pressure, aperture);
+    size_t carrying = 0, softened_carrying = 0, broken_count = 0, wet_softened = 0;
+    for (size_t e = 0; e < n; ++e) {
+      const bool softened = gauss[3 * e].x > 0 || gauss[3 * e + 1].x > 0 || gauss[3 * e + 2].x > 0;
+      broken_count += broken[e] != 0;
+      if (aperture[e] <= 0) {
+        CHECK_MESSAGE(!broken[e], "a broken CE4 carries no fluid: " << e);
+        if (rule == "damaged") CHECK_MESSAGE(!softened, "a softened CE4 carries no fluid: " << e);
+        continue;
+      }
+      ++carrying;
+      CHECK_MESSAGE((broken[e] || (softened && rule == "damaged")), "CE4 " << e << " carries fluid");
+      if (!broken[e]) {
+        ++softened_carrying;
+        wet_softened += pressure[e] > 0;
+      }
+    }
+    MESSAGE(rule << ": " << carrying << " segments carry fluid, " << broken_count << " CE4s broken, " << softened_carrying
+                 << " softened intact ones carry fluid (" << wet_softened << " of them under pressure)");
+    if (rule == "damaged") {
+      CHECK(softened_carrying > 0);
+      CHECK(wet_softened > 0);
+    } else {
+      CHECK(softened_carrying == 0);
+    }
+  }
+}
+
 TEST_CASE("fluid: a run to T and a run to T/2 restarted to T give the same history (the fluid's state is in the checkpoint)") {
   // The well injects into a dry crack (the mass-balance test's case): the fluid moves
   // before and after the checkpoint.

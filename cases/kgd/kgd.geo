@@ -3,13 +3,13 @@
 // half's own CE4s are strong, so the crack stays on the line). A square plate of half
 // width `half`; the edges along y = 0 are `size` (mesh.size) long within |x| < `fine`,
 // the mesh grows to `outer` at the plate's edge. The seed crack ("seed", the CE4s that
-// start broken) is `seed` edges on each side of the well.
+// start broken) is `seed` edges on each side of the well, and at least 0.25 m.
 If(!Exists(size)) size = 0.05; EndIf
 half = 6.0;
 outer = 0.75;
 fine = 2.0;
 seed = 5;
-s = seed * size;
+s = Max(0.25, seed * size);  // at least 0.25 m: finer meshes keep the seed's length, not its count
 Point(1) = {-half, 0, 0, outer}; Point(2) = {-fine, 0, 0, size}; Point(3) = {-s, 0, 0, size};
 Point(4) = {0, 0, 0, size}; Point(5) = {s, 0, 0, size}; Point(6) = {fine, 0, 0, size};
 Point(7) = {half, 0, 0, outer};

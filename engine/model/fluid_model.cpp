@@ -38,6 +38,7 @@ FluidModel build_fluid_model(const Model& model, const io::FluidConfig& c, const
   f.viscosity = c.viscosity, f.bulk_modulus = c.bulk_modulus;
   f.residual_aperture = c.residual_aperture, f.max_aperture = c.max_aperture, f.safety = c.safety;
   f.leak_off = c.leak_off;
+  f.damaged_segments = c.damaged_segments;
   f.source_name = c.source, f.crack_name = c.crack;
   f.pressure_source = c.pressure.has_value();
   f.history = c.pressure ? *c.pressure : *c.rate;

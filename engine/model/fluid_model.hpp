@@ -16,10 +16,11 @@ struct Model;
 // that the fracturable split made (Model::node_origin) is the same vertex, so the fluid
 // at a crack's vertex is one pressure whatever the number of triangles around it. A
 // segment is a CE4: it joins the vertices of its ends i (= i') and j (= j') and carries
-// fluid while it is broken (CohesiveForces status ≥ 1).
+// fluid while it is broken (CohesiveForces status ≥ 1) or, with damaged_segments, softened.
 struct FluidModel {
   bool enabled = false;
   double viscosity = 0, bulk_modulus = 0, residual_aperture = 0, max_aperture = 0, safety = 0.5;
+  bool damaged_segments = true;  // softened intact CE4s carry fluid too (fluid.segments = "damaged")
   double leak_off = 0;  // Carter's C_L [m/√s]: 2 C_L / √(t - t_exposed) per unit area of a segment
   std::vector<uint32_t> segment_vertex;  // 2 per CE4: its i and j ends' vertices
   std::vector<double> segment_length;    // per CE4: reference length h [m]

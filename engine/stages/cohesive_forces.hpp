@@ -49,6 +49,8 @@ class CohesiveForces {
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
   // released at step n (cl_kernels/cohesive_forces.cl).
   compute::buffer& status() { return status_; }
+  // real4 per Gauss point, three per CE4: (D_max, o_max, max|s|, χ) (cohesive_forces.cl).
+  compute::buffer& gauss_state() { return gp_state_; }
   // int per mesh node (CohesiveModel::vertex_bonded given): -1 fan not bonded, 0 every CE4
   // at it intact, 2 + n one of them broke at step n. Null without it.
   const compute::buffer* mesh_node_state() const { return fans_ ? &mesh_state_ : nullptr; }

@@ -33,7 +33,8 @@ long FluidFlow::substeps(const FluidModel& f, double dt) {
   return std::max(1L, static_cast<long>(std::ceil(dt / (f.safety * f.stable_dt))));
 }
 
-FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status, double dt)
+FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status,
+                     compute::buffer& gauss_state, double dt)
     : cl_(cl),
       fluid_(model.fluid),
       ce4_(model.ce4.size()),
@@ -81,11 +82,14 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const real dt_sub = static_cast<real>(dt / static_cast<double>(substeps_));
   const bool leak = fluid_.leak_off > 0;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
-                                             {"LEAK_OFF", leak ? "1" : "0"}};
+                                             {"LEAK_OFF", leak ? "1" : "0"},
+                                             {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"}};
   const compute::program program = cl.build(kernel_source::fluid_flow, defines);
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
-  s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status)("seg_h", seg_h_)(
+  s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status);
+  if (fluid_.damaged_segments) s("gp_state", gauss_state);
+  s("seg_h", seg_h_)(
       "thickness", thickness)("residual", real(fluid_.residual_aperture))("max_aperture", real(fluid_.max_aperture))(
       "viscosity", real(fluid_.viscosity));
   step_ = s.later("step", cl_int(0));

@@ -22,8 +22,10 @@ class FluidFlow {
  public:
   // Builds the network of model.fluid on the device. `status`: CohesiveForces::status();
   // the CE4s on the case's crack are set broken (closed, status 1) there, once: a
-  // restart's checkpoint then overwrites it with its own.
-  FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status, double dt);
+  // restart's checkpoint then overwrites it with its own. `gauss_state`:
+  // CohesiveForces::gauss_state(), read when softened CE4s carry fluid (fluid.segments).
+  FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status,
+            compute::buffer& gauss_state, double dt);
   static MemoryPlan plan(const Model& model);
   // Sub-steps of the flow per mechanical step of `dt`: ceil(dt / (safety × stable_dt)).
   static long substeps(const FluidModel& fluid, double dt);
