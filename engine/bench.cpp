@@ -17,6 +17,7 @@
 #include "engine/solver.hpp"
 #include "engine/stages/cohesive_forces.hpp"
 #include "engine/stages/contact_skin.hpp"
+#include "engine/stages/fluid_flow.hpp"
 
 namespace fdem {
 
@@ -117,6 +118,46 @@ FracturingResult run_fracturing(const FracturingRow& row, const std::vector<std:
   return r;
 }
 
+// What one fluid row measured: the same model and steps with its [fluid] stage and without.
+struct FluidResult {
+  size_t tri3 = 0, ce4 = 0, vertices = 0, broken = 0;
+  long steps = 0, substeps = 0;
+  double seconds = 0, seconds_without = 0;
+};
+
+// cases/kgd/viscosity.toml split `refine` times, its first `window` seconds: once as `fdem
+// run` steps it, once with the fluid stage taken out of the same prepared model (the seed
+// crack's CE4s then stay intact; nothing else changes what a step costs).
+FluidResult run_fluid_row(int refine, double window, const BenchOptions& o, ClContext& timed) {
+  const std::string path = o.cases_dir + "/kgd/viscosity.toml";
+  if (!std::filesystem::exists(path))
+    throw InputError("fdem bench --fluid: " + path + " not found (run from the source tree, or give --cases DIR)");
+  const std::string dir = (std::filesystem::temp_directory_path() / "fdem-bench").string();
+  std::vector<std::string> keys{"mesh.refine=" + std::to_string(refine), "output.dir=\"" + dir + "\""};
+  keys.insert(keys.end(), o.overrides.begin(), o.overrides.end());
+  PreparedCase p = prepare_case(path, keys);
+  FluidResult r;
+  r.tri3 = p.model.num_triangles();
+  r.ce4 = p.model.ce4.size();
+  r.vertices = p.model.fluid.vertices;
+  r.steps = std::min<long>(p.steps, std::max(1L, std::lround(window / p.dt)));
+  r.substeps = FluidFlow::substeps(p.model.fluid, p.dt);
+  auto time_steps = [&](const Model& model, size_t* broken) {
+    Solver solver(timed, model, p.dt, true);
+    timed.finish();
+    const auto start = std::chrono::steady_clock::now();
+    for (long s = 0; s < r.steps; ++s) solver.step((s + 1) % kBenchRowEvery == 0);
+    timed.finish();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (broken) *broken = solver.cohesive() ? solver.cohesive()->count_broken() : 0;
+    return seconds;
+  };
+  r.seconds = time_steps(p.model, &r.broken);
+  p.model.fluid.enabled = false;
+  r.seconds_without = time_steps(p.model, nullptr);
+  return r;
+}
+
 // "0.1" or "0.1-2.3" [mm].
 std::string skin_range(double lo, double hi) {
   std::ostringstream o;
@@ -144,6 +185,19 @@ std::vector<std::string> fracturing_rows(const std::string& list) {
     rows.push_back(item);
   }
   if (rows.empty()) throw InputError("--fracturing needs a list of rows (blasting, blasting:2, ucs-fast, all)");
+  return rows;
+}
+
+std::vector<std::string> fluid_rows(const std::string& list) {
+  std::vector<std::string> rows;
+  std::istringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item != "kgd" && !(item.size() == 5 && item.compare(0, 4, "kgd:") == 0 && item[4] >= '0' && item[4] <= '3'))
+      throw InputError("--fluid: unknown row '" + item + "' (kgd, or kgd:K with K = 0 to 3 levels of mesh.refine)");
+    rows.push_back(item);
+  }
+  if (rows.empty()) throw InputError("--fluid needs a list of rows (kgd, kgd:1, kgd:2)");
   return rows;
 }
 
@@ -297,6 +351,27 @@ int run_bench(const BenchOptions& o, const std::string& device, std::ostream& ou
       csv << name << "," << r.tri3 << "," << r.ce4 << "," << r.steps << "," << ms << "," << 1e3 / ms << ","
           << 1e3 * r.detections / steps << "," << 1e3 * r.skin_lo << "," << 1e3 * r.skin_hi << "," << r.ms_per_detection << ","
           << r.broken << "," << ns << "," << intact << "," << mib << "," << plan << "," << per_tri << "\n";
+    }
+  }
+  if (!o.fluid.empty()) {
+    out << "fluid rows: cases/kgd/viscosity.toml (mesh.refine K for kgd:K) over its first " << o.fluid_window
+        << " s as `fdem run` steps it\n(no output, an energy row every " << kBenchRowEvery
+        << " steps), then the same model and steps without its [fluid] stage; +fluid: what the fluid adds\n";
+    out << std::setw(8) << "row" << std::setw(9) << "TRI3" << std::setw(9) << "CE4" << std::setw(10) << "vertices"
+        << std::setw(8) << "steps" << std::setw(5) << "sub" << std::setw(11) << "ms/step" << std::setw(11) << "no fluid"
+        << std::setw(9) << "+fluid" << std::setw(8) << "broken" << "\n";
+    csv << "\nrow,tri3,ce4,vertices,steps,substeps,ms_per_step,ms_per_step_without_fluid,fluid_share,broken_ce4\n";
+    for (const std::string& name : o.fluid) {
+      const int refine = name.size() == 5 ? name[4] - '0' : 0;
+      const FluidResult r = run_fluid_row(refine, o.fluid_window, o, timed);
+      const double steps = static_cast<double>(r.steps);
+      const double ms = 1e3 * r.seconds / steps, ms_without = 1e3 * r.seconds_without / steps;
+      out << std::fixed << std::setw(8) << name << std::setw(9) << r.tri3 << std::setw(9) << r.ce4 << std::setw(10)
+          << r.vertices << std::setw(8) << r.steps << std::setw(5) << r.substeps << std::setw(11) << std::setprecision(4)
+          << ms << std::setw(11) << ms_without << std::setw(8) << std::setprecision(1)
+          << 100.0 * (ms - ms_without) / ms_without << "%" << std::setw(8) << r.broken << std::defaultfloat << "\n";
+      csv << name << "," << r.tri3 << "," << r.ce4 << "," << r.vertices << "," << r.steps << "," << r.substeps << ","
+          << ms << "," << ms_without << "," << (ms - ms_without) / ms_without << "," << r.broken << "\n";
     }
   }
   if (!o.csv.empty()) {

@@ -26,6 +26,11 @@ struct BenchOptions {
   std::vector<std::string> fracturing;
   double blast_window = 400e-6;
   std::string cases_dir = "cases";  // where the fracturing rows' cases are
+  // Fluid rows (`--fluid`): cases/kgd/viscosity.toml ("kgd"; "kgd:K" its mesh split K times)
+  // over its first `fluid_window` seconds, stepped with its [fluid] stage and again, the same
+  // model and steps, without it: what the fluid costs a step (issue 32: at most 30% more).
+  std::vector<std::string> fluid;
+  double fluid_window = 1e-3;
   // `--set KEY=VALUE` case overrides, applied to every row after the bench's own keys
   // (e.g. material.0.fracture.model="extrinsic" for the extrinsic model's rows).
   std::vector<std::string> overrides;
@@ -34,6 +39,9 @@ struct BenchOptions {
 // The names `--fracturing` accepts ("all": blasting, blasting:2, blasting:3, ucs-fast).
 // Throws InputError for anything else.
 std::vector<std::string> fracturing_rows(const std::string& list);
+
+// The names `--fluid` accepts ("kgd", "kgd:K" with K = 0 to 3). Throws InputError for others.
+std::vector<std::string> fluid_rows(const std::string& list);
 
 // Runs the benchmark rows on `device` (a ClContext choice) and prints the table to `out`.
 // Returns 0.

@@ -46,7 +46,8 @@ const char* kUsage =
     "  fdem check CHECKPOINT.ckpt\n"
     "  fdem devices\n"
     "  fdem bench [--device ...] [--sizes 0.6,0.5,...|none] [--steps N] [--refine-rows K]\n"
-    "             [--fracturing blasting,blasting:2,ucs-fast|all] [--window S] [--csv FILE]\n"
+    "             [--fracturing blasting,blasting:2,ucs-fast|all] [--window S] [--fluid kgd,kgd:K]\n"
+    "             [--fluid-window S] [--csv FILE]\n"
     "             [--case cases/ucs/case.toml]\n"
     "  fdem --version\n"
     "  fdem COMMAND --help   (that command's options)\n"
@@ -79,7 +80,9 @@ const OptionSpec kOptions[] = {
     {"--refine-rows", "K", "add rows of the smallest size refined 1..K times by mesh.refine (0-3)"},
     {"--fracturing", "ROWS", "add rows where rock breaks: blasting, blasting:K (mesh.refine K), ucs-fast, or all"},
     {"--window", "SECONDS", "simulated time the blasting rows are timed over (default 400e-6)"},
-    {"--cases", "DIR", "where --fracturing finds blasting/case.toml and ucs/fast.toml (default cases)"},
+    {"--fluid", "ROWS", "add fluid rows: kgd, kgd:K (cases/kgd/viscosity.toml, mesh.refine K), with and without [fluid]"},
+    {"--fluid-window", "SECONDS", "simulated time the fluid rows are timed over (default 1e-3)"},
+    {"--cases", "DIR", "where --fracturing and --fluid find blasting/case.toml, ucs/fast.toml and kgd/viscosity.toml (default cases)"},
     {"--csv", "FILE", "also write the rows as CSV"},
     {"--case", "CASE.toml", "the case to mesh at each size (default cases/ucs/case.toml)"},
 };
@@ -107,8 +110,10 @@ const std::vector<CommandSpec>& commands() {
       {"devices", "fdem devices", "Lists the OpenCL devices, as --device P:D names them.", {}},
       {"bench", "fdem bench [OPTION]...",
        "The seed paper's Table 2: the UCS specimen at several element sizes, ms/step and device memory;\n"
-       "with --fracturing, rows where rock breaks (the blasting case, refined, and the fast UCS test).",
-       {"--device", "--set", "--sizes", "--steps", "--refine-rows", "--fracturing", "--window", "--cases", "--csv",
+       "with --fracturing, rows where rock breaks (the blasting case, refined, and the fast UCS test);\n"
+       "with --fluid, the KGD case with and without its fluid stage.",
+       {"--device", "--set", "--sizes", "--steps", "--refine-rows", "--fracturing", "--window", "--fluid",
+        "--fluid-window", "--cases", "--csv",
         "--case", "--max-triangles", "--allow-geo-programs"}},
   };
   return list;
@@ -286,6 +291,17 @@ Arguments parse(int argc, char** argv) {
       a.bench.refine_rows = v[0] - '0';
     } else if (arg == "--fracturing") {
       a.bench.fracturing = fdem::fracturing_rows(value(arg));
+    } else if (arg == "--fluid") {
+      a.bench.fluid = fdem::fluid_rows(value(arg));
+    } else if (arg == "--fluid-window") {
+      const std::string v = value(arg);
+      try {
+        size_t used = 0;
+        a.bench.fluid_window = std::stod(v, &used);
+        if (used != v.size() || !(a.bench.fluid_window > 0) || !(a.bench.fluid_window <= 1)) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw fdem::InputError("--fluid-window needs a time in seconds above 0 and at most 1, not '" + v + "'");
+      }
     } else if (arg == "--cases") {
       a.bench.cases_dir = value(arg);
     } else if (arg == "--window") {
