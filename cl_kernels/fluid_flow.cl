@@ -12,12 +12,13 @@
 //                   cubic-law conductance w_m³ t / (12 μ h) with w_m = (w_a + w_b) / 2; a
 //                   segment wider than w_max flags itself (the stable step assumed it).
 //   fluid_vertices  one work-item per vertex: its volume V (the halves at it, CSR order),
-//                   the work of the pressure on the faces ½ (p + p') (V' - V), new p.
-//   n_sub × (fluid_flux per CE4: q = c (p_a - p_b);
-//            fluid_balance per vertex: V₀ += Δt_s Σ q (CSR order), the energy that took
-//            out of the vertex (the viscous dissipation), then the source).
-//            (LEAK_OFF: the flux kernel stamps a segment's exposure time, the balance takes
-//             Carter's leak-off out of V₀ before the source)
+//                   the work of the pressure on the faces ½ (p + p') (V' - V), new p;
+//                   (V₀, p) also into the `front` copy the sub-steps' neighbours read.
+//   n_sub × fluid_substep per vertex: V₀ += Δt_s Σ q (CSR order), q = c (p_a - p_b)
+//                   from the front copy, the energy that took out of the vertex (the
+//                   viscous dissipation), then the source; (V₀, p) into the `back` copy
+//                   (the two copies swap each sub-step). (LEAK_OFF: a segment's exposure
+//                   time is stamped, Carter's leak-off taken out of V₀ before the source)
 //   fluid_forces    one work-item per CE4: the pressures on the two faces into four slots
 //                   (i, j, j', i'), the same slots the CE4 stage has, which the node
 //                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl).
@@ -93,7 +94,8 @@ __kernel void fluid_vertices(const uint n_vertices,
                              __global const real4* restrict seg_geom,
                              const real bulk,
                              __global real4* restrict vertex_state,
-                             __global real4* restrict vertex_energy) {
+                             __global real4* restrict vertex_energy,
+                             __global real2* restrict front) {
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   real volume = 0;
@@ -111,41 +113,24 @@ __kernel void fluid_vertices(const uint n_vertices,
     vertex_energy[v] = en;
   }
   vertex_state[v] = (real4)(s.x, volume, p, fluid_stored(bulk, volume, d));
+  front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
 }
 
-__kernel void fluid_flux(const uint n_ce4,
-                         __global const uint2* restrict seg_vertex,
-                         __global const real4* restrict seg_geom,
-                         __global const real4* restrict vertex_state,
-#if LEAK_OFF
-                         const real t_sub,
-                         __global real* restrict seg_exposed,
-#endif
-                         __global real* restrict seg_flux) {
-  const uint e = get_global_id(0);
-  if (e >= n_ce4) return;
-  const real c = seg_geom[e].z;
-  if (c == (real)0) {
-    seg_flux[e] = 0;
-    return;
-  }
-  const uint2 ab = seg_vertex[e];
-  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
-#if LEAK_OFF
-  // Carter's exposure time: the start of the first sub-step in which the open segment
-  // has fluid at one of its ends (-1 until then; never reset).
-  if (seg_exposed[e] < (real)0 && (sa.x > (real)0 || sb.x > (real)0)) seg_exposed[e] = t_sub;
-#endif
-  const real q = c * (sa.z - sb.z);
-  seg_flux[e] = q;
-}
-
+// One sub-step of the flow, one work-item per vertex: the net inflow from the fluxes
+// q = c (p_a - p_b) of its segments (CSR order), taken from the pressures and fluid of the
+// sub-step's start in `front` ((V₀, p) per vertex, read for the neighbours), the new V₀, p
+// and U in vertex_state (its own, in place) and (V₀, p) into `back` for the next sub-step.
+// Each segment's flux is computed at both its ends with the same operands, so what leaves
+// one vertex is exactly what enters the other; one launch a sub-step instead of a flux and
+// a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
 // source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
 // are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀.
-__kernel void fluid_balance(const uint n_vertices,
+__kernel void fluid_substep(const uint n_vertices,
                             __global const uint* restrict vertex_start,
                             __global const uint* restrict vertex_end,
-                            __global const real* restrict seg_flux,
+                            __global const uint2* restrict seg_vertex,
+                            __global const real4* restrict seg_geom,
+                            __global const real2* restrict front,
                             __global const uchar* restrict source,
                             const real source_value,
                             const real bulk,
@@ -155,35 +140,59 @@ __kernel void fluid_balance(const uint n_vertices,
                             const real leak_off,
                             const real thickness,
                             __global const real* restrict seg_h,
-                            __global const real* restrict seg_exposed,
+                            __global real* restrict seg_exposed,
                             __global real2* restrict vertex_leak,
 #endif
                             __global real4* restrict vertex_state,
-                            __global real4* restrict vertex_energy) {
+                            __global real4* restrict vertex_energy,
+                            __global real2* restrict back) {
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   real inflow = 0;
-  for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
-    const uint end = vertex_end[k];
-    const real q = seg_flux[end >> 1];
-    inflow += (end & 1u) ? q : -q;
-  }
-  real4 s = vertex_state[v];
 #if LEAK_OFF
   // Carter: each exposed segment loses 2 C_L / √(t - t_e) per unit of its area h t (both
   // faces), half of it at each end; over the sub-step [t, t + Δt_s] exactly
-  // 2 C_L (h t / 2) · 2 (√(t + Δt_s - t_e) - √(t - t_e)) at this end.
+  // 2 C_L (h t / 2) · 2 (√(t + Δt_s - t_e) - √(t - t_e)) at this end. A segment's
+  // exposure time is the start of the first sub-step in which it is open with fluid at
+  // one of its ends (-1 until then; never reset): both ends find the same time from the
+  // same operands, and the segment's first end records it.
   real leak = 0;
+#endif
   for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
-    const uint e = vertex_end[k] >> 1;
-    const real te = seg_exposed[e];
-    if (te < (real)0) continue;  // never held fluid (a broken CE4 stays open: w >= w_r)
-    leak += seg_h[e] * (sqrt(t_sub + dt_sub - te) - sqrt(t_sub - te));
+    const uint end = vertex_end[k];
+    const uint e = end >> 1;
+    const real c = seg_geom[e].z;
+#if LEAK_OFF
+    real te = seg_exposed[e];
+#endif
+    if (c != (real)0) {  // closed: no flow, no new exposure
+      const uint2 ab = seg_vertex[e];
+      const real2 fa = front[ab.x], fb = front[ab.y];
+      const real q = c * (fa.y - fb.y);
+      inflow += (end & 1u) ? q : -q;
+#if LEAK_OFF
+      if (te < (real)0 && (fa.x > (real)0 || fb.x > (real)0)) {
+        te = t_sub;
+        if (!(end & 1u)) seg_exposed[e] = te;
+      }
+#endif
+    }
+#if LEAK_OFF
+    if (te >= (real)0) leak += seg_h[e] * (sqrt(t_sub + dt_sub - te) - sqrt(t_sub - te));
+#endif
   }
+  real4 s = vertex_state[v];
+#if LEAK_OFF
   leak *= (real)2 * leak_off * thickness;
-  if (inflow == (real)0 && !source[v] && leak == (real)0) return;
+  if (inflow == (real)0 && !source[v] && leak == (real)0) {
+    back[v] = (real2)(s.x, s.z);
+    return;
+  }
 #else
-  if (inflow == (real)0 && !source[v]) return;
+  if (inflow == (real)0 && !source[v]) {
+    back[v] = (real2)(s.x, s.z);
+    return;
+  }
 #endif
   s.x += dt_sub * inflow;
   // The flow's loss at this vertex: its energy before less after the fluxes (the sum over
@@ -230,6 +239,7 @@ __kernel void fluid_balance(const uint n_vertices,
   s.z = bulk * d;
   s.w = fluid_stored(bulk, s.y, d);
   vertex_state[v] = s;
+  back[v] = (real2)(s.x, s.z);
 }
 
 __kernel void fluid_forces(const uint n_ce4,

@@ -17,7 +17,8 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid seg_vertex", ce4 * sizeof(cl_uint2))
       .add("fluid seg_h", ce4 * sizeof(real))
       .add("fluid seg_geom", ce4 * sizeof(real4))
-      .add("fluid seg_flux", ce4 * sizeof(real))
+      .add("fluid front", v * sizeof(real2))
+      .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
       .add("fluid vertex_end", 2 * ce4 * sizeof(cl_uint))
@@ -46,7 +47,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const MemoryPlan arrays = plan(model);
   auto make = [&](const char* name) { return arrays.allocate(cl, name); };
   nodes_ = make("fluid ce4_nodes"), seg_vertex_ = make("fluid seg_vertex"), seg_h_ = make("fluid seg_h");
-  seg_geom_ = make("fluid seg_geom"), seg_flux_ = make("fluid seg_flux");
+  seg_geom_ = make("fluid seg_geom");
+  front_ = make("fluid front"), back_ = make("fluid back");
   slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
@@ -58,7 +60,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, seg_vertex_, fluid_.segment_vertex);
   upload(cl, seg_h_, std::vector<real>(fluid_.segment_length.begin(), fluid_.segment_length.end()));
   upload(cl, seg_geom_, std::vector<real4>(ce4_));
-  upload(cl, seg_flux_, std::vector<real>(ce4_, 0));
+  upload(cl, front_, std::vector<real2>(vertices_));
+  upload(cl, back_, std::vector<real2>(vertices_));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
@@ -98,30 +101,25 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   vertices_kernel_ = compute::kernel(program, "fluid_vertices");
   KernelArgs v(vertices_kernel_);
   v("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_geom", seg_geom_)(
-       "bulk", bulk)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)
+       "bulk", bulk)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)
       .done();
 
-  flux_ = compute::kernel(program, "fluid_flux");
-  KernelArgs f(flux_);
-  f("n_ce4", cl_uint(ce4_))("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("vertex_state", vertex_state_);
-  if (leak) {
-    flux_time_ = f.later("t_sub", real(0));
-    f("seg_exposed", seg_exposed_);
+  // Two copies of one sub-step kernel: the first reads the neighbours from front_ and
+  // writes back_, the second the other way, so the sub-steps swap without setting arguments.
+  for (int copy = 0; copy < 2; ++copy) {
+    substep_[copy] = compute::kernel(program, "fluid_substep");
+    KernelArgs b(substep_[copy]);
+    b("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
+        "seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("front", copy == 0 ? front_ : back_)("source", source_);
+    source_value_[copy] = b.later("source_value", real(0));
+    b("bulk", bulk)("dt_sub", dt_sub);
+    if (leak) {
+      sub_time_[copy] = b.later("t_sub", real(0));
+      b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
+          "vertex_leak", vertex_leak_);
+    }
+    b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
-  f("seg_flux", seg_flux_).done();
-
-  balance_ = compute::kernel(program, "fluid_balance");
-  KernelArgs b(balance_);
-  b("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_flux", seg_flux_)(
-      "source", source_);
-  source_value_ = b.later("source_value", real(0));
-  b("bulk", bulk)("dt_sub", dt_sub);
-  if (leak) {
-    balance_time_ = b.later("t_sub", real(0));
-    b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
-        "vertex_leak", vertex_leak_);
-  }
-  b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_).done();
 
   forces_ = compute::kernel(program, "fluid_forces");
   KernelArgs g(forces_);
@@ -140,14 +138,11 @@ void FluidFlow::enqueue(double time, long step) {
     const double t = time + dt_sub * (static_cast<double>(k) + (fluid_.pressure_source ? 1.0 : 0.5));
     const double value = fluid_source_value(fluid_.history, t);
     // A rate is per unit thickness, shared equally by the source's vertices.
-    source_value_.set(static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_));
-    if (fluid_.leak_off > 0) {  // the sub-step's start, for Carter's √(t - t_exposed)
-      const real start = static_cast<real>(time + dt_sub * static_cast<double>(k));
-      flux_time_.set(start);
-      balance_time_.set(start);
-    }
-    cl_.enqueue(flux_, ce4_);
-    cl_.enqueue(balance_, vertices_);
+    const int copy = static_cast<int>(k & 1);
+    source_value_[copy].set(static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_));
+    if (fluid_.leak_off > 0)  // the sub-step's start, for Carter's √(t - t_exposed)
+      sub_time_[copy].set(static_cast<real>(time + dt_sub * static_cast<double>(k)));
+    cl_.enqueue(substep_[copy], vertices_);
   }
   cl_.enqueue(forces_, ce4_);
 }
