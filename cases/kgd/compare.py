@@ -5,8 +5,9 @@
 
 REGIME is "toughness" (K-vertex) or "viscosity" (M-vertex); OUT the run's output folder
 (out/kgd_toughness, out/kgd_viscosity). From the frames: the half-length ℓ (the mean of
-the two wings' tips: the far end of the farthest broken CE4 on the line y = 0) and the
-opening at the well (DISPLY above less below at the origin's copies); from the history:
+the two wings' tips: the far end of the farthest broken CE4 on the line y = 0; l_zone, the
+end of the softening zone ahead of it, where the faces close, is printed beside it but not
+checked) and the opening at the well (DISPLY above less below at the origin's copies); from the history:
 the well's net pressure (less the confining stress σ0 of the case), the injected volume, the
 network's and the leaked volume. Prints one row per frame where the crack spans at least
 20 edges per wing and exits 1 when a figure is more than 10% off its vertex or the volumes
@@ -26,7 +27,7 @@ import fdem  # noqa: E402
 YOUNG, POISSON, EDGE = 10e9, 0.25, 0.05
 E_PRIME = YOUNG / (1 - POISSON ** 2)
 CASES = {
-    "toughness": dict(q0=0.0437, mu=6.68e-5, k_ic=2e6, sigma0=0.0),
+    "toughness": dict(q0=0.0874, mu=6.68e-5, k_ic=4e6, sigma0=0.0),
     "viscosity": dict(q0=0.338, mu=0.1, k_ic=5e5, sigma0=20e6),
 }
 
@@ -67,6 +68,7 @@ def measure(out, sigma0):
     on_line = np.flatnonzero(np.abs(mid_y) < 1e-9)
     well = np.flatnonzero(np.hypot(x0, y0) < 1e-9)
     broken = exo.element["BROKEN"][exo.blocks.index(ce4)]
+    damage = exo.element["DAMAGE"][exo.blocks.index(ce4)] if "DAMAGE" in exo.element else None
     hist = run.history
     rows = []
     for k, t in enumerate(exo.times):
@@ -74,14 +76,22 @@ def measure(out, sigma0):
         xs = mid_x[on_line][b]
         right = xs.max() + EDGE / 2 if np.any(xs > 0) else 0.0
         left = -xs.min() + EDGE / 2 if np.any(xs < 0) else 0.0
+        # The end of the softening zone ahead of the broken tips (CE4s past their peak,
+        # damage > 0), where the faces close: informative, not checked.
+        zone = 0.5 * (left + right)
+        if damage is not None:
+            xd = mid_x[on_line][damage[k][on_line] > 0]
+            if xd.size:
+                zone = 0.5 * ((xd.max() + EDGE / 2 if np.any(xd > 0) else 0.0) +
+                              (-xd.min() + EDGE / 2 if np.any(xd < 0) else 0.0))
         dy = exo.nodal["DISPLY"][k][well]
         opening = float(dy.max() - dy.min())
-        rows.append((float(t), 0.5 * (left + right), opening))
+        rows.append((float(t), 0.5 * (left + right), opening, zone))
     times = hist["time"].values
     pick = lambda name: np.interp([r[0] for r in rows], times, hist[name].values) if name in hist else np.zeros(len(rows))
     pressure, injected, network = pick("wellbore_pressure"), pick("injected_volume"), pick("fluid_volume")
     leaked = pick("leaked_volume")
-    return [dict(t=r[0], length=r[1], opening=r[2], pressure=p - sigma0, injected=i, network=n, leaked=l)
+    return [dict(t=r[0], length=r[1], opening=r[2], zone=r[3], pressure=p - sigma0, injected=i, network=n, leaked=l)
             for r, p, i, n, l in zip(rows, pressure, injected, network, leaked)]
 
 
@@ -90,12 +100,23 @@ def main():
     ap.add_argument("regime", choices=sorted(CASES))
     ap.add_argument("out")
     ap.add_argument("--png")
+    # A run with overridden keys (--set): its own parameters for the vertex and the edges.
+    ap.add_argument("--q0", type=float, help="fluid.rate of the run [m²/s] (default: the case's)")
+    ap.add_argument("--k-ic", type=float, help="K_Ic of the line [Pa √m] (default: the case's)")
+    ap.add_argument("--mu", type=float, help="fluid.viscosity [Pa s] (default: the case's)")
+    ap.add_argument("--edge", type=float, help="mesh.size, the edge along the line [m] (default 0.05)")
     a = ap.parse_args()
-    c = CASES[a.regime]
+    c = dict(CASES[a.regime])
+    for key, value in (("q0", a.q0), ("k_ic", a.k_ic), ("mu", a.mu)):
+        if value is not None:
+            c[key] = value
+    global EDGE
+    if a.edge is not None:
+        EDGE = a.edge
     rows = measure(a.out, c["sigma0"])
     print(f"{a.regime}: K_m = {dimensionless_toughness(c):.3f}")
     print(f"{'t [s]':>8} {'l [m]':>8} {'vertex':>8} {'err':>7} {'w0 [mm]':>8} {'vertex':>8} {'err':>7} "
-          f"{'p0 [MPa]':>9} {'vertex':>8} {'err':>7} {'balance':>9}")
+          f"{'p0 [MPa]':>9} {'vertex':>8} {'err':>7} {'balance':>9} {'l_zone':>7} {'err':>7}")
     worst = 0.0
     checked = 0
     for r in rows:
@@ -107,7 +128,7 @@ def main():
         spans = r["length"] >= 20 * EDGE
         print(f"{r['t']:8.4f} {r['length']:8.3f} {vl:8.3f} {100 * errs[0]:6.1f}% {1e3 * r['opening']:8.4f} "
               f"{1e3 * vw:8.4f} {100 * errs[1]:6.1f}% {r['pressure'] / 1e6:9.3f} {vp / 1e6:8.3f} {100 * errs[2]:6.1f}% "
-              f"{balance:9.1e}{'' if spans else '  (< 20 edges)'}")
+              f"{balance:9.1e} {r['zone']:7.3f} {100 * (r['zone'] / vl - 1):6.1f}%{'' if spans else '  (< 20 edges)'}")
         if spans:
             checked += 1
             worst = max(worst, *(abs(e) for e in errs))
@@ -125,7 +146,10 @@ def main():
                                            (axes[1], "opening", 1, 1e3, "opening at the well w₀ [mm]"),
                                            (axes[2], "pressure", 2, 1e-6, "net pressure at the well p₀ [MPa]")):
             ax.plot(tv, scale * ref[:, col], "k-", label=("K" if a.regime == "toughness" else "M") + "-vertex")
-            ax.plot(t, [scale * r[key] for r in rows if r["t"] > 0], "o", ms=4, label="fdem-cl")
+            ax.plot(t, [scale * r[key] for r in rows if r["t"] > 0], "o", ms=4,
+                    label="fdem-cl (broken tip)" if key == "length" else "fdem-cl")
+            if key == "length":
+                ax.plot(t, [r["zone"] for r in rows if r["t"] > 0], "x", ms=5, label="end of the softening zone")
             ax.set_xlabel("t [s]")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
