@@ -53,9 +53,11 @@ __kernel void fluid_segments(const uint n_ce4,
                              const real viscosity,
                              const int step,
                              __global real4* restrict seg_geom,
-                             __global int* restrict too_wide) {
+                             __global int* restrict too_wide,
+                             __global uint* restrict wet_count) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
+  if (e == 0) wet_count[0] = 0;  // fluid_vertices, next in the queue, lists the wet vertices anew
 #if DAMAGED_SEGMENTS
   // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
   // (irreversible, so a segment never closes to the network again).
@@ -93,17 +95,31 @@ __kernel void fluid_vertices(const uint n_vertices,
                              __global const uint* restrict vertex_end,
                              __global const real4* restrict seg_geom,
                              const real bulk,
+                             __global const uchar* restrict source,
+#if LEAK_OFF
+                             __global const real* restrict seg_exposed,
+#endif
                              __global real4* restrict vertex_state,
                              __global real4* restrict vertex_energy,
-                             __global real2* restrict front) {
+                             __global real2* restrict front,
+                             __global uint* restrict wet_count,
+                             __global uint* restrict wet) {
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   real volume = 0;
+  bool flows = source[v] != 0;  // a sub-step can change this vertex: list it
   for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
     const uint end = vertex_end[k];
     const real4 g = seg_geom[end >> 1];
     volume += (end & 1u) ? g.y : g.x;
+    flows = flows || g.z != (real)0;
+#if LEAK_OFF
+    flows = flows || seg_exposed[end >> 1] >= (real)0;
+#endif
   }
+  // The list's order depends on the atomics, its content does not, and each listed
+  // vertex's sub-step reads only the copies: the results do not depend on the order.
+  if (flows) wet[atomic_inc(wet_count)] = v;
   real4 s = vertex_state[v];
   const real d = fluid_excess(s.x, volume);
   const real p = bulk * d;
@@ -116,7 +132,8 @@ __kernel void fluid_vertices(const uint n_vertices,
   front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
 }
 
-// One sub-step of the flow, one work-item per vertex: the net inflow from the fluxes
+// One sub-step of the flow, one work-item per wet vertex (the list fluid_vertices made:
+// a vertex with no open or exposed segment and no source has nothing to do): the net inflow from the fluxes
 // q = c (p_a - p_b) of its segments (CSR order), taken from the pressures and fluid of the
 // sub-step's start in `front` ((V₀, p) per vertex, read for the neighbours), the new V₀, p
 // and U in vertex_state (its own, in place) and (V₀, p) into `back` for the next sub-step.
@@ -125,7 +142,8 @@ __kernel void fluid_vertices(const uint n_vertices,
 // a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
 // source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
 // are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀.
-__kernel void fluid_substep(const uint n_vertices,
+__kernel void fluid_substep(__global const uint* restrict wet_count,
+                            __global const uint* restrict wet,
                             __global const uint* restrict vertex_start,
                             __global const uint* restrict vertex_end,
                             __global const uint2* restrict seg_vertex,
@@ -146,8 +164,9 @@ __kernel void fluid_substep(const uint n_vertices,
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
                             __global real2* restrict back) {
-  const uint v = get_global_id(0);
-  if (v >= n_vertices) return;
+  const uint i = get_global_id(0);
+  if (i >= wet_count[0]) return;
+  const uint v = wet[i];
   real inflow = 0;
 #if LEAK_OFF
   // Carter: each exposed segment loses 2 C_L / √(t - t_e) per unit of its area h t (both

@@ -18,6 +18,8 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid seg_h", ce4 * sizeof(real))
       .add("fluid seg_geom", ce4 * sizeof(real4))
       .add("fluid front", v * sizeof(real2))
+      .add("fluid wet", v * sizeof(cl_uint))
+      .add("fluid wet_count", sizeof(cl_uint))
       .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
@@ -48,7 +50,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   auto make = [&](const char* name) { return arrays.allocate(cl, name); };
   nodes_ = make("fluid ce4_nodes"), seg_vertex_ = make("fluid seg_vertex"), seg_h_ = make("fluid seg_h");
   seg_geom_ = make("fluid seg_geom");
-  front_ = make("fluid front"), back_ = make("fluid back");
+  front_ = make("fluid front"), back_ = make("fluid back"), wet_ = make("fluid wet");
+  wet_count_ = make("fluid wet_count");
   slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
@@ -62,6 +65,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, seg_geom_, std::vector<real4>(ce4_));
   upload(cl, front_, std::vector<real2>(vertices_));
   upload(cl, back_, std::vector<real2>(vertices_));
+  upload(cl, wet_, std::vector<cl_uint>(vertices_, 0));
+  upload(cl, wet_count_, std::vector<cl_uint>(1, 0));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
@@ -96,12 +101,14 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
       "thickness", thickness)("residual", real(fluid_.residual_aperture))("max_aperture", real(fluid_.max_aperture))(
       "viscosity", real(fluid_.viscosity));
   step_ = s.later("step", cl_int(0));
-  s("seg_geom", seg_geom_)("too_wide", too_wide_).done();
+  s("seg_geom", seg_geom_)("too_wide", too_wide_)("wet_count", wet_count_).done();
 
   vertices_kernel_ = compute::kernel(program, "fluid_vertices");
   KernelArgs v(vertices_kernel_);
   v("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_geom", seg_geom_)(
-       "bulk", bulk)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)
+       "bulk", bulk)("source", source_);
+  if (leak) v("seg_exposed", seg_exposed_);
+  v("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)("wet_count", wet_count_)("wet", wet_)
       .done();
 
   // Two copies of one sub-step kernel: the first reads the neighbours from front_ and
@@ -109,7 +116,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   for (int copy = 0; copy < 2; ++copy) {
     substep_[copy] = compute::kernel(program, "fluid_substep");
     KernelArgs b(substep_[copy]);
-    b("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
+    b("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
         "seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("front", copy == 0 ? front_ : back_)("source", source_);
     source_value_[copy] = b.later("source_value", real(0));
     b("bulk", bulk)("dt_sub", dt_sub);

@@ -66,7 +66,7 @@ class FluidFlow {
   compute::kernel substep_[2];  // fluid_substep reading front_ (writing back_), and the other way
   KernelArg<cl_int> step_;
   KernelArg<real> source_value_[2], sub_time_[2];
-  compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, front_, back_, vertex_start_, vertex_end_, source_,
+  compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, front_, back_, wet_, wet_count_, vertex_start_, vertex_end_, source_,
       vertex_state_, vertex_energy_, too_wide_, slots_;
   compute::buffer seg_exposed_;  // per CE4: Carter's exposure time [s], -1 before (leak-off only)
   compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
