@@ -17,6 +17,7 @@
 #include "engine/model/fluid_spring.hpp"
 #include "engine/run/prepare_case.hpp"
 #include "engine/solver.hpp"
+#include "engine/stages/fluid_flow.hpp"
 #include "fixture.hpp"
 #include "io/case_config.hpp"
 
@@ -75,6 +76,109 @@ Outcome run_steps(const PreparedCase& p, long steps, Solver** keep = nullptr) {
   if (keep) *keep = solver.get();
   return o;
 }
+
+// The fluid stage in plain C++ (cl_kernels/fluid_flow.cl's step, every vertex visited):
+// apertures and volumes of the carrying CE4s, the vertices' volumes and pressures, the
+// sub-steps' fluxes, Carter's leak-off and the source, and the faces' forces.
+struct FluidReference {
+  const Model& m;
+  const FluidModel& f;
+  std::vector<std::array<double, 4>> state, energy;  // per vertex, as vertex_state / vertex_energy
+  std::vector<double> exposed;                        // per CE4
+  std::vector<std::array<double, 2>> slots;           // 4 per CE4
+  explicit FluidReference(const Model& model)
+      : m(model), f(model.fluid), state(f.vertices, {0, 0, 0, 0}), energy(f.vertices, {0, 0, 0, 0}),
+        exposed(model.ce4.size(), -1.0), slots(4 * model.ce4.size(), {0, 0}) {}
+  static double excess(double v0, double v) { return v > 0 ? std::max(v0 / v - 1, 0.0) : 0.0; }
+  double stored(double v, double d) const { return f.bulk_modulus * v * ((1 + d) * std::log1p(d) - d); }
+
+  void step(double time, double dt, long substeps, const std::vector<real2>& x, const std::vector<int>& carries) {
+    const size_t n_ce4 = m.ce4.size();
+    const double th = m.thickness, K = f.bulk_modulus;
+    std::vector<std::array<double, 4>> geom(n_ce4, {0, 0, 0, 0});
+    std::vector<std::array<double, 2>> normal(n_ce4, {0, 0});
+    for (size_t e = 0; e < n_ce4; ++e) {
+      if (!carries[e]) continue;
+      const auto& nd = m.ce4[e];
+      const double xi = x[nd[0]].x, yi = x[nd[0]].y, xj = x[nd[1]].x, yj = x[nd[1]].y;
+      const double xj2 = x[nd[2]].x, yj2 = x[nd[2]].y, xi2 = x[nd[3]].x, yi2 = x[nd[3]].y;
+      const double cx = (xj - xi) + (xj2 - xi2), cy = (yj - yi) + (yj2 - yi2), l = std::hypot(cx, cy);
+      const double nx = cy / l, ny = -cx / l;
+      const double wa = std::max((xi2 - xi) * nx + (yi2 - yi) * ny, 0.0) + f.residual_aperture;
+      const double wb = std::max((xj2 - xj) * nx + (yj2 - yj) * ny, 0.0) + f.residual_aperture;
+      const double h = f.segment_length[e], wm = 0.5 * (wa + wb);
+      geom[e] = {h * th * (3 * wa + wb) / 8, h * th * (wa + 3 * wb) / 8, wm * wm * wm * th / (12 * f.viscosity * h), wm};
+      normal[e] = {nx, ny};
+    }
+    for (size_t v = 0; v < f.vertices; ++v) {
+      double volume = 0;
+      for (uint32_t k = f.vertex_start[v]; k < f.vertex_start[v + 1]; ++k) {
+        const uint32_t end = f.vertex_end[k];
+        volume += (end & 1u) ? geom[end >> 1][1] : geom[end >> 1][0];
+      }
+      auto& s = state[v];
+      const double d = excess(s[0], volume);
+      if (volume != s[1]) energy[v][1] += s[2] * (volume - s[1]);
+      s = {s[0], volume, K * d, stored(volume, d)};
+    }
+    std::vector<char> source(f.vertices, 0);
+    for (uint32_t v : f.source_vertices) source[v] = 1;
+    const double dt_sub = dt / double(substeps), share = 1.0 / double(f.source_vertices.size());
+    for (long k = 0; k < substeps; ++k) {
+      const double t_sub = time + dt_sub * double(k);
+      const double value = fluid_source_value(f.history, time + dt_sub * (double(k) + (f.pressure_source ? 1.0 : 0.5)));
+      const double source_value = f.pressure_source ? value : value * th * share;
+      const auto start = state;  // every flux from the sub-step's start
+      for (size_t e = 0; e < n_ce4; ++e)  // exposure: open, fluid at one end
+        if (geom[e][2] != 0 && exposed[e] < 0 &&
+            (start[f.segment_vertex[2 * e]][0] > 0 || start[f.segment_vertex[2 * e + 1]][0] > 0))
+          exposed[e] = t_sub;
+      for (size_t v = 0; v < f.vertices; ++v) {
+        double inflow = 0, leak = 0;
+        for (uint32_t j = f.vertex_start[v]; j < f.vertex_start[v + 1]; ++j) {
+          const uint32_t end = f.vertex_end[j], e = end >> 1;
+          if (geom[e][2] != 0) {
+            const double q = geom[e][2] * (start[f.segment_vertex[2 * e]][2] - start[f.segment_vertex[2 * e + 1]][2]);
+            inflow += (end & 1u) ? q : -q;
+          }
+          if (exposed[e] >= 0) leak += f.segment_length[e] * (std::sqrt(t_sub + dt_sub - exposed[e]) - std::sqrt(t_sub - exposed[e]));
+        }
+        leak *= 2 * f.leak_off * th;
+        auto& s = state[v];
+        if (inflow == 0 && !source[v] && leak == 0) continue;
+        s[0] += dt_sub * inflow;
+        const double u_flowed = stored(s[1], excess(s[0], s[1]));
+        auto& en = energy[v];
+        en[3] += s[3] - u_flowed;
+        leak = std::min(leak, std::max(s[0], 0.0));
+        if (leak > 0) s[0] -= leak;
+        if (source[v] && s[1] > 0) {
+          const double added = f.pressure_source ? s[1] * (1 + source_value / K) - s[0] : dt_sub * source_value;
+          const double h_work = f.pressure_source ? K * std::log1p(source_value / K)
+                                                  : K * std::log1p(excess(s[0] + 0.5 * added, s[1]));
+          s[0] += added;
+          en[0] += h_work * added;
+          en[2] += added;
+        }
+        const double d = excess(s[0], s[1]);
+        s[2] = K * d;
+        s[3] = stored(s[1], d);
+      }
+    }
+    for (size_t e = 0; e < n_ce4; ++e) {
+      for (int c = 0; c < 4; ++c) slots[4 * e + c] = {0, 0};
+      if (geom[e][2] == 0) continue;
+      const double pa = state[f.segment_vertex[2 * e]][2], pb = state[f.segment_vertex[2 * e + 1]][2];
+      const double ht = f.segment_length[e] * th / 8;
+      const double fa = ht * (3 * pa + pb), fb = ht * (pa + 3 * pb);
+      const double nx = normal[e][0], ny = normal[e][1];
+      slots[4 * e] = {-fa * nx, -fa * ny};
+      slots[4 * e + 1] = {-fb * nx, -fb * ny};
+      slots[4 * e + 2] = {fb * nx, fb * ny};
+      slots[4 * e + 3] = {fa * nx, fa * ny};
+    }
+  }
+};
 
 // `fdem ARGS` with its output and exit code.
 std::pair<int, std::string> run_fdem(const std::string& args) {
@@ -364,6 +468,112 @@ TEST_CASE("fluid: a segment wider than fluid.max_aperture stops the run, naming 
   CHECK(message.find("opened wider than fluid.max_aperture") != std::string::npos);
   CHECK(message.find("CE4 ") != std::string::npos);
   CHECK(message.find("by step ") != std::string::npos);
+}
+
+TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, softened and dry CE4s, leak-off)") {
+  // Coarse models: KGD (a rate source at the well, 50 times the case's rate so the seed
+  // fills within the steps) and Sneddon (a pressure held on the crack) with leak-off. The
+  // faces moved at random (openings and overlaps of up to 0.3 mm), the crack broken (the
+  // stage's constructor), a dry broken CE4 away from it and softened CE4s next to it;
+  // steps with the positions moved between them.
+  struct Variant {
+    const char* path;
+    std::vector<std::string> overrides;
+    long steps;
+    bool past_crack;  // the fluid must reach past the crack's vertices (into softened CE4s)
+  };
+  const std::vector<Variant> variants{
+      {"cases/kgd/viscosity.toml", {"mesh.size=0.2", "fluid.rate=17.0"}, 40, false},
+      {"cases/sneddon/case.toml", {"mesh.size=0.2", "fluid.leak_off=1e-9"}, 6, true}};
+  for (const auto& variant : variants) {
+    CAPTURE(variant.path);
+    std::vector<std::string> overrides = variant.overrides;
+    overrides.push_back("output.dir=\"/tmp/fdem_test_fluid_ref\"");
+    const PreparedCase p = prepare_case(test::source_path(variant.path), overrides);
+    const Model& m = p.model;
+    REQUIRE(m.fluid.enabled);
+    auto& cl = test::context();
+    const size_t n_ce4 = m.ce4.size();
+    std::vector<int> carries(n_ce4, 0);
+    for (uint32_t e : m.fluid.crack_ce4) carries[e] = 1;
+    std::vector<cl_int2> status(n_ce4, cl_int2{{0, 0}});
+    std::vector<real4> gauss(3 * n_ce4);
+    // Softened: the CE4s that share a vertex with the seed but are not on it; broken and
+    // dry: the CE4 farthest from the well.
+    std::vector<char> seed_vertex(m.fluid.vertices, 0);
+    for (uint32_t e : m.fluid.crack_ce4) seed_vertex[m.fluid.segment_vertex[2 * e]] = seed_vertex[m.fluid.segment_vertex[2 * e + 1]] = 1;
+    size_t softened = 0, far = 0;
+    double far_r = 0;
+    for (size_t e = 0; e < n_ce4; ++e) {
+      const auto& nd = m.ce4[e];
+      const double r = std::hypot(m.x[nd[0]], m.y[nd[0]]);
+      if (r > far_r) far_r = r, far = e;
+      if (carries[e]) continue;
+      if (seed_vertex[m.fluid.segment_vertex[2 * e]] || seed_vertex[m.fluid.segment_vertex[2 * e + 1]]) {
+        gauss[3 * e + 1].x = real(0.3);
+        carries[e] = 1;
+        ++softened;
+      }
+    }
+    status[far] = cl_int2{{1, 1}};
+    carries[far] = 1;
+    REQUIRE(softened > 0);
+    compute::buffer position(cl.context(), m.num_nodes() * sizeof(real2));
+    compute::buffer status_buffer(cl.context(), n_ce4 * sizeof(cl_int2));
+    compute::buffer gauss_buffer(cl.context(), 3 * n_ce4 * sizeof(real4));
+    upload(cl, status_buffer, status);
+    upload(cl, gauss_buffer, gauss);
+    FluidFlow stage(cl, m, position, status_buffer, gauss_buffer, p.dt);
+    const long substeps = FluidFlow::substeps(m.fluid, p.dt);
+    FluidReference ref(m);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<real2> x(m.num_nodes());
+    double time = 0;
+    for (long step = 0; step < variant.steps; ++step) {
+      for (size_t n = 0; n < m.num_nodes(); ++n) x[n] = {real(m.x[n] + 3e-4 * u(rng)), real(m.y[n] + 3e-4 * u(rng))};
+      upload(cl, position, x);
+      stage.enqueue(time, step);
+      ref.step(time, p.dt, substeps, x, carries);
+      time += p.dt;
+    }
+    const auto state = stage.vertex_state();
+    const auto slots = download<real2>(cl, stage.slots(), 4 * n_ce4);
+    double scale[4] = {0, 0, 0, 0}, worst[4] = {0, 0, 0, 0};
+    size_t wet = 0;
+    for (const auto& s : ref.state)
+      for (int c = 0; c < 4; ++c) scale[c] = std::max(scale[c], std::fabs(s[c]));
+    for (size_t v = 0; v < m.fluid.vertices; ++v) {
+      const double got[4] = {state[v].x, state[v].y, state[v].z, state[v].w};
+      for (int c = 0; c < 4; ++c) worst[c] = std::max(worst[c], std::fabs(got[c] - ref.state[v][c]) / scale[c]);
+      wet += ref.state[v][0] > 0;
+    }
+    double force_scale = 0, force_worst = 0;
+    for (const auto& f : ref.slots) force_scale = std::max({force_scale, std::fabs(f[0]), std::fabs(f[1])});
+    for (size_t k = 0; k < slots.size(); ++k)
+      force_worst = std::max({force_worst, std::fabs(slots[k].x - ref.slots[k][0]) / force_scale,
+                              std::fabs(slots[k].y - ref.slots[k][1]) / force_scale});
+    // The fluid moved from the well (KGD) or past the crack's vertices into the softened
+    // CE4s (Sneddon, every crack vertex held); the dry broken CE4 holds none.
+    size_t crack_vertices = 0;
+    for (char c : seed_vertex) crack_vertices += c;
+    CHECK(wet > (variant.past_crack ? crack_vertices : size_t(2)));
+    CHECK(ref.state[m.fluid.segment_vertex[2 * far]][0] == 0);
+    CHECK(state[m.fluid.segment_vertex[2 * far]].x == 0);
+    for (int c = 0; c < 4; ++c) CHECK(scale[c] > 0);
+    // V₀ and V to round-off; p = K_f (V₀/V - 1), U and the forces lose log10(K_f / p)
+    // digits to the difference (K_f / p ~ 1e6 at Sneddon's first steps).
+    const double tolerance[4] = {kDoublePrecision ? 1e-12 : 1e-5, kDoublePrecision ? 1e-12 : 1e-5,
+                                 kDoublePrecision ? 1e-9 : 1e-2, kDoublePrecision ? 1e-9 : 1e-2};
+    CAPTURE(worst[0]);
+    CAPTURE(worst[1]);
+    CAPTURE(worst[2]);
+    CAPTURE(worst[3]);
+    CAPTURE(force_worst);
+    for (int c = 0; c < 4; ++c) CHECK(worst[c] <= tolerance[c]);
+    CHECK(force_scale > 0);
+    CHECK(force_worst <= tolerance[2]);
+  }
 }
 
 TEST_CASE("fluid: two runs give the same bits") {
