@@ -8,6 +8,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -156,6 +158,30 @@ TEST_CASE("excavation through CE4s with [contact]: the run works and the account
   CHECK(std::fabs(run.worst_energy_error) < 1e-6);
   CHECK(excavated.back() > 1.0);
   CHECK(broken.back() > 0);
+}
+
+TEST_CASE("excavation through CE4s with [contact]: a run to T and a run to T/2 restarted in the ramp write the same bytes") {
+  // 2 ms in all, restarted at 1 ms, inside the ramp (0.5 to 1.5 ms): the CE4s' ramp state
+  // (ce4_excavation_energy) and the contact histories travel in the checkpoint.
+  test::TempDir dir;
+  const std::string one = dir.str() + "/one", two = dir.str() + "/two";
+  const std::string extra = "[contact]\nnormal_penalty = 5.0e11\nfriction = 0.5\n";
+  const std::string path = dir.write("c.toml", rockmass_case("out", extra));
+  const RunSummary whole = test::run(path, {"output.dir=\"" + one + "\"", "time.end=2.0e-3"});
+  test::run(path, {"output.dir=\"" + two + "\"", "time.end=1.0e-3"});
+  const RunSummary rest = test::run(path, {"output.dir=\"" + two + "\"", "time.end=2.0e-3"},
+                                    test::restart_from(two + "/tunnel.ckpt"));
+  CHECK(rest.first_step > 0);
+  for (const char* f : {"/tunnel.exo", "/tunnel_history.nc", "/tunnel_events.nc"}) {
+    CAPTURE(f);
+    std::ifstream a(one + f, std::ios::binary), b(two + f, std::ios::binary);
+    const std::string x((std::istreambuf_iterator<char>(a)), {}), y((std::istreambuf_iterator<char>(b)), {});
+    CHECK(!x.empty());
+    CHECK(x == y);
+  }
+  const auto excavated = test::read_variable(one + "/tunnel_history.nc", "excavated_energy");
+  MESSAGE("excavated_energy " << excavated.back() << " J at 2 ms, worst |energy_error| " << whole.worst_energy_error);
+  CHECK(excavated.back() > 1.0);
 }
 
 TEST_CASE("excavation through CE4s: what is not supported is refused naming the key") {
