@@ -78,7 +78,14 @@ std::vector<std::string> excavation_summary(const Model& model) {
     const auto& e = model.excavations[i];
     size_t count = 0;
     for (int x : model.triangle_excavation) count += x == static_cast<int>(i);
-    out.push_back("'" + e.region + "': " + std::to_string(count) + " triangles removed " +
+    // The CE4s that go with it: in the region or on its edge (the smaller factor of their
+    // two triangles is this excavation's while it ramps).
+    size_t ce4s = 0;
+    for (const auto& pair : model.ce4_triangles)
+      ce4s += model.triangle_excavation[pair[0]] == static_cast<int>(i) ||
+              model.triangle_excavation[pair[1]] == static_cast<int>(i);
+    out.push_back("'" + e.region + "': " + std::to_string(count) + " triangles" +
+                  (ce4s > 0 ? " and " + std::to_string(ce4s) + " CE4s" : std::string()) + " removed " +
                   (e.duration > 0 ? "from t = " + format_number(e.start, 6) + " s to " +
                                         format_number(e.start + e.duration, 6) + " s (forces ramped to zero)"
                                   : "at t = " + format_number(e.start, 6) + " s (at once)"));

@@ -175,8 +175,10 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (excavation_ && model.excavation_of.size() != count_)
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
                      std::to_string(model.excavation_of.size()) + " excavation pairs");
-  if (excavation_ && extrinsic_)
-    throw InputError("cohesive model: extrinsic CE4s with [[excavation]] are not supported yet");
+  // A ramped CE4 is intrinsic (engine/model/excavation.cpp refuses the others, naming the key).
+  for (size_t e = 0; excavation_ && e < count_; ++e)
+    if ((model.excavation_of[e][0] >= 0 || model.excavation_of[e][1] >= 0) && model.fracture[model.properties[e]].extrinsic)
+      throw InputError("cohesive model: CE4 " + std::to_string(e) + " is extrinsic and on an excavated triangle");
   const MemoryPlan arrays =
       plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_, excavation_ ? model.excavation_times.size() : 0);
   if (excavation_) {
