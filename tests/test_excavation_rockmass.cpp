@@ -160,6 +160,42 @@ TEST_CASE("excavation through CE4s with [contact]: the run works and the account
   CHECK(broken.back() > 0);
 }
 
+TEST_CASE("excavation with [contact]: couples touching the removed core when its ramp starts drop out, their energy booked") {
+  // The core kicked at 2 m/s tears its wall CE4s (k = 1 until 0.5 ms: they may break) and
+  // presses its crack faces on the rock: contact couples holding energy when the ramp
+  // starts. They stop acting in that step; what they held goes to friction and contact
+  // damping, and the account stays closed (worst 4.1e-7 on PoCL). Without the booking of
+  // the undamped couples' potential, 0.24 of their 2.8 J was booked and the worst
+  // |energy_error| was 2.3e-5 (2026-12-05): both checks below failed.
+  test::TempDir dir;
+  const std::string out = dir.str() + "/out";
+  const std::string path = dir.write(
+      "c.toml", rockmass_case(out, "[contact]\nnormal_penalty = 5.0e11\nfriction = 0.5\n"
+                                   "[[initial]]\nregion = \"tunnel\"\nvelocity = [0.0, 2.0]\n"));
+  const RunSummary run = test::run(path, {"output.history_every=2.0e-5", "time.end=0.7e-3"});
+  const std::string h = out + "/tunnel_history.nc";
+  const auto time = test::read_variable(h, "time"), couples = test::read_variable(h, "contact_couples"),
+             stored = test::read_variable(h, "contact_stored_energy"),
+             damping = test::read_variable(h, "contact_damping_dissipation"),
+             friction = test::read_variable(h, "friction_dissipation");
+  size_t after = 0;  // the first row after the ramp started (0.5 ms)
+  while (after < time.size() && !(time[after] > 0.5e-3)) ++after;
+  REQUIRE(after > 0);
+  REQUIRE(after < time.size());
+  const size_t before = after - 1;
+  const double booked = (damping[after] - damping[before]) + (friction[after] - friction[before]);
+  MESSAGE("before the ramp (t = " << time[before] << " s): " << couples[before] << " touching couples holding "
+                                  << stored[before] << " J; after (t = " << time[after] << " s): " << couples[after]
+                                  << " couples, " << stored[after] << " J; booked " << booked
+                                  << " J; worst |energy_error| " << run.worst_energy_error);
+  CHECK(couples[before] > 10);
+  CHECK(stored[before] > 1.0);
+  CHECK(couples[after] == 0);
+  CHECK(stored[after] == 0);
+  CHECK(booked > 0.5 * stored[before]);
+  CHECK(std::fabs(run.worst_energy_error) < 1e-5);
+}
+
 TEST_CASE("excavation through CE4s with [contact]: a run to T and a run to T/2 restarted in the ramp write the same bytes") {
   // 2 ms in all, restarted at 1 ms, inside the ramp (0.5 to 1.5 ms): the CE4s' ramp state
   // (ce4_excavation_energy) and the contact histories travel in the checkpoint.
