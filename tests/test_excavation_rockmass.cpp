@@ -158,6 +158,16 @@ TEST_CASE("excavation through CE4s with [contact]: the run works and the account
   CHECK(std::fabs(run.worst_energy_error) < 1e-6);
   CHECK(excavated.back() > 1.0);
   CHECK(broken.back() > 0);
+  // The frames mark the removed CE4s too (EXCAVATED on the cohesive block, block 2).
+  const PreparedCase p = prepare_case(path, {});
+  const auto gone = test::last_element_values(out + "/tunnel.exo", "EXCAVATED", 2);
+  REQUIRE(gone.size() == p.model.ce4.size());
+  size_t marked = 0;
+  for (size_t e = 0; e < gone.size(); ++e) {
+    CHECK(gone[e] == (ramped(p.model, e) ? 1.0 : 0.0));
+    marked += gone[e] == 1.0;
+  }
+  CHECK(marked > 100);
 }
 
 TEST_CASE("excavation with [contact]: couples touching the removed core when its ramp starts drop out, their energy booked") {
