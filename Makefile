@@ -89,6 +89,7 @@ validate: build
 	  --range -20 10 -o $(VALIDATE_OUT)/wave_penalty_$${f}E_900us.png || exit 1; done
 	for run in brazilian ucs; do $(call FRACTURE_PLOTS,$(VALIDATE_OUT)/$$run,$(VALIDATE_OUT)/$${run}_,) || exit 1; done
 	for run in blasting blasting-free; do $(call FRACTURE_PLOTS,$(VALIDATE_OUT)/$$run,$(VALIDATE_OUT)/$${run}_,--without-largest) || exit 1; done
+	$(PYTHON) cases/tunnel-rockmass/figures/plot.py $(VALIDATE_OUT)/tunnel-rockmass $(VALIDATE_OUT)/tunnel-rockmass
 	@cat $(VALIDATE_OUT)/wave-penalty.md
 	@echo "validation output, its figures (summary.md) and plots in $(VALIDATE_OUT)/"
 

@@ -104,6 +104,20 @@
 //   that noise from ever making the dissipation go down (test_cohesive_energy checks
 //   W = stored + dissipation to 1e-4 of the CE4's energy scale along random paths).
 
+// Excavation (define EXCAVATION, models with [[excavation]] only; the arguments exist only
+// then): excavation_of[e] = the excavations (-1: none) of the CE4's two triangles; its
+// factor k is the smaller of theirs (excavation_factor, excavation.cl, at step × dt as the
+// triangles take it), so a CE4 in or on the edge of an excavated region is ramped with
+// it. Its whole traction (the law's, in-situ offsets included, and the frame's term) and
+// its stored energy are scaled by k: its forces are -k ∇Π. While k < 1 its state still
+// softens, but it does not break (no status change, no record in the break log: the
+// material is leaving, not cracking); once k is 0 at this step and the one before it is
+// gone: no force, nothing stored, nothing updated. The energy that leaves with the factor
+// is booked like the triangles': excavation_energy[e] = (Π of this step, unscaled;
+// Σ (k_before − k_now) ½ (Π_before + Π_now) so far), summed by the host into the
+// account's `excavated` term; the CE4's fracture dissipation is W − stored − that sum, so
+// ramping dissipates nothing (docs/energy-notes.md, "Excavation").
+
 // The per-CE4 parameter row (COH_*, COH_STRIDE) and the per-property row (COHP_*,
 // COHP_STRIDE; `property[e]` names a CE4's) are defined in engine/layouts.hpp.
 
@@ -211,9 +225,35 @@ __kernel void cohesive_forces(const uint n_ce4,
                               , __global const int* restrict inserted,
                               __global const real4* restrict insertion_gaps
 #endif
+#ifdef EXCAVATION
+                              , __global const int2* restrict excavation_of,
+                              __global const real* restrict excavation_time, const real dt,
+                              __global real2* restrict excavation_energy
+#endif
                               ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
+#ifdef EXCAVATION
+  // k = min of its triangles' factors, now and at the step before (header).
+  const int2 dig = excavation_of[e];
+  const bool ramped = dig.x >= 0 || dig.y >= 0;
+  real keep = (real)1, keep_before = (real)1;
+  if (ramped) {
+    const real now = (real)step * dt, before = (real)(step - 1) * dt;
+    if (dig.x >= 0) keep = excavation_factor(excavation_time, dig.x, now);
+    if (dig.y >= 0) keep = fmin(keep, excavation_factor(excavation_time, dig.y, now));
+    if (step > 0) {
+      if (dig.x >= 0) keep_before = excavation_factor(excavation_time, dig.x, before);
+      if (dig.y >= 0) keep_before = fmin(keep_before, excavation_factor(excavation_time, dig.y, before));
+    } else {
+      keep_before = keep;
+    }
+    if (keep == (real)0 && keep_before == (real)0) {  // gone: no force, nothing to update
+      slots[4 * e] = slots[4 * e + 1] = slots[4 * e + 2] = slots[4 * e + 3] = (real2)(0, 0);
+      return;
+    }
+  }
+#endif
   const uint4 nd = ce4_nodes[e];  // (i, j, j', i')
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
   // End gaps first: differences of nearly equal coordinates are exact, so δ keeps its
@@ -366,7 +406,12 @@ __kernel void cohesive_forces(const uint n_ce4,
     f_m = (moment * scale / chord_length) * n;
 
     bool broke_now = false;
-    if (!closed && at_one >= 2) {
+#ifdef EXCAVATION
+    const bool may_break = keep == (real)1;  // a CE4 being excavated does not break (header)
+#else
+    const bool may_break = true;
+#endif
+    if (!closed && at_one >= 2 && may_break) {
       // Breaks: this step's forces become the closed law's (f = 0 at every point: what the
       // third point still held is released, so W - stored only grows).
       const real share = share_sum / (real)at_one;
@@ -402,6 +447,23 @@ __kernel void cohesive_forces(const uint n_ce4,
       held = 0;
     }
     if (st.x != status[e].x) status[e] = st;
+#ifdef EXCAVATION
+    // The ramp: the energy that leaves with the factor (trapezoid in time, Π unscaled),
+    // then the forces and the stored energy scaled by k.
+    real excavated = (real)0;
+    if (ramped) {
+      const real2 was = excavation_energy[e];  // (Π of the step before, released so far)
+      real2 out = was;
+      if (step > 0) out.y += (keep_before - keep) * (real)0.5 * (was.x + held * scale);
+      out.x = held * scale;
+      excavation_energy[e] = out;
+      excavated = out.y;
+      f_i *= keep;
+      f_j *= keep;
+      f_m *= keep;
+      held *= keep;
+    }
+#endif
 
     // Work of this step on the CE4 (trapezoid): with slot_i = A + m, slot_i' = -A + m,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
@@ -427,7 +489,11 @@ __kernel void cohesive_forces(const uint n_ce4,
     // Fracture dissipation: what the CE4 was given and does not hold. The law cannot
     // create energy (header), so this only moves up, except by the trapezoid rule's error
     // on the elastic curves; the max keeps it from ever moving down.
+#ifdef EXCAVATION
+    account.y = fmax(account.y, account.x - account.z - excavated);
+#else
     account.y = fmax(account.y, account.x - account.z);
+#endif
     energy[e] = account;
 #ifdef CORNER_FANS
     // The fans of its two mesh nodes are no longer whole: from the next step contact takes

@@ -89,16 +89,23 @@ inline int carried_row(const uint c, __global const uint* carry_of) {
 // dissipated, and its history is forgotten: its pool row `row` (-1: none, as in a new
 // list, whose couples hold no row yet) is zeroed where not zero yet, so untouched
 // couples write nothing. `found`: the history's row in previous_history (-1: none).
+// `removed` (EXCAVATION only): the couple stops because one of its triangles is being
+// excavated, not because it let go: an undamped couple (HIST_RATIO 0) still holds its
+// potential of the last step (HIST_ENERGY), which is booked with the held work.
 inline void forget_couple(const int row, const int found, __global const real* previous_history,
-                          __global real* history, const real energy_scale, __global long* energy) {
-  real pending = (real)0, held = (real)0;
+                          __global real* history, const real energy_scale, __global long* energy,
+                          const bool removed) {
+  real pending = (real)0, held = (real)0, ratio = (real)0, potential = (real)0;
   bool stored = false;
   for (int h = 0; h < CONTACT_HISTORY; ++h) {
     const real value = found >= 0 ? previous_history[CONTACT_HISTORY * found + h] : (real)0;
     if (h == HIST_PENDING || h == HIST_REST) pending += value;
     if (h == HIST_HELD) held = value;
+    if (h == HIST_RATIO) ratio = value;
+    if (h == HIST_ENERGY) potential = value;
     stored = stored || value != (real)0;
   }
+  if (removed && ratio == (real)0) held += potential;
   if (pending != (real)0) atom_add(&energy[ENERGY_FRICTION], convert_long_rte(pending * energy_scale));
   if (held != (real)0) atom_add(&energy[ENERGY_DAMPING], convert_long_rte(held * energy_scale));
   if (stored && row >= 0)
@@ -229,6 +236,28 @@ inline int bond_word_state(const uint word, __global const int2* ce4_status
 #define CLASSIFY_BOND_PASS
 #endif
 
+#ifdef EXCAVATION
+// [[excavation]]: triangle t is being excavated at this step when its excavation's factor
+// (excavation_factor, excavation.cl, at step × dt as the triangle stage takes it) is below 1.
+// A couple with such a triangle takes no part in contact from that step on (the factor
+// never rises again): contact_classify forgets it at once, booking what it held as a
+// couple that lets go books it (its friction springs' energy and last half step as
+// friction; its damped held work, or an undamped couple's potential of the last step, as
+// contact damping), so the account stays closed.
+#define EXCAV_ARGS                                                                                  \
+  , __global const int *restrict excavation_of, __global const real *restrict excavation_time,     \
+      const real excavation_dt, const int excavation_step
+#define EXCAV_PASS , excavation_of, excavation_time, excavation_dt, excavation_step
+inline bool excavated_triangle(const uint t, __global const int* excavation_of, __global const real* excavation_time,
+                               const real dt, const int step) {
+  const int i = excavation_of[t];
+  return i >= 0 && excavation_factor(excavation_time, i, (real)step * dt) < (real)1;
+}
+#else
+#define EXCAV_ARGS
+#define EXCAV_PASS
+#endif
+
 #ifdef PRELISTED
 // Couples listed ahead of their triangles' joins (activation "fractured" with a skin,
 // ContactDetection's LIST_INACTIVE): `active` tells which triangles take part now.
@@ -250,11 +279,26 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
                             const uint new_from, __global uchar* live, __global uint* slot,
-                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS) {
+                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS EXCAV_ARGS) {
   // A new list, or couples appended to this one from `new_from` on (triangles that joined
   // the candidates, ContactDetection::extend_joined): no pool row, no flag yet.
   const bool fresh = !same_list || c >= new_from;
   if (fresh) slot[c] = NO_SLOT;
+#ifdef EXCAVATION
+  {
+    const ulong key = keys[c];
+    if (excavated_triangle((uint)(key >> 32), excavation_of, excavation_time, excavation_dt, excavation_step) ||
+        excavated_triangle((uint)(key & 0xffffffffUL), excavation_of, excavation_time, excavation_dt,
+                           excavation_step)) {
+      if (fresh || live[c]) {
+        const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
+        forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy, true);
+        live[c] = 0;
+      }
+      return false;
+    }
+  }
+#endif
 #ifdef CE4_BONDS
   // Most candidate couples of intact rock are carried by a CE4 or a bonded fan: with the
   // list's bond words known, such a couple costs two words read, not the key and the
@@ -299,7 +343,7 @@ inline bool classify_couple(const uint c, __global const ulong* keys, const uint
   }
   if (fresh || live[c]) {  // in place and already forgotten: nothing to read or write
     const int found = same_list ? pool_row(c, slot) : carried_row(c, carry_of);
-    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
+    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy, false);
     live[c] = 0;
   }
   return false;
@@ -354,7 +398,7 @@ __kernel void contact_classify(const uint n_couples,
                                , __global const uint* restrict pool_state, __global uint* restrict monitor,
                                const uint monitor_slot
 #endif
-                               ) {
+                               EXCAV_ARGS) {
   const uint c = get_global_id(0);
   if (c == 0) {
     counters[1u - list_counter] = 0;
@@ -368,7 +412,7 @@ __kernel void contact_classify(const uint n_couples,
   }
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS))
+                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS))
     overlap_list[atomic_inc(&counters[list_counter])] = c;
 #else
   __local uint group_count, group_base;
@@ -376,7 +420,7 @@ __kernel void contact_classify(const uint n_couples,
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS);
+                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (get_local_id(0) == 0) group_base = atomic_add(&counters[list_counter], group_count);
@@ -705,7 +749,7 @@ inline void contact_couple(const uint c, CONTACT_FORCES_ARGS) {
   real normal_total, contact_length;
   normal_totals(x, I0, I1, inside, Pn, thickness, &normal_total, &contact_length);
   if (normal_total <= (real)0) {  // no overlap after all
-    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
+    forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy, false);
     live[c] = 0;
     return;
   }
@@ -732,6 +776,9 @@ inline void contact_couple(const uint c, CONTACT_FORCES_ARGS) {
   const real elastic = Pn * thickness * (potential[0] + potential[1]);
   real stored = elastic, damping_lost = (real)0;
   if (damped) damped_work(hist, ratio, elastic, energy_scale, &stored, &damping_lost);
+#ifdef EXCAVATION
+  else hist[HIST_ENERGY] = elastic;  // what an excavation that stops the couple books (forget_couple)
+#endif
   real2 area_force[2][3];
   area_forces(x, ratio, Pn, thickness, potential, area_force);
   bool area_due[2] = {true, true};
@@ -863,7 +910,7 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
       normal_totals(x, I0, I1, inside, Pn, thickness, &normal_total, &contact_length);
       if (normal_total <= (real)0) {  // no overlap after all
         if (lane == 0) {
-          forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy);
+          forget_couple(same_list ? found : -1, found, previous_history, history, energy_scale, energy, false);
           live[c] = 0;
         }
       } else {
@@ -883,6 +930,9 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
           const real elastic = Pn * thickness * (potential[0] + potential[1]);
           stored = elastic;
           if (damped) damped_work(hist, ratio, elastic, energy_scale, &stored, &damping_lost);
+#ifdef EXCAVATION
+          else hist[HIST_ENERGY] = elastic;
+#endif
           real2 area_force[2][3];
           area_forces(x, ratio, Pn, thickness, potential, area_force);
           const bool friction = mu != (real)0 && Ptan != (real)0;

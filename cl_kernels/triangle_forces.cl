@@ -48,14 +48,7 @@
 // host sums .y as the account's `excavated` term (docs/energy-notes.md, "Excavation").
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two).
 
-#ifdef EXCAVATION
-inline real excavation_factor(__global const real* restrict excavation_time, const int i, const real time) {
-  const real start = excavation_time[2 * i], duration = excavation_time[2 * i + 1];
-  if (time < start) return (real)1;
-  if (!(duration > (real)0) || time >= start + duration) return (real)0;
-  return (real)1 - (time - start) / duration;
-}
-#endif
+// (excavation_factor: cl_kernels/excavation.cl, built ahead of this file with EXCAVATION.)
 
 inline real4 neo_hookean_stress(real4 F, real J, real lambda, real mu) {
   // σ = λ/2 (J - 1/J) I + μ/J (F Fᵀ - I)

@@ -43,6 +43,20 @@ CohesiveModel cohesive_model(const Model& model) {
       m.closed.resize(model.ce4.size(), 0);
       m.closed[e] = 1;
     }
+  // [[excavation]]: the excavations of each CE4's two triangles, where either has one.
+  if (!model.triangle_excavation.empty()) {
+    bool any = false;
+    std::vector<std::array<int, 2>> of(model.ce4_triangles.size(), {-1, -1});
+    for (size_t e = 0; e < model.ce4_triangles.size(); ++e)
+      for (int k = 0; k < 2; ++k) {
+        of[e][k] = model.triangle_excavation[model.ce4_triangles[e][k]];
+        any = any || of[e][k] >= 0;
+      }
+    if (any) {
+      m.excavation_of = std::move(of);
+      for (const auto& x : model.excavations) m.excavation_times.push_back({x.start, x.duration});
+    }
+  }
   if (model.contact.enabled && !model.node_origin.empty()) {
     m.vertices.reserve(model.ce4.size());
     for (const auto& e : model.ce4) m.vertices.push_back({model.node_origin[e[0]], model.node_origin[e[1]]});
@@ -107,7 +121,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   MemoryPlan plan = DeviceArrays::plan(model);
   if (p.ce4)
     plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0,
-                                  cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled, p.extrinsic));
+                                  cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled, p.extrinsic,
+                                  cohesive_model(model).excavation_of.empty() ? 0 : model.excavations.size()));
   if (p.extrinsic) plan.add(Extrinsic::plan(model));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
@@ -182,7 +197,9 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       arrays_(cl, model),
       cohesive_(build_if(parts_.ce4,
                          [&] {
-                           return std::make_unique<CohesiveForces>(cl, cohesive_model(model), arrays_.position,
+                           CohesiveModel m = cohesive_model(model);
+                           m.excavation_dt = dt;
+                           return std::make_unique<CohesiveForces>(cl, m, arrays_.position,
                                                                    DeviceArrays::reference_positions(model),
                                                                    in_situ_ce4_gaps(model));
                          })),
@@ -385,6 +402,11 @@ std::function<EnergyTotals()> Solver::queue_energy() {
       e.fracture += sum[0];
       e.cohesive_stored += sum[1];
     });
+    // [[excavation]]: what the ramped CE4s carried out (column 1 of their excavation rows).
+    if (cohesive_->excavating()) {
+      PendingSums carried = sums(cl_, cohesive_->excavation_rows(), ce4_count_, 2, 1, 1, ItemKind::Ce4);
+      parts.push_back([carried](EnergyTotals& e) { e.excavated += carried()[0]; });
+    }
   }
   if (fluid_) parts.push_back(fluid_->queue_energy(sums));
   if (contact_ && scope_) {

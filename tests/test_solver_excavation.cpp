@@ -160,7 +160,7 @@ TEST_CASE("excavation: bad entries are refused with the file and the key; fdem c
   CHECK(error(edited(good, "duration = 8.0e-3", "duration = 8.0e-3\ndepth = 3.0")).find("depth") != std::string::npos);
   CHECK(error(good + "[[excavation]]\nregion = \"tunnel\"\n").find("already excavated by") != std::string::npos);
   CHECK(error(edited(good, "region = \"tunnel\"\nstart", "region = \"rock\"\nstart")).empty());
-  CHECK(error(good + "[contact]\nnormal_penalty = 1e10\n").find("with [contact] is not supported yet") != std::string::npos);
+  CHECK(error(good + "[contact]\nnormal_penalty = 1e10\n").empty());  // since issue 31, item 5
   const Cli check = fdem_cli("check " + dir.write("d.toml", edited(good, "duration = 8.0e-3", "duration = -1.0")));
   MESSAGE(check.output);
   CHECK(check.code == 2);

@@ -331,6 +331,31 @@ Measured tunnel_kirsch(const Results& r) {
   return m;
 }
 
+// ---- cases/tunnel-rockmass: a tunnel excavated in a jointed, fracturable rock mass --------
+
+Measured tunnel_rockmass(const Results& r) {
+  const std::string dir = r.dir("tunnel-rockmass");
+  const RunSummary& s = r.summaries.at("tunnel-rockmass");
+  Measured m;
+  // cases/tunnel-rockmass/README.md, Measured: the breaks (on the joints; none with an
+  // excavated triangle: EXCAVATED = 1 on the TRI3 block at the end) and the balance.
+  const auto gone = test::last_element_values(dir + "/tunnel.exo", "EXCAVATED");
+  const auto a = test::read_variable(dir + "/tunnel_events.nc", "break_tri_a");
+  const auto b = test::read_variable(dir + "/tunnel_events.nc", "break_tri_b");
+  const auto joint = test::read_variable(dir + "/tunnel_events.nc", "break_joint");
+  double ramped = 0, on_joints = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    ramped += gone.at(size_t(a[k])) > 0 || gone.at(size_t(b[k])) > 0;
+    on_joints += joint[k] >= 0;
+  }
+  m.values["ramped-breaks"] = ramped;
+  m.values["joint-breaks"] = on_joints;
+  m.values["energy"] = s.worst_energy_error;
+  m.notes.push_back(text(a.size(), " CE4s broken, ", on_joints, " on the joints, ", ramped,
+                         " with an excavated triangle; worst |energy_error| ", s.worst_energy_error));
+  return m;
+}
+
 // ---- cases/jaeger: Jaeger's single plane of weakness -------------------------------------
 
 // The series: σ3 = 0 (case.toml) at β = 35° ... 85° every 5° and σ3 = 5 MPa (confined.toml)
@@ -563,6 +588,16 @@ const std::vector<Entry>& entries() {
          "cases/tunnel-kirsch/README.md, Expected: within 3% (issue 31, Verification)"},
         {"energy", "worst |energy_error| of the run", below(1e-3), "cases/tunnel-kirsch/README.md, Energy"}},
        tunnel_kirsch},
+
+      {"tunnel-rockmass",
+       "circular tunnel excavated through CE4s in a jointed, fracturable rock mass under σ_H 15 MPa, σ_h 7.5 MPa, with contact",
+       {{"tunnel-rockmass", "cases/tunnel-rockmass/case.toml", {}}},
+       {{"ramped-breaks", "CE4s with an excavated triangle in the break catalogue", equal(0),
+         "cases/tunnel-rockmass/README.md, Expected: removed, not cracked (issue 31, item 2)"},
+        {"joint-breaks", "broken CE4s on the joints", above(0),
+         "cases/tunnel-rockmass/README.md, Measured: the joint across the tunnel shears (13 on PoCL)"},
+        {"energy", "worst |energy_error| of the run", below(1e-4), "cases/tunnel-rockmass/README.md, Measured: 1.9e-8"}},
+       tunnel_rockmass},
 
       {"jaeger",
        "one joint at β through a specimen under σ3 = 0 and 5 MPa: peak σ1 against Jaeger's plane of weakness",

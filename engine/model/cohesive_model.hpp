@@ -53,6 +53,12 @@ struct CohesiveModel {
   // [[joint]] broken = true (else empty): per CE4 1 where it starts closed (broken, its
   // faces touching: the compression branch and friction only), 0 where it starts intact.
   std::vector<char> closed;
+  // [[excavation]] (else empty): per CE4 the excavations of its two triangles (-1: none;
+  // Model::triangle_excavation), and per excavation (start, duration) [s]. A CE4 with
+  // either one ramps with the smaller factor (cl_kernels/cohesive_forces.cl, EXCAVATION).
+  std::vector<std::array<int, 2>> excavation_of;
+  std::vector<std::array<double, 2>> excavation_times;
+  double excavation_dt = 0;  // the run's time step [s]: the factor is taken at step × dt
 };
 
 // The property sets the stage holds for `model`'s CE4s: one per set of `fracture`, plus

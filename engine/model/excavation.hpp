@@ -2,7 +2,9 @@
 // or over a time. A removed triangle's internal force (elastic, in-situ and viscous) and
 // its stored strain energy are scaled by its excavation's factor, which falls linearly
 // from 1 to 0 (cl_kernels/triangle_forces.cl, EXCAVATION); the strain energy that leaves
-// with it is the account's `excavated` term (docs/energy-notes.md, "Excavation").
+// with it is the account's `excavated` term (docs/energy-notes.md, "Excavation"). CE4s
+// with a removed triangle ramp with the smaller factor of their two (cohesive_forces.cl),
+// and contact drops the couples of removed triangles (contact_forces.cl).
 #pragma once
 #include <string>
 #include <vector>
@@ -30,9 +32,10 @@ struct Excavation {
 // Sets model.excavations and model.triangle_excavation from config.excavations;
 // `triangle_group[t]` is the mesh's physical group (index into mesh.groups) of model
 // triangle t. Throws InputError naming the case file and the key: a region that is not a
-// physical surface of the mesh (with a suggestion), a surface of no material, CE4s on
-// or at the edge of the region (excavating fracturable rock is not supported yet), and
-// [contact] (contact still sees removed triangles). Nothing happens without entries.
+// physical surface of the mesh (with a suggestion), a surface of no material, and CE4s
+// in or on the edge of the region that are extrinsic or may carry [fluid] (not supported
+// yet). CE4s there ramp with the region, and with [contact] its triangles leave contact
+// when their ramp starts. Nothing happens without entries.
 void set_excavations(Model& model, const io::Mesh& mesh, const std::vector<int>& triangle_group,
                      const io::CaseConfig& config);
 

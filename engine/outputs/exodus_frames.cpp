@@ -1,4 +1,5 @@
 // Exodus frames and the fragments file written with them (engine/outputs/outputs.hpp).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -17,8 +18,8 @@ std::vector<std::string> element_names(const Model& model) {
   // [[joint]]: on the cohesive block the joint's number (joint[k]: k + 1) of each CE4, 0
   // off the joints and on the triangles; a Threshold JOINT >= 1 shows the joints.
   if (!model.ce4_joint.empty()) names.push_back("JOINT");
-  // [[excavation]]: how much of each triangle is removed, 0 (whole) to 1 (gone); a
-  // Threshold EXCAVATED < 1 in ParaView shows the hole.
+  // [[excavation]]: how much of each triangle (and CE4) is removed, 0 (whole) to 1
+  // (gone); a Threshold EXCAVATED < 1 in ParaView shows the hole.
   if (!model.excavations.empty()) names.push_back("EXCAVATED");
   // [fluid]: the network on the cohesive block (each CE4 a segment): the mean pressure of
   // its two vertices and its mean aperture, 0 where it carries no fluid and on triangles.
@@ -137,15 +138,23 @@ void ExodusFrames::write(const Snapshot& f) {
     if (!model.ce4_joint.empty())
       for (size_t e = 0; e < count; ++e) elem[11].back()[e] = model.ce4_joint[e] + 1;
   }
-  if (!model.excavations.empty()) {  // after the CE4 variables; 0 on the CE4 block
+  if (!model.excavations.empty()) {  // after the CE4 variables
     const size_t k = elem.size() - 1 - (model.fluid.enabled ? 2 : 0);
     const std::vector<double> keep = excavation_factors(model, f.time);
-    for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
+    size_t b = 0;
+    for (size_t m = 0; m < model.materials.size(); ++m) {
       const size_t begin = model.block_start[m], end = model.block_start[m + 1];
       if (begin == end) continue;
       elem[k][b].assign(end - begin, 0.0);
       for (size_t t = begin; t < end; ++t) elem[k][b][t - begin] = 1.0 - keep[t];
       ++b;
+    }
+    // On the CE4 block: 1 − the CE4's factor, the smaller of its two triangles'
+    // (cl_kernels/cohesive_forces.cl, EXCAVATION); 0 for CE4s off the excavations.
+    if (b < elem[k].size() && !model.ce4_triangles.empty()) {
+      elem[k][b].assign(model.ce4_triangles.size(), 0.0);
+      for (size_t e = 0; e < model.ce4_triangles.size(); ++e)
+        elem[k][b][e] = 1.0 - std::min(keep[model.ce4_triangles[e][0]], keep[model.ce4_triangles[e][1]]);
     }
   }
   if (model.fluid.enabled) {  // the last two variables, on the CE4 block only (the last block)

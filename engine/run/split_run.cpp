@@ -193,6 +193,7 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
       {"ce4_last_chord", {ItemKind::Ce4, 1}},
       {"ce4_energy", {ItemKind::Ce4, 1}},
+      {"ce4_excavation_energy", {ItemKind::Ce4, 1}},
       {"ce4_inserted", {ItemKind::Ce4, 1}},  // extrinsic CE4s (ce4_inserted_count: whole_count_array)
       {"ce4_insertion_gaps", {ItemKind::Ce4, 1}},
       {"contact_active", {ItemKind::Triangle, 1}},

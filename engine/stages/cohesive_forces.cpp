@@ -38,8 +38,14 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 
 }  // namespace
 
-MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ, bool extrinsic) {
+MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ, bool extrinsic,
+                                 size_t excavations) {
   MemoryPlan p;
+  // [[excavation]] with CE4s on excavated triangles: the ramp's indices, times and energy.
+  if (excavations > 0)
+    p.add("ce4_excavation_of", 2 * std::max<size_t>(1, ce4) * sizeof(cl_int))
+        .add("ce4_excavation_time", excavations * sizeof(real2))
+        .add("ce4_excavation_energy", std::max<size_t>(1, ce4) * sizeof(real2));
   if (extrinsic)
     p.add("ce4_inserted", std::max<size_t>(1, ce4) * sizeof(cl_int))
         .add("ce4_insertion_gaps", std::max<size_t>(1, ce4) * 4 * sizeof(real))
@@ -165,7 +171,35 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   mesh_nodes_ = model.vertex_bonded.size();
   for (const auto& f : model.fracture) extrinsic_ = extrinsic_ || f.extrinsic;
   if (extrinsic_ && with_in_situ) throw InputError("cohesive model: extrinsic CE4s with [in_situ] are not supported yet");
-  const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_);
+  excavation_ = !model.excavation_of.empty();
+  if (excavation_ && model.excavation_of.size() != count_)
+    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " +
+                     std::to_string(model.excavation_of.size()) + " excavation pairs");
+  // A ramped CE4 is intrinsic (engine/model/excavation.cpp refuses the others, naming the key).
+  for (size_t e = 0; excavation_ && e < count_; ++e)
+    if ((model.excavation_of[e][0] >= 0 || model.excavation_of[e][1] >= 0) && model.fracture[model.properties[e]].extrinsic)
+      throw InputError("cohesive model: CE4 " + std::to_string(e) + " is extrinsic and on an excavated triangle");
+  const MemoryPlan arrays =
+      plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_, excavation_ ? model.excavation_times.size() : 0);
+  if (excavation_) {
+    std::vector<cl_int> of(2 * std::max<size_t>(1, count_), -1);
+    for (size_t e = 0; e < count_; ++e) {
+      for (int k = 0; k < 2; ++k) {
+        const int x = model.excavation_of[e][k];
+        if (x >= static_cast<int>(model.excavation_times.size()))
+          throw InputError("CE4 " + std::to_string(e) + " names excavation " + std::to_string(x) + ", out of range");
+        of[2 * e + k] = x;
+      }
+    }
+    std::vector<real2> times;
+    for (const auto& t : model.excavation_times) times.push_back(real2{real(t[0]), real(t[1])});
+    excavation_of_ = arrays.allocate(cl, "ce4_excavation_of");
+    excavation_time_ = arrays.allocate(cl, "ce4_excavation_time");
+    excavation_energy_ = arrays.allocate(cl, "ce4_excavation_energy");
+    upload(cl, excavation_of_, of);
+    upload(cl, excavation_time_, times);
+    upload(cl, excavation_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
+  }
   if (extrinsic_) {
     std::vector<cl_int> inserted(std::max<size_t>(1, count_), 1);
     for (size_t e = 0; e < count_; ++e) inserted[e] = model.fracture[model.properties[e]].extrinsic ? 0 : 1;
@@ -249,10 +283,13 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (fans_) defines["CORNER_FANS"] = "1";
   if (with_in_situ) defines["IN_SITU_GAPS"] = "1";
   if (extrinsic_) defines["EXTRINSIC"] = "1";
+  if (excavation_) defines["EXCAVATION"] = "1";
   // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
   // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
   // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
-  const auto program = cl.build(kernel_source::cohesive_forces, defines, {}, 128);
+  std::vector<const KernelSource*> libraries;
+  if (excavation_) libraries.push_back(&kernel_source::excavation);
+  const auto program = cl.build(kernel_source::cohesive_forces, defines, libraries, 128);
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
   args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("ce4_length", length_)("property", property_)("property_rows", property_rows_)("position", position)(
@@ -265,6 +302,9 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
   if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
   if (extrinsic_) args("inserted", inserted_)("insertion_gaps", insertion_gaps_);
+  if (excavation_)
+    args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("dt", static_cast<real>(model.excavation_dt))(
+        "excavation_energy", excavation_energy_);
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
@@ -348,6 +388,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   out.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
+  if (excavation_) out.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);
   if (extrinsic_) {
     out.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
     out.buffer<real>("ce4_insertion_gaps", insertion_gaps_, count_, 4);
@@ -378,6 +419,7 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   in.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
+  if (excavation_) in.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);
   if (extrinsic_) {
     in.buffer<cl_int>("ce4_inserted", inserted_, count_, 1);
     in.buffer<real>("ce4_insertion_gaps", insertion_gaps_, count_, 4);
@@ -439,6 +481,14 @@ std::vector<real> CohesiveForces::energy_column(int k) {
   const auto rows = download<real4>(cl_, energy_, count_);
   std::vector<real> column(count_);
   for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : rows[e].z;
+  return column;
+}
+
+std::vector<real> CohesiveForces::excavated() {
+  std::vector<real> column(count_, real(0));
+  if (!excavation_ || count_ == 0) return column;
+  const auto rows = download<real2>(cl_, excavation_energy_, count_);
+  for (size_t e = 0; e < count_; ++e) column[e] = rows[e].y;
   return column;
 }
 

@@ -37,8 +37,10 @@ class CohesiveForces {
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
   // `extrinsic`: some CE4's set has fracture.model = "extrinsic" (FractureProperties): the
   // insertion flags, offsets and count (cl_kernels/extrinsic.cl).
+  // `excavations`: the number of [[excavation]] entries when some CE4 touches an excavated
+  // triangle (CohesiveModel::excavation_of), else 0.
   static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false,
-                         bool extrinsic = false);
+                         bool extrinsic = false, size_t excavations = 0);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -87,6 +89,12 @@ class CohesiveForces {
   std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive_forces.cl)
   std::vector<real> stored();       // elastic energy each CE4 holds now [J]
   const compute::buffer& energy_rows() const { return energy_; }  // real4: (work, dissipation, stored, -) per CE4
+  // [[excavation]] (CohesiveModel::excavation_of given): real2 per CE4, (Π of the last
+  // step unscaled, energy carried out by the ramp so far [J]); .y is the account's
+  // `excavated` share of the CE4s. excavating() is false without (no such array).
+  bool excavating() const { return excavation_; }
+  const compute::buffer& excavation_rows() const { return excavation_energy_; }
+  std::vector<real> excavated();  // .y per CE4 [J] (waits)
 
   // Totals over all CE4s [J]: a device pass into a fixed number of partial sums, each over
   // a fixed stride of CE4s, then the partials summed in order on the host, so the totals
@@ -131,6 +139,8 @@ class CohesiveForces {
   compute::buffer inserted_, insertion_gaps_, inserted_count_;
   size_t mesh_nodes_ = 0;
   compute::buffer mesh_pairs_, mesh_state_;
+  bool excavation_ = false;
+  compute::buffer excavation_of_, excavation_time_, excavation_energy_;  // int2, real2 per excavation, real2 per CE4
   compute::buffer in_situ_gaps_;  // real ×6 per CE4 (o₀ at the 3 Gauss points, then s₀), [in_situ] only
   KernelArg<cl_int> step_;
   compute::program program_;  // for cohesive_output, built per output_column read

@@ -65,6 +65,10 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   if (!model.ce4_triangles.empty()) p.add("contact bond CE4s", 3 * model.num_triangles() * sizeof(cl_uint));
   if (!model.ce4_triangles.empty() && !model.node_origin.empty())
     p.add("contact node origins", model.num_nodes() * sizeof(cl_uint));
+  // [[excavation]]: per triangle its excavation, per excavation (start, duration).
+  if (!model.triangle_excavation.empty())
+    p.add("contact excavation_of", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_int))
+        .add("contact excavation_time", model.excavations.size() * sizeof(real2));
   return p;
 }
 
@@ -150,7 +154,11 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   }
   if (fans) defines["CORNER_FANS"] = "1";
   if (prelisted_) defines["PRELISTED"] = "1";
-  const auto program = cl.build(kernel_source::contact_forces, defines, {&kernel_source::couple_geometry});
+  excavation_ = !model.triangle_excavation.empty();
+  if (excavation_) defines["EXCAVATION"] = "1";
+  std::vector<const KernelSource*> libraries{&kernel_source::couple_geometry};
+  if (excavation_) libraries.push_back(&kernel_source::excavation);
+  const auto program = cl.build(kernel_source::contact_forces, defines, libraries);
   stored_partials_ = compute::kernel(program, "contact_stored_partials");
   forces_ = compute::kernel(program, lanes_ ? "contact_forces_lanes" : "contact_forces");
   classify_ = compute::kernel(program, "contact_classify");
@@ -188,6 +196,18 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (bonds) {
     bond_ce4_ = arrays.allocate(cl, "contact bond CE4s");
     upload(cl, bond_ce4_, bond_ce4(model));
+  }
+  if (excavation_) {
+    if (model.triangle_excavation.size() != a.num_triangles)
+      throw InputError("contact: " + std::to_string(a.num_triangles) + " triangles but " +
+                       std::to_string(model.triangle_excavation.size()) + " excavation indices");
+    std::vector<cl_int> of(model.triangle_excavation.begin(), model.triangle_excavation.end());
+    std::vector<real2> times;
+    for (const auto& x : model.excavations) times.push_back(real2{real(x.start), real(x.duration)});
+    excavation_of_ = arrays.allocate(cl, "contact excavation_of");
+    excavation_time_ = arrays.allocate(cl, "contact excavation_time");
+    upload(cl, excavation_of_, of);
+    upload(cl, excavation_time_, times);
   }
   if (fans) {
     node_origin_ = arrays.allocate(cl, "contact node origins");
@@ -243,6 +263,11 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (monitored_) {
     c("pool_state", pool_state_)("monitor", ring->buffer());
     classify_monitor_slot_ = c.later("monitor_slot", cl_uint(0));
+  }
+  if (excavation_) {
+    c("excavation_of", excavation_of_)("excavation_time", excavation_time_);
+    classify_excavation_dt_ = c.later("excavation_dt", real(0));
+    classify_excavation_step_ = c.later("excavation_step", cl_int(0));
   }
   c.done();
 
@@ -406,6 +431,10 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   // zeroed, the pool's rows to the ring): over the nodes as well as the couples.
   classify_list_counter_.set(list_counter_);
   forces_list_counter_.set(list_counter_);
+  if (excavation_) {
+    classify_excavation_dt_.set(static_cast<real>(dt));
+    classify_excavation_step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
+  }
   cl_.enqueue(classify_, std::max<size_t>({count, arrays_.num_nodes, 1}));
   list_counter_ = 1 - list_counter_;
   bond_words_known_ = true;

@@ -244,6 +244,11 @@ class ContactForces {
   KernelArg<cl_uint> classify_list_counter_, forces_list_counter_;
   KernelArg<cl_uint> forces_energy_row_, forces_joined_since_;
   KernelArg<cl_int> forces_step_;
+  // [[excavation]] (contact_classify drops couples of triangles being excavated).
+  bool excavation_ = false;
+  compute::buffer excavation_of_, excavation_time_;
+  KernelArg<real> classify_excavation_dt_;
+  KernelArg<cl_int> classify_excavation_step_;
   KernelArg<compute::buffer> forces_couple_stored_;
   KernelArg<real> forces_dt_;
   KernelArg<cl_uint> release_previous_count_, release_count_;

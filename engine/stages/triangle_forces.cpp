@@ -59,7 +59,9 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   if (excavation_) defines["EXCAVATION"] = "1";
   // NVIDIA: 96 registers a work-item fit two work-groups of 256 per SM, 80 three. H200,
   // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
-  kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, {}, 80), "triangle_forces");
+  std::vector<const KernelSource*> libraries;
+  if (excavation_) libraries.push_back(&kernel_source::excavation);
+  kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, libraries, 80), "triangle_forces");
   const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size(), true);
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
   upload(cl, group_energy_, std::vector<real2>(std::max<size_t>(1, groups_)));
