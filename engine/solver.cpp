@@ -37,7 +37,7 @@ const std::vector<std::array<int, 2>>& detection_bonds(const Model& model) {
 // The CE4s as the stage takes them; with contact also each CE4's mesh nodes and the
 // bonded fans, for the corner couples contact leaves alone (Model::vertex_bonded).
 CohesiveModel cohesive_model(const Model& model) {
-  CohesiveModel m{model.ce4, model.ce4_properties, model.fracture, model.thickness, {}, {}, model.ce4_strength_factor, {}};
+  CohesiveModel m{model.ce4, model.ce4_properties, model.fracture, model.thickness, {}, {}, model.ce4_strength_factor, {}, {}, {}, 0.0};
   for (size_t e = 0; e < model.ce4_joint.size(); ++e)
     if (model.ce4_joint[e] >= 0 && model.joint_broken[model.ce4_joint[e]]) {
       m.closed.resize(model.ce4.size(), 0);
