@@ -369,13 +369,21 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
       const int a = point_of(stops[k].second, p.lc), b = point_of(stops[k + 1].second, p.lc);
       if (a == b) continue;
       lines.push_back({a, b, p.joint, p.entity});
-      out.pieces[p.joint] += 1;
-      out.length[p.joint] += piece;
+      if (p.joint < 0) {
+        out.grain_pieces += 1, out.grain_length += piece;
+      } else {
+        out.pieces[p.joint] += 1;
+        out.length[p.joint] += piece;
+      }
     }
   }
   if (lines.empty()) return out;
   std::ostringstream geo;
-  geo << "// fdem: the [[joint]] files and sets, embedded (io/joint_geometry.cpp)\n";
+  const bool any_joint = std::any_of(lines.begin(), lines.end(), [](const Line& l) { return l.joint >= 0; });
+  const bool any_grain = std::any_of(lines.begin(), lines.end(), [](const Line& l) { return l.joint < 0; });
+  geo << (any_joint && any_grain ? "// fdem: the [[joint]] files and sets and the [grains] boundaries, embedded (io/joint_geometry.cpp)\n"
+          : any_joint            ? "// fdem: the [[joint]] files and sets, embedded (io/joint_geometry.cpp)\n"
+                                 : "// fdem: the [grains] boundaries, embedded (io/joint_geometry.cpp)\n");
   geo << "fdem_jp = newp;\n";
   for (size_t k = 0; k < points.size(); ++k)
     geo << "Point(fdem_jp + " << k << ") = {" << number(points[k].first[0] / scale) << ", "
@@ -384,7 +392,10 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
   for (size_t k = 0; k < lines.size(); ++k)
     geo << "Line(fdem_jl + " << k << ") = {fdem_jp + " << lines[k].a << ", fdem_jp + " << lines[k].b << "};\n";
   std::map<int, std::vector<size_t>> by_entity, by_joint;
-  for (size_t k = 0; k < lines.size(); ++k) by_entity[lines[k].entity].push_back(k), by_joint[lines[k].joint].push_back(k);
+  for (size_t k = 0; k < lines.size(); ++k) {
+    by_entity[lines[k].entity].push_back(k);
+    if (lines[k].joint >= 0) by_joint[lines[k].joint].push_back(k);
+  }
   auto list = [&](const std::vector<size_t>& ks) {
     std::string text;
     for (size_t k : ks) text += (text.empty() ? "fdem_jl + " : ", fdem_jl + ") + std::to_string(k);
