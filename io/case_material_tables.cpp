@@ -95,7 +95,9 @@ MaterialConfig read_material(const TableReader& r, const std::vector<std::string
   if (const std::string problem = material_name_problem(m.name); !problem.empty())
     r.fail("name", r.key_path("name") + " = " + quoted_text(m.name) + " " + problem);
   if (r.has("regions")) m.regions = *r.strings("regions");
-  else if (std::find(minerals.begin(), minerals.end(), m.name) == minerals.end()) r.missing("regions");
+  else if (std::find(minerals.begin(), minerals.end(), m.name) == minerals.end())
+    r.ctx().fail(r.table(), r.title() + " is missing required key 'regions'" +
+                                (minerals.empty() ? "" : " (or name it in grains.minerals: a mineral's triangles are its grains)"));
   m.density = r.required_number("density", kPositive);
   m.young = r.required_number("young", kPositive);
   m.poisson = r.required_number("poisson", Range{-1.0, 0.5, true, true});

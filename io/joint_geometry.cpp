@@ -274,7 +274,8 @@ JointSetDraw draw_joint_set(const JointSetConfig& set, Point2 lo, Point2 hi, int
   return draw;
 }
 
-JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints) {
+JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints,
+                            const std::vector<int>& grain_entities) {
   JointEmbedding out;
   out.pieces.assign(joints, 0);
   out.length.assign(joints, 0.0);
@@ -305,7 +306,9 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
       const Point2 p{seg.a[0] + t * (seg.b[0] - seg.a[0]), seg.a[1] + t * (seg.b[1] - seg.a[1])};
       const int tri = where.triangle_at(p);
       const bool inside = tri >= 0 && !where.near_boundary(p, 0.5 * where.local_edge(tri));
-      const int entity = inside ? where.entity(tri) : -1;
+      int entity = inside ? where.entity(tri) : -1;
+      if (seg.joint < 0 && std::find(grain_entities.begin(), grain_entities.end(), entity) == grain_entities.end())
+        entity = -1;  // a grain boundary outside the grains' region
       if (entity != run_entity) {
         finish();
         if (entity >= 0) run_entity = entity, run_start = t, run_lc = where.local_edge(tri);

@@ -68,6 +68,9 @@ std::string embedded_joint_curve(int joint);
 // A segment with an origin (from a file) that lies wholly outside is an InputError naming
 // it. `joints` is the number of [[joint]] entries. Segments with joint = -1 (grain
 // boundaries) are embedded the same way, with no physical curve.
-JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints);
+// `grain_entities`: the surface entities the grain boundaries (joint = -1) may lie in
+// (those of the [grains] region); their pieces elsewhere are dropped.
+JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints,
+                            const std::vector<int>& grain_entities = {});
 
 }  // namespace fdem::io

@@ -140,7 +140,15 @@ static std::string joint_geo_text(io::CaseConfig& c, const io::Mesh& base, std::
     }
   }
   if (!any && !c.grains) return "";
-  const io::JointEmbedding e = io::embed_joints(base, c.mesh.scale, segments, int(c.joints.size()));
+  std::vector<int> grain_entities;  // the surface entities of the grains' region
+  if (c.grains) {
+    const int group = base.find_group(c.grains->region, 2);
+    for (size_t t = 0; t < base.triangles.size() && t < base.triangle_entity.size(); ++t)
+      if (base.triangle_group[t] == group &&
+          std::find(grain_entities.begin(), grain_entities.end(), base.triangle_entity[t]) == grain_entities.end())
+        grain_entities.push_back(base.triangle_entity[t]);
+  }
+  const io::JointEmbedding e = io::embed_joints(base, c.mesh.scale, segments, int(c.joints.size()), grain_entities);
   if (c.grains)
     notes.push_back("grains: " + std::to_string(c.grains->points.size()) + " Voronoi grains in '" + c.grains->region +
                     "', their boundaries embedded into " + c.mesh.geo + " (" + std::to_string(e.grain_pieces) +
