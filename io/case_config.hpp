@@ -148,6 +148,8 @@ struct GrainsConfig {
   // as read: the seed points [m] and each grain's mineral (index into `minerals`).
   std::vector<std::array<double, 2>> points;
   std::vector<int> mineral;
+  // The cells as embedded (io::grain_boundaries: polygons over the merged vertices).
+  std::vector<std::vector<std::array<double, 2>>> cells;
 };
 
 struct GravityConfig {

@@ -223,7 +223,29 @@ GrainDraw draw_grains(GrainsConfig& g, const Mesh& mesh, double scale, const Cas
   return d;
 }
 
-std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Point2 lo, Point2 hi, double merge) {
+namespace {
+// Even–odd rule.
+bool in_polygon(const std::vector<Point2>& poly, Point2 p) {
+  bool in = false;
+  for (size_t a = 0, b = poly.size() - 1; a < poly.size(); b = a++) {
+    if ((poly[a][1] > p[1]) != (poly[b][1] > p[1]) &&
+        p[0] < (poly[b][0] - poly[a][0]) * (p[1] - poly[a][1]) / (poly[b][1] - poly[a][1]) + poly[a][0])
+      in = !in;
+  }
+  return in;
+}
+}  // namespace
+
+int grain_at(const GrainFinder& finder, const std::vector<std::vector<Point2>>& cells, Point2 p) {
+  const int near = finder.nearest(p);
+  if (near < 0 || cells.empty() || in_polygon(cells[size_t(near)], p)) return near;
+  for (size_t k = 0; k < cells.size(); ++k)
+    if (int(k) != near && cells[k].size() >= 3 && in_polygon(cells[k], p)) return int(k);
+  return near;
+}
+
+std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Point2 lo, Point2 hi, double merge,
+                                           std::vector<std::vector<Point2>>* cells) {
   const double gx = 0.1 * (hi[0] - lo[0]) + 1e-9, gy = 0.1 * (hi[1] - lo[1]) + 1e-9;
   const Point2 blo{lo[0] - gx, lo[1] - gy}, bhi{hi[0] + gx, hi[1] + gy};
   const size_t n = points.size();
@@ -271,6 +293,7 @@ std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Po
   const GrainFinder finder(points);
   std::vector<size_t> by_distance(n);
   std::map<std::pair<VertexKey, VertexKey>, std::pair<long, long>> edges;  // (a, b) → the two seeds
+  std::vector<std::vector<VertexKey>> cell_keys(n);
   for (size_t i = 0; i < n; ++i) {
     std::vector<Point2> poly = {blo, {bhi[0], blo[1]}, bhi, {blo[0], bhi[1]}};
     std::vector<long> label = {-1, -2, -3, -4};
@@ -312,6 +335,7 @@ std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Po
       if (poly.size() < 3) break;
     }
     const size_t k = label.size();
+    for (size_t a = 0; a < k; ++a) cell_keys[i].push_back(key_of(long(i), label[(a + k - 1) % k], label[a]));
     for (size_t a = 0; a < k; ++a) {
       const long j = label[a];
       if (j < 0 || size_t(j) < i) continue;  // box sides, and each bisector once (from its lower seed)
@@ -331,6 +355,18 @@ std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Po
     if (std::hypot(b[0] - a[0], b[1] - a[1]) < merge) {
       const VertexKey ra = root(ends.first), rb = root(ends.second);
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
+  if (cells) {
+    cells->assign(n, {});
+    for (size_t i = 0; i < n; ++i) {
+      std::vector<VertexKey> roots;
+      for (const VertexKey& k : cell_keys[i]) {
+        const VertexKey r = root(k);
+        if (roots.empty() || roots.back() != r) roots.push_back(r);
+      }
+      while (roots.size() > 1 && roots.front() == roots.back()) roots.pop_back();
+      for (const VertexKey& r : roots) (*cells)[i].push_back(vertex(r));
     }
   }
   std::vector<JointSegment> out;

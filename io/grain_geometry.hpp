@@ -34,12 +34,21 @@ struct GrainDraw {
 // below 3 mean element edges of the region, seeds that cannot be placed.
 GrainDraw draw_grains(GrainsConfig& grains, const Mesh& mesh, double scale, const CaseConfig& config);
 
+// Voronoi vertices closer than kGrainMerge × the region's mean element edge are merged
+// (engine/run/prepare_case.cpp).
+constexpr double kGrainMerge = 0.6;
+
 // The edges of the Voronoi cells of `points` (bisectors between neighbouring seeds),
 // clipped to the box [lo, hi] grown by a tenth, as segments with joint = -1 (a grain
 // boundary). A vertex where three cells meet has the same coordinates in all its edges
 // (the circumcentre of the three seeds, in index order); vertices closer than
 // `merge` [m] are merged (so gmsh meets no edge much shorter than an element).
-std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Point2 lo, Point2 hi, double merge);
+// `cells`, when given, receives each seed's cell as a polygon (counter-clockwise) over the
+// merged vertices: the embedded segments are its edges, so a point inside it (a
+// triangle's centroid) lies in that grain whatever the merging moved.
+std::vector<JointSegment> grain_boundaries(const std::vector<Point2>& points, Point2 lo, Point2 hi, double merge,
+                                           std::vector<std::vector<Point2>>* cells = nullptr);
+
 
 // The seed nearest a point (the lowest index on a tie; -1 when there are none), through a
 // grid of buckets over the seeds.
@@ -55,5 +64,9 @@ class GrainFinder {
   int nx_ = 1, ny_ = 1;
   std::vector<std::vector<int>> buckets_;
 };
+
+// The grain of a point: the cell of `cells` holding it, trying the nearest seed's first;
+// the nearest seed when none holds it (a point outside them all).
+int grain_at(const GrainFinder& finder, const std::vector<std::vector<Point2>>& cells, Point2 p);
 
 }  // namespace fdem::io

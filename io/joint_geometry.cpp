@@ -305,7 +305,8 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
       const double t = double(k) / double(samples);
       const Point2 p{seg.a[0] + t * (seg.b[0] - seg.a[0]), seg.a[1] + t * (seg.b[1] - seg.a[1])};
       const int tri = where.triangle_at(p);
-      const bool inside = tri >= 0 && !where.near_boundary(p, 0.5 * where.local_edge(tri));
+      // Grain boundaries keep a whole element off (a half leaves slivers where they end).
+      const bool inside = tri >= 0 && !where.near_boundary(p, (seg.joint < 0 ? 1.0 : 0.5) * where.local_edge(tri));
       int entity = inside ? where.entity(tri) : -1;
       if (seg.joint < 0 && std::find(grain_entities.begin(), grain_entities.end(), entity) == grain_entities.end())
         entity = -1;  // a grain boundary outside the grains' region

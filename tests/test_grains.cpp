@@ -152,11 +152,20 @@ TEST_CASE("grains: element edges follow the grain boundaries (no triangle stradd
   const Model& m = p.model;
   const auto& seeds = p.config.grains->points;
   const double h = 1e-3;  // mesh.size
-  // Each corner of a grain's triangle lies in the grain's Voronoi cell, up to 0.3 h (the
-  // cells' vertices closer than h/4 are merged): its distance beyond the bisector with
-  // every other seed. The front end keeps the embedded boundaries half an element off the
-  // region's boundary, so triangles within 1.5 h of it are not held to this.
-  size_t checked = 0, region = 0;
+  // The embedded boundaries, as the front end made them (the same draw over the base mesh).
+  io::GrainsConfig again = *p.config.grains;
+  const io::Mesh base = io::read_gmsh(io::mesh_geo(test::source_path("tests/data/cases/grains.geo"), 1e-3, dir.str()));
+  const io::GrainDraw draw = io::draw_grains(again, base, 1.0, p.config);
+  REQUIRE(again.points == seeds);
+  std::vector<std::vector<io::Point2>> cells;
+  const auto segments = io::grain_boundaries(seeds, draw.lo, draw.hi, io::kGrainMerge * draw.mean_edge, &cells);
+  CHECK(cells == p.config.grains->cells);
+  // No segment runs through a triangle's interior: clipped to the triangle shrunk by
+  // 10^-6 h (Cyrus-Beck), nothing is left. The boundaries stop an element short of the
+  // region's boundary, so triangles within 2 h of it are not held to this.
+  // And each corner of a grain's triangle lies in the grain's Voronoi cell, up to the
+  // vertex merging (kGrainMerge h): its distance beyond the bisector with any other seed.
+  size_t checked = 0, region = 0, crossed = 0, beyond = 0;
   double worst = 0;
   for (size_t t = 0; t < m.num_triangles(); ++t) {
     const int g = m.triangle_grain[t];
@@ -164,25 +173,65 @@ TEST_CASE("grains: element edges follow the grain boundaries (no triangle stradd
     ++region;
     bool near_edge = false;
     for (int n : m.triangles[t])
-      near_edge |= std::min({m.x[size_t(n)], 0.04 - m.x[size_t(n)], m.y[size_t(n)], 0.04 - m.y[size_t(n)]}) < 1.5 * h;
+      near_edge |= std::min({m.x[size_t(n)], 0.04 - m.x[size_t(n)], m.y[size_t(n)], 0.04 - m.y[size_t(n)]}) < 2 * h;
     if (near_edge) continue;
     ++checked;
+    io::Point2 c[3];
+    for (int k = 0; k < 3; ++k) c[k] = {m.x[size_t(m.triangles[t][k])], m.y[size_t(m.triangles[t][k])]};
+    for (const auto& s : segments) {
+      double t0 = 0, t1 = 1;
+      for (int k = 0; k < 3 && t0 < t1; ++k) {
+        const io::Point2 u = c[k], v = c[(k + 1) % 3];
+        const double nx = -(v[1] - u[1]), ny = v[0] - u[0], len = std::hypot(nx, ny);  // inward normal (CCW)
+        const double fa = ((s.a[0] - u[0]) * nx + (s.a[1] - u[1]) * ny) / len - 1e-6 * h;
+        const double fb = ((s.b[0] - u[0]) * nx + (s.b[1] - u[1]) * ny) / len - 1e-6 * h;
+        if (fa < 0 && fb < 0) t1 = -1;
+        else if (fa < 0) t0 = std::max(t0, fa / (fa - fb));
+        else if (fb < 0) t1 = std::min(t1, fa / (fa - fb));
+      }
+      if (t1 - t0 > 1e-9) ++crossed;
+    }
     const io::Point2 s = seeds[size_t(g)];
-    for (int n : m.triangles[t]) {
-      const double x = m.x[size_t(n)], y = m.y[size_t(n)];
-      const double d2 = (x - s[0]) * (x - s[0]) + (y - s[1]) * (y - s[1]);
+    double far = 0;
+    for (const io::Point2& q : c) {
+      const double d2 = (q[0] - s[0]) * (q[0] - s[0]) + (q[1] - s[1]) * (q[1] - s[1]);
       for (size_t k = 0; k < seeds.size(); ++k) {
         if (int(k) == g) continue;
-        const double e2 = (x - seeds[k][0]) * (x - seeds[k][0]) + (y - seeds[k][1]) * (y - seeds[k][1]);
-        const double beyond = (d2 - e2) / (2 * std::hypot(seeds[k][0] - s[0], seeds[k][1] - s[1]));
-        worst = std::max(worst, beyond);
+        const double e2 = (q[0] - seeds[k][0]) * (q[0] - seeds[k][0]) + (q[1] - seeds[k][1]) * (q[1] - seeds[k][1]);
+        far = std::max(far, (d2 - e2) / (2 * std::hypot(seeds[k][0] - s[0], seeds[k][1] - s[1])));
       }
     }
+    worst = std::max(worst, far);
+    beyond += far > 0.05 * h;
   }
-  MESSAGE(checked << " of " << region << " grain triangles checked; the farthest corner lies " << worst / h
-                  << " h beyond its cell");
+  MESSAGE(checked << " of " << region << " grain triangles checked against " << segments.size() << " boundary segments: "
+                  << crossed << " crossed; " << beyond << " with a corner more than 0.05 h beyond its cell, the farthest "
+                  << worst / h << " h");
+  CHECK(segments.size() > 100);
   CHECK(checked > region / 2);
-  CHECK(worst < 0.3 * h);
+  CHECK(crossed == 0);
+  CHECK(worst < io::kGrainMerge * h);
+  CHECK(beyond < checked / 10);  // around the merged vertices only
+  // And the triangles' grains agree with the embedded lines: every grain-boundary CE4 off
+  // the region's boundary lies on a segment.
+  size_t on = 0, off = 0;
+  for (size_t e = 0; e < m.ce4.size(); ++e) {
+    if (m.ce4_grain_boundary[e] != 1) continue;
+    const io::Point2 a{m.x[size_t(m.ce4[e][0])], m.y[size_t(m.ce4[e][0])]}, b{m.x[size_t(m.ce4[e][1])], m.y[size_t(m.ce4[e][1])]};
+    if (std::min({a[0], b[0], a[1], b[1], 0.04 - a[0], 0.04 - b[0], 0.04 - a[1], 0.04 - b[1]}) < 2 * h) continue;
+    bool lies = false;
+    for (const auto& sg : segments) {
+      const double dx = sg.b[0] - sg.a[0], dy = sg.b[1] - sg.a[1], l = std::hypot(dx, dy);
+      auto dist = [&](io::Point2 q) { return std::fabs((q[0] - sg.a[0]) * dy - (q[1] - sg.a[1]) * dx) / l; };
+      auto along = [&](io::Point2 q) { return ((q[0] - sg.a[0]) * dx + (q[1] - sg.a[1]) * dy) / (l * l); };
+      lies |= dist(a) < 1e-9 && dist(b) < 1e-9 && along(a) > -1e-9 && along(a) < 1 + 1e-9 && along(b) > -1e-9 &&
+              along(b) < 1 + 1e-9;
+    }
+    (lies ? on : off) += 1;
+  }
+  MESSAGE(on << " grain-boundary CE4s on the embedded lines, " << off << " off them");
+  CHECK(on > 200);
+  CHECK(off == 0);
 }
 
 TEST_CASE("grains: the Voronoi edges: each vertex is shared exactly; the nearest seed is found through the grid") {

@@ -770,7 +770,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       const auto& tri = mesh.triangles[t];
       const io::Point2 c{(mesh.x[tri[0]] + mesh.x[tri[1]] + mesh.x[tri[2]]) / 3 * scale,
                          (mesh.y[tri[0]] + mesh.y[tri[1]] + mesh.y[tri[2]]) / 3 * scale};
-      mesh_grain[t] = finder.nearest(c);
+      mesh_grain[t] = io::grain_at(finder, grains.cells, c);
       triangle_material[t] = mineral_material[size_t(grains.mineral[size_t(mesh_grain[t])])];
     }
     for (int m : grains.mineral) model.grain_mineral.push_back(mineral_material[size_t(m)]);

@@ -114,7 +114,8 @@ static std::string joint_geo_text(io::CaseConfig& c, const io::Mesh& base, std::
   io::GrainDraw grains;
   if (c.grains) {
     grains = io::draw_grains(*c.grains, base, c.mesh.scale, c);
-    const auto edges = io::grain_boundaries(c.grains->points, grains.lo, grains.hi, 0.25 * grains.mean_edge);
+    const auto edges = io::grain_boundaries(c.grains->points, grains.lo, grains.hi, io::kGrainMerge * grains.mean_edge,
+                                            &c.grains->cells);
     segments.insert(segments.end(), edges.begin(), edges.end());
   }
   io::Point2 lo{1e300, 1e300}, hi{-1e300, -1e300};
