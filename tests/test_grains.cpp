@@ -323,4 +323,40 @@ TEST_CASE("grains: bad [grains] keys are refused naming the key; fdem check prin
   has(bad.output, "grains.fractions sum to 1.1");
 }
 
+TEST_CASE("grains: a run writes GRAIN in the frames and says which breaks are on grain boundaries") {
+  test::TempDir dir;
+  const std::vector<std::string> sets = {"time.steps=700", "boundary.1.velocity=[0.0, -50.0]",
+                                         "output.dir=\"" + dir.str() + "/run\""};
+  const test::FdemResult run = test::run_fdem_cli("run " + grains_case() + " --device cpu --quiet --set time.steps=700 --set "
+                                                  "'boundary.1.velocity=[0.0,-50.0]' --set output.dir='\"" + dir.str() + "/run\"'");
+  REQUIRE(run.code == 0);
+  const PreparedCase p = prepare_case(grains_case(), sets);
+  const Model& m = p.model;
+  const std::string exo = dir.str() + "/run/grains.exo", events = dir.str() + "/run/grains_events.nc";
+  // Blocks: quartz, feldspar, steel, cohesive. GRAIN is the grain + 1 on the minerals' triangles.
+  for (int block = 1; block <= 4; ++block) {
+    const auto grain = test::last_element_values(exo, "GRAIN", block);
+    CAPTURE(block);
+    REQUIRE(!grain.empty());
+    if (block <= 2) {
+      const size_t first = m.block_start[size_t(block - 1)];
+      REQUIRE(grain.size() == m.block_start[size_t(block)] - first);
+      for (size_t k = 0; k < grain.size(); ++k) CHECK(grain[k] == m.triangle_grain[first + k] + 1);
+    } else {
+      CHECK(*std::max_element(grain.begin(), grain.end()) == 0.0);
+    }
+  }
+  const auto ce4 = test::read_variable(events, "break_ce4");
+  const auto side = test::read_variable(events, "break_grain_boundary");
+  REQUIRE(ce4.size() == side.size());
+  size_t on = 0;
+  for (size_t k = 0; k < ce4.size(); ++k) {
+    CHECK(side[k] == m.ce4_grain_boundary[size_t(ce4[k])]);
+    on += side[k] == 1;
+  }
+  MESSAGE(ce4.size() << " breaks, " << on << " on grain boundaries");
+  CHECK(on > 0);
+  CHECK(on < ce4.size());
+}
+
 }  // TEST_SUITE
