@@ -473,6 +473,7 @@ int check_command(const Arguments& a) {
   if (m.in_situ.enabled) std::cout << "in-situ   " << fdem::in_situ_summary(m) << "\n";
   for (const auto& line : fdem::heterogeneity_summary(m, p.config)) std::cout << "weibull   " << line << "\n";
   for (const auto& line : fdem::joint_summary(m, p.config)) std::cout << "joint     " << line << "\n";
+  if (const std::string line = fdem::grains_summary(m, p.config); !line.empty()) std::cout << "grains    " << line << "\n";
   for (const auto& line : fdem::excavation_summary(m)) std::cout << "excavation " << line << "\n";
   for (const auto& warning : fdem::model_warnings(m, p.config, p.dt)) std::cout << "warning: " << warning << "\n";
   for (const auto& probe : p.probes)

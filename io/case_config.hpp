@@ -131,6 +131,27 @@ struct JointConfig {
   FractureConfig fracture;
 };
 
+// [grains]: a physical surface cut into Voronoi grains (io/grain_geometry.hpp). Seeds are
+// drawn uniformly over the region from `seed`; each grain's mineral (a [[material]]) is
+// drawn so that the area fractions are met approximately. The cells' edges are embedded
+// into the .geo (element edges follow them); a CE4 between two grains takes `boundary`,
+// one inside a grain its mineral's [material.fracture].
+struct GrainsConfig {
+  std::string region;                 // physical surface
+  double size = 0;                    // [m] mean grain diameter (0: `count` given)
+  long count = 0;                     // number of grains (0: from `size`)
+  std::uint64_t seed = 0;
+  std::vector<std::string> minerals;  // [[material]] names, each with [material.fracture]
+  std::vector<double> fractions;      // area fractions, summing to 1
+  FractureConfig boundary;            // [grains.boundary]
+  // Filled by the front end (io::draw_grains, engine/run/prepare_case.cpp) from the mesh
+  // as read: the seed points [m] and each grain's mineral (index into `minerals`).
+  std::vector<std::array<double, 2>> points;
+  std::vector<int> mineral;
+  // The cells as embedded (io::grain_boundaries: polygons over the merged vertices).
+  std::vector<std::vector<std::array<double, 2>>> cells;
+};
+
 struct GravityConfig {
   std::array<double, 2> g{0.0, 0.0};  // [m/s²]
 };
@@ -273,6 +294,7 @@ struct CaseConfig {
   std::optional<ContactConfig> contact;   // present when the case has a [contact] table
   std::vector<InterfaceConfig> interfaces;
   std::vector<JointConfig> joints;        // [[joint]] entries
+  std::optional<GrainsConfig> grains;     // present when the case has a [grains] table
   std::vector<ProbeConfig> probes;        // [[probe]] entries
   std::optional<InSituConfig> in_situ;    // present when the case has an [in_situ] table
   std::vector<ExcavationConfig> excavations;  // [[excavation]] entries

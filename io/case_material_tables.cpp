@@ -86,14 +86,18 @@ std::string material_name_problem(const std::string& name) {
   return "";
 }
 
-MaterialConfig read_material(const TableReader& r) {
+// `minerals`: the names [grains] lists (as written); such a material may have no
+// `regions` (its triangles are the grains it is drawn for).
+MaterialConfig read_material(const TableReader& r, const std::vector<std::string>& minerals) {
   r.check_keys(kMaterialKeys);
   MaterialConfig m;
   m.name = r.required_string("name");
   if (const std::string problem = material_name_problem(m.name); !problem.empty())
     r.fail("name", r.key_path("name") + " = " + quoted_text(m.name) + " " + problem);
-  if (!r.has("regions")) r.missing("regions");
-  m.regions = *r.strings("regions");
+  if (r.has("regions")) m.regions = *r.strings("regions");
+  else if (std::find(minerals.begin(), minerals.end(), m.name) == minerals.end())
+    r.ctx().fail(r.table(), r.title() + " is missing required key 'regions'" +
+                                (minerals.empty() ? "" : " (or name it in grains.minerals: a mineral's triangles are its grains)"));
   m.density = r.required_number("density", kPositive);
   m.young = r.required_number("young", kPositive);
   m.poisson = r.required_number("poisson", Range{-1.0, 0.5, true, true});
@@ -252,8 +256,14 @@ std::vector<JointConfig> read_joints(const TableReader& top, const std::string& 
 std::vector<MaterialConfig> read_materials(const TableReader& top) {
   std::map<std::string, std::string> path_of_name;    // "rock" → "material[0]"
   std::map<std::string, std::string> owner_of_region;  // region → "material[0] ('rock')"
+  // [grains] minerals (read properly by read_grains): materials that need no regions.
+  std::vector<std::string> minerals;
+  if (const toml::table* grains = top.table().get_as<toml::table>("grains"))
+    if (const toml::array* names = grains->get_as<toml::array>("minerals"))
+      for (const toml::node& n : *names)
+        if (auto name = n.value_exact<std::string>()) minerals.push_back(*name);
   auto materials = read_entries(top, "material", "name", [&](const TableReader& r) {
-    MaterialConfig m = read_material(r);
+    MaterialConfig m = read_material(r, minerals);
     if (auto [it, fresh] = path_of_name.emplace(m.name, r.path()); !fresh)
       r.fail("name", r.key_path("name") + ": '" + m.name + "' is already the name of " +
                          it->second);
@@ -276,6 +286,69 @@ std::vector<InterfaceConfig> read_interfaces(const TableReader& top,
     check_new_pair(seen, entry, i.materials);
     return i;
   });
+}
+
+GrainsConfig read_grains(const TableReader& r, const std::vector<MaterialConfig>& materials, const MeshConfig& mesh) {
+  r.check_keys(kGrainsKeys);
+  GrainsConfig g;
+  g.region = r.required_string("region");
+  if (mesh.geo.empty())
+    r.fail("region", r.path() + " needs mesh.geo: the grain boundaries are embedded into the .geo that gmsh meshes "
+                                "(so that element edges follow them); mesh.file cannot take them");
+  r.exactly_one("size", "count");
+  g.size = r.number("size", kPositive).value_or(0.0);
+  if (r.has("count")) {
+    g.count = *r.integer<long>("count", 1);
+    if (g.count > kMaxGrains)
+      r.fail("count", r.key_path("count") + " = " + std::to_string(g.count) + " is out of range (allowed: " +
+                          r.key_path("count") + " <= " + std::to_string(kMaxGrains) + ")");
+  }
+  if (!r.has("seed")) r.missing("seed");
+  g.seed = static_cast<std::uint64_t>(*r.integer<std::int64_t>("seed", 0));
+  if (!r.has("minerals")) r.missing("minerals");
+  g.minerals = *r.strings("minerals");
+  std::vector<std::string_view> known;
+  for (const MaterialConfig& m : materials) known.push_back(m.name);
+  const toml::array& names = *r.find("minerals")->as_array();
+  for (std::size_t i = 0; i < g.minerals.size(); ++i) {
+    const std::string path = r.key_path("minerals") + "[" + std::to_string(i) + "]";
+    const auto m = std::find_if(materials.begin(), materials.end(),
+                                [&](const MaterialConfig& c) { return c.name == g.minerals[i]; });
+    if (m == materials.end()) {
+      const std::string guess = nearest_key(g.minerals[i], known);
+      r.ctx().fail(*names.get(i), path + " = \"" + g.minerals[i] + "\" is not the name of a [[material]]" +
+                                      (guess.empty() ? "" : " (did you mean \"" + guess + "\"?)"));
+    }
+    if (!m->fracture)
+      r.ctx().fail(*names.get(i), path + " = \"" + g.minerals[i] + "\" is a [[material]] without [material.fracture]: "
+                                         "grains are fracturable (their CE4s take the mineral's fracture keys)");
+    for (std::size_t k = 0; k < i; ++k)
+      if (g.minerals[k] == g.minerals[i])
+        r.ctx().fail(*names.get(i), path + " = \"" + g.minerals[i] + "\" is listed twice");
+    if (!m->regions.empty())
+      r.ctx().fail(*names.get(i), path + " = \"" + g.minerals[i] + "\" has regions of its own (" + m->regions[0] +
+                                      "): a mineral's triangles are its grains; leave its regions out");
+  }
+  if (!r.has("fractions")) r.missing("fractions");
+  const toml::node& fractions = *r.find("fractions");
+  const toml::array* a = fractions.as_array();
+  if (!a || a->size() != g.minerals.size())
+    r.fail("fractions", r.key_path("fractions") + " must be an array of " + std::to_string(g.minerals.size()) +
+                            " numbers (one per mineral), found " + describe(fractions));
+  double sum = 0;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    g.fractions.push_back(as_number(r.ctx(), *a->get(i), r.key_path("fractions") + "[" + std::to_string(i) + "]",
+                                    Range{0.0, 1.0, true, false}));
+    sum += g.fractions.back();
+  }
+  if (std::fabs(sum - 1.0) > 1e-6)
+    r.fail("fractions", r.key_path("fractions") + " sum to " + format_number(sum, kDigits) +
+                            ", not 1 (area fractions of the minerals)");
+  if (!r.has("boundary")) r.missing("boundary");
+  const TableReader boundary = subtable_reader(r, *subtable(r, "boundary"), "boundary");
+  boundary.check_keys(kFractureKeys);
+  g.boundary = read_fracture_keys(boundary);
+  return g;
 }
 
 std::array<std::string, 2> material_names(const TableReader& r,

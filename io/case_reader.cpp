@@ -103,6 +103,7 @@ CaseConfig read_case(const std::string& path, const std::vector<std::string>& ov
   c.materials = read_materials(top);
   c.interfaces = read_interfaces(top, c.materials);
   c.joints = read_joints(top, c.dir, c.mesh);
+  if (auto grains = reader("grains")) c.grains = read_grains(*grains, c.materials, c.mesh);
   if (auto gravity = reader("gravity")) c.gravity = read_gravity(*gravity);
   if (auto damping = reader("damping")) c.damping = read_damping(*damping);
   if (auto in_situ = reader("in_situ")) c.in_situ = read_in_situ(*in_situ);

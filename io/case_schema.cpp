@@ -46,6 +46,8 @@ const Schema kInterfaceKeys = with_fields({{"materials"}}, kFractureKeys);
 const Schema kJointSetKeys{{{"angle"}, {"kappa"}, {"spacing"}, {"trace_length"}, {"persistence"}, {"seed"}}};
 const Schema kJointKeys = with_fields({{"name"}, {"curves"}, {"file"}, {"set", Shape::Table, &kJointSetKeys}, {"broken"}},
                                       kFractureKeys);
+const Schema kGrainsKeys{{{"region"}, {"size"}, {"count"}, {"seed"}, {"minerals"}, {"fractions"},
+                          {"boundary", Shape::Table, &kFractureKeys}}};
 const Schema kGravityKeys{{{"g"}}};
 const Schema kDampingKeys{{{"local"}, {"mass_scaling"}}};
 const Schema kBlastKeys{{{"peak"}, {"rise"}, {"ratio"}}};
@@ -73,6 +75,7 @@ const Schema kRootKeys{{{"title"},
                         {"material", Shape::TableArray, &kMaterialKeys},
                         {"interface", Shape::TableArray, &kInterfaceKeys},
                         {"joint", Shape::TableArray, &kJointKeys},
+                        {"grains", Shape::Table, &kGrainsKeys},
                         {"gravity", Shape::Table, &kGravityKeys},
                         {"damping", Shape::Table, &kDampingKeys},
                         {"boundary", Shape::TableArray, &kBoundaryKeys},

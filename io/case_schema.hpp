@@ -33,7 +33,7 @@ struct Schema {
 };
 
 extern const Schema kMeshPerturbKeys, kMeshKeys, kTimeKeys, kOutputEventsKeys, kOutputKeys, kStiffnessKeys, kPenaltyKeys,
-    kSofteningKeys, kFractureKeys, kMaterialKeys, kInterfaceKeys, kJointSetKeys, kJointKeys, kGravityKeys, kDampingKeys,
+    kSofteningKeys, kFractureKeys, kMaterialKeys, kInterfaceKeys, kJointSetKeys, kJointKeys, kGrainsKeys, kGravityKeys, kDampingKeys,
     kBlastKeys, kPressureTableKeys, kBoundaryKeys, kInitialKeys, kContactDampingKeys,
     kContactPairKeys, kContactKeys, kProbeKeys, kInSituKeys, kHeterogeneityKeys, kExcavationKeys, kFluidKeys, kRootKeys;
 

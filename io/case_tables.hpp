@@ -44,6 +44,10 @@ std::vector<InterfaceConfig> read_interfaces(const TableReader& top,  // [[inter
                                              const std::vector<MaterialConfig>& materials);
 // [[joint]]: `file` resolved against `case_dir`; `file` and `set` need mesh.geo.
 std::vector<JointConfig> read_joints(const TableReader& top, const std::string& case_dir, const MeshConfig& mesh);
+// The most grains [grains] makes (count, or the region's area over size).
+constexpr long kMaxGrains = 5000;
+// [grains]: minerals named among `materials`, each fracturable; needs mesh.geo.
+GrainsConfig read_grains(const TableReader& r, const std::vector<MaterialConfig>& materials, const MeshConfig& mesh);
 // `materials = ["rock", "steel"]` of a [[contact.pair]] or an [[interface]]: two names of
 // [[material]] entries; a misspelt one gets a suggestion.
 std::array<std::string, 2> material_names(const TableReader& r,

@@ -16,7 +16,7 @@ namespace fdem::io {
 namespace {
 
 // The catalogue's variables, in the order they are defined and written.
-enum BreakVar { B_TIME, B_X, B_Y, B_LENGTH, B_MODE, B_ENERGY, B_CE4, B_TRI_A, B_TRI_B, B_JOINT, B_COUNT };
+enum BreakVar { B_TIME, B_X, B_Y, B_LENGTH, B_MODE, B_ENERGY, B_CE4, B_TRI_A, B_TRI_B, B_JOINT, B_GRAIN, B_COUNT };
 enum EventVar { E_START, E_END, E_X, E_Y, E_BREAKS, E_ENERGY, E_MAGNITUDE, E_COUNT };
 
 struct VarSpec {
@@ -38,6 +38,8 @@ const VarSpec kBreakVars[B_COUNT] = {
     {"break_tri_a", NC_INT, "1", "first triangle of the CE4, 0-based (Exodus TRI3 element break_tri_a + 1)"},
     {"break_tri_b", NC_INT, "1", "second triangle of the CE4, 0-based (Exodus TRI3 element break_tri_b + 1)"},
     {"break_joint", NC_INT, "1", "the [[joint]] the CE4 lies on, 0-based (joint[break_joint] of the case); -1 not on a joint"},
+    {"break_grain_boundary", NC_INT, "1",
+     "[grains]: 1 the CE4 lies on a grain boundary, 0 inside a grain, -1 not between two grains"},
 };
 
 const VarSpec kEventVars[E_COUNT] = {
@@ -56,7 +58,9 @@ void text_att(const NetcdfFile& f, int var, const char* name, const std::string&
 
 // Defines the global attributes and the catalogue (and the events when n_events > 0);
 // returns the variable ids in `breaks` and `events`.
-void define(const NetcdfFile& f, const std::string& title, size_t n_events, int breaks[B_COUNT], int events[E_COUNT]) {
+// Without grains the catalogue has no break_grain_boundary (its id stays -1).
+void define(const NetcdfFile& f, const std::string& title, size_t n_events, bool grains, int breaks[B_COUNT],
+            int events[E_COUNT]) {
   const int nc = f.id();
   text_att(f, NC_GLOBAL, "title", title);
   text_att(f, NC_GLOBAL, "Conventions", "CF-1.8");
@@ -71,7 +75,10 @@ void define(const NetcdfFile& f, const std::string& title, size_t n_events, int 
     text_att(f, *id, "units", v.units);
     text_att(f, *id, "long_name", v.long_name);
   };
-  for (int k = 0; k < B_COUNT; ++k) def(kBreakVars[k], dim_break, &breaks[k]);
+  for (int k = 0; k < B_COUNT; ++k) {
+    breaks[k] = -1;
+    if (k != B_GRAIN || grains) def(kBreakVars[k], dim_break, &breaks[k]);
+  }
   const int flags[3] = {1, 2, 3};
   f.check(nc_put_att_int(nc, breaks[B_MODE], "flag_values", NC_INT, 3, flags), "writing flag_values");
   text_att(f, breaks[B_MODE], "flag_meanings", "mode_I mode_II mixed");
@@ -110,15 +117,16 @@ void write_breaks(const NetcdfFile& f, const int ids[B_COUNT], size_t first, con
   put_i(B_TRI_A, [](const BreakRecord& b) { return b.tri_a; });
   put_i(B_TRI_B, [](const BreakRecord& b) { return b.tri_b; });
   put_i(B_JOINT, [](const BreakRecord& b) { return b.joint; });
+  if (ids[B_GRAIN] >= 0) put_i(B_GRAIN, [](const BreakRecord& b) { return b.grain_boundary; });
 }
 
 }  // namespace
 
-EventsWriter::EventsWriter(const std::string& path, const std::string& title)
-    : path_(path), title_(title), file_("Events output", path) {
+EventsWriter::EventsWriter(const std::string& path, const std::string& title, bool grains)
+    : path_(path), title_(title), grains_(grains), file_("Events output", path) {
   file_.create();
   int breaks[B_COUNT], events[E_COUNT];
-  define(file_, title_, 0, breaks, events);
+  define(file_, title_, 0, grains_, breaks, events);
   file_.check(nc_enddef(file_.id()), "finishing the header definition");
   file_.check(nc_sync(file_.id()), "syncing the header");
 }
@@ -127,8 +135,10 @@ void EventsWriter::append(const std::vector<BreakRecord>& records) {
   if (records.empty()) return;
   if (!file_.is_open()) throw OutputError("Events output '" + path_ + "': append after close");
   int ids[B_COUNT];
-  for (int k = 0; k < B_COUNT; ++k)
-    file_.check(nc_inq_varid(file_.id(), kBreakVars[k].name, &ids[k]), "finding variables");
+  for (int k = 0; k < B_COUNT; ++k) {
+    ids[k] = -1;
+    if (k != B_GRAIN || grains_) file_.check(nc_inq_varid(file_.id(), kBreakVars[k].name, &ids[k]), "finding variables");
+  }
   write_breaks(file_, ids, written_, records);
   file_.check(nc_sync(file_.id()), "syncing breaks " + std::to_string(written_));
   written_ += records.size();
@@ -142,7 +152,7 @@ void EventsWriter::finish(const std::vector<BreakRecord>& all, const std::vector
     NetcdfFile out("Events output", tmp);
     out.create();
     int breaks[B_COUNT], ev[E_COUNT];
-    define(out, title_, events.size(), breaks, ev);
+    define(out, title_, events.size(), grains_, breaks, ev);
     const int nc = out.id();
     out.check(nc_put_att_double(nc, NC_GLOBAL, "event_distance", NC_DOUBLE, 1, &rule.distance), "writing event_distance");
     text_att(out, NC_GLOBAL, "event_distance_units", "m");
@@ -209,11 +219,15 @@ std::vector<BreakRecord> read_break_records(const std::string& path, double t_ma
   std::vector<int> joint(n, -1);
   if (int v = -1; ok && n > 0 && nc_inq_varid(nc, "break_joint", &v) == NC_NOERR)
     ok = nc_get_var_int(nc, v, joint.data()) == NC_NOERR;
+  // break_grain_boundary: [grains] cases only.
+  std::vector<int> grain(n, -1);
+  if (int v = -1; ok && n > 0 && nc_inq_varid(nc, "break_grain_boundary", &v) == NC_NOERR)
+    ok = nc_get_var_int(nc, v, grain.data()) == NC_NOERR;
   nc_close(nc);
   if (!ok) throw OutputError("events file '" + path + "' has no readable break catalogue");
   for (size_t r = 0; r < n; ++r) {
     if (!(d[0][r] <= t_max + 1e-12 * std::fabs(t_max))) continue;
-    out.push_back(BreakRecord{d[0][r], d[1][r], d[2][r], d[3][r], d[4][r], i[0][r], i[1][r], i[2][r], i[3][r], joint[r]});
+    out.push_back(BreakRecord{d[0][r], d[1][r], d[2][r], d[3][r], d[4][r], i[0][r], i[1][r], i[2][r], i[3][r], joint[r], grain[r]});
   }
   return out;
 }

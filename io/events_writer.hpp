@@ -21,6 +21,7 @@ struct BreakRecord {
   long ce4 = -1;      // 0-based CE4 index (element ce4 + 1 of the Exodus cohesive block)
   long tri_a = -1, tri_b = -1;  // 0-based triangles (element + 1 of the Exodus file's TRI3 blocks)
   int joint = -1;     // the [[joint]] it lies on, 0-based (joint[joint]); -1: not on a joint
+  int grain_boundary = -1;  // [grains]: 1 on a grain boundary, 0 inside a grain, -1 not between two grains
 };
 
 // Breaks grouped by proximity in space and time (engine/outputs/fracture_events.hpp).
@@ -41,7 +42,8 @@ struct EventRule {
 class EventsWriter {
  public:
   // Creates (overwrites) `path` with the catalogue's variables and no records.
-  EventsWriter(const std::string& path, const std::string& title);
+  // `grains`: the catalogue has break_grain_boundary ([grains] cases only).
+  EventsWriter(const std::string& path, const std::string& title, bool grains = false);
   EventsWriter(const EventsWriter&) = delete;
   EventsWriter& operator=(const EventsWriter&) = delete;
 
@@ -61,6 +63,7 @@ class EventsWriter {
 
  private:
   std::string path_, title_;
+  bool grains_ = false;
   NetcdfFile file_;
   size_t written_ = 0;
 };

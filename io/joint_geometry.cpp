@@ -274,7 +274,8 @@ JointSetDraw draw_joint_set(const JointSetConfig& set, Point2 lo, Point2 hi, int
   return draw;
 }
 
-JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints) {
+JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints,
+                            const std::vector<int>& grain_entities) {
   JointEmbedding out;
   out.pieces.assign(joints, 0);
   out.length.assign(joints, 0.0);
@@ -304,8 +305,11 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
       const double t = double(k) / double(samples);
       const Point2 p{seg.a[0] + t * (seg.b[0] - seg.a[0]), seg.a[1] + t * (seg.b[1] - seg.a[1])};
       const int tri = where.triangle_at(p);
-      const bool inside = tri >= 0 && !where.near_boundary(p, 0.5 * where.local_edge(tri));
-      const int entity = inside ? where.entity(tri) : -1;
+      // Grain boundaries keep a whole element off (a half leaves slivers where they end).
+      const bool inside = tri >= 0 && !where.near_boundary(p, (seg.joint < 0 ? 1.0 : 0.5) * where.local_edge(tri));
+      int entity = inside ? where.entity(tri) : -1;
+      if (seg.joint < 0 && std::find(grain_entities.begin(), grain_entities.end(), entity) == grain_entities.end())
+        entity = -1;  // a grain boundary outside the grains' region
       if (entity != run_entity) {
         finish();
         if (entity >= 0) run_entity = entity, run_start = t, run_lc = where.local_edge(tri);
@@ -369,13 +373,21 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
       const int a = point_of(stops[k].second, p.lc), b = point_of(stops[k + 1].second, p.lc);
       if (a == b) continue;
       lines.push_back({a, b, p.joint, p.entity});
-      out.pieces[p.joint] += 1;
-      out.length[p.joint] += piece;
+      if (p.joint < 0) {
+        out.grain_pieces += 1, out.grain_length += piece;
+      } else {
+        out.pieces[p.joint] += 1;
+        out.length[p.joint] += piece;
+      }
     }
   }
   if (lines.empty()) return out;
   std::ostringstream geo;
-  geo << "// fdem: the [[joint]] files and sets, embedded (io/joint_geometry.cpp)\n";
+  const bool any_joint = std::any_of(lines.begin(), lines.end(), [](const Line& l) { return l.joint >= 0; });
+  const bool any_grain = std::any_of(lines.begin(), lines.end(), [](const Line& l) { return l.joint < 0; });
+  geo << (any_joint && any_grain ? "// fdem: the [[joint]] files and sets and the [grains] boundaries, embedded (io/joint_geometry.cpp)\n"
+          : any_joint            ? "// fdem: the [[joint]] files and sets, embedded (io/joint_geometry.cpp)\n"
+                                 : "// fdem: the [grains] boundaries, embedded (io/joint_geometry.cpp)\n");
   geo << "fdem_jp = newp;\n";
   for (size_t k = 0; k < points.size(); ++k)
     geo << "Point(fdem_jp + " << k << ") = {" << number(points[k].first[0] / scale) << ", "
@@ -384,7 +396,10 @@ JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<Jo
   for (size_t k = 0; k < lines.size(); ++k)
     geo << "Line(fdem_jl + " << k << ") = {fdem_jp + " << lines[k].a << ", fdem_jp + " << lines[k].b << "};\n";
   std::map<int, std::vector<size_t>> by_entity, by_joint;
-  for (size_t k = 0; k < lines.size(); ++k) by_entity[lines[k].entity].push_back(k), by_joint[lines[k].joint].push_back(k);
+  for (size_t k = 0; k < lines.size(); ++k) {
+    by_entity[lines[k].entity].push_back(k);
+    if (lines[k].joint >= 0) by_joint[lines[k].joint].push_back(k);
+  }
   auto list = [&](const std::vector<size_t>& ks) {
     std::string text;
     for (size_t k : ks) text += (text.empty() ? "fdem_jl + " : ", fdem_jl + ") + std::to_string(k);

@@ -21,7 +21,7 @@ using Point2 = std::array<double, 2>;
 // A straight piece of a joint, in metres, and where it came from for messages
 // ("joints.txt:12", or "" for a drawn trace).
 struct JointSegment {
-  int joint = 0;  // index of the [[joint]]
+  int joint = 0;  // index of the [[joint]]; -1: a grain boundary ([grains], io/grain_geometry.hpp)
   Point2 a{}, b{};
   std::string origin;
 };
@@ -53,6 +53,8 @@ struct JointEmbedding {
   std::string geo;
   std::vector<size_t> pieces;
   std::vector<double> length;  // [m]
+  size_t grain_pieces = 0;     // of the grain boundaries (segments with joint = -1)
+  double grain_length = 0;     // [m]
 };
 
 // The physical curve name under which joint j's embedded pieces are meshed.
@@ -64,7 +66,11 @@ std::string embedded_joint_curve(int joint);
 // their crossings (a shared point), and writes them as .geo points and lines embedded in
 // the surface entity that holds each, with physical curves embedded_joint_curve(j).
 // A segment with an origin (from a file) that lies wholly outside is an InputError naming
-// it. `joints` is the number of [[joint]] entries.
-JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints);
+// it. `joints` is the number of [[joint]] entries. Segments with joint = -1 (grain
+// boundaries) are embedded the same way, with no physical curve.
+// `grain_entities`: the surface entities the grain boundaries (joint = -1) may lie in
+// (those of the [grains] region); their pieces elsewhere are dropped.
+JointEmbedding embed_joints(const Mesh& base, double scale, const std::vector<JointSegment>& segments, int joints,
+                            const std::vector<int>& grain_entities = {});
 
 }  // namespace fdem::io

@@ -13,6 +13,7 @@
 #include "base/format.hpp"
 #include "engine/model/fluid_spring.hpp"
 #include "engine/model/heterogeneity.hpp"
+#include "io/grain_geometry.hpp"
 #include "io/joint_geometry.hpp"
 #include "io/mesh.hpp"
 #include "io/suggest.hpp"
@@ -188,6 +189,24 @@ void split_fracturable(Model& model, const io::CaseConfig& config, const std::ma
     const auto it = joint_edges.find(key);
     return it == joint_edges.end() ? -1 : it->second;
   };
+  // [grains]: the grain-boundary set after the joints'.
+  if (config.grains) {
+    model.grain_boundary_fracture = static_cast<int>(model.fracture.size());
+    model.fracture.push_back(fracture_properties(config.grains->boundary));
+  }
+  // 1 on a grain boundary, 0 inside a grain, -1 not between two grains' triangles.
+  auto grain_side = [&](int t1, int t2) {
+    if (model.triangle_grain.empty() || model.triangle_grain[t1] < 0 || model.triangle_grain[t2] < 0) return -1;
+    return model.triangle_grain[t1] != model.triangle_grain[t2] ? 1 : 0;
+  };
+  // The fracture set of an interior edge: its joint's, a grain boundary's, or its pair of
+  // materials' (-1: none, an unbonded interface).
+  auto props_of = [&](const std::pair<int, int>& key, int t1, int t2) {
+    const int joint = joint_of(key);
+    if (joint >= 0) return first_joint + joint;
+    if (grain_side(t1, t2) == 1) return model.grain_boundary_fracture;
+    return pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
+  };
 
   // Interior edges of the unsplit mesh: (a, b) of triangle t1 in its CCW order, the
   // twin (b, a) of t2.
@@ -258,8 +277,7 @@ void split_fracturable(Model& model, const io::CaseConfig& config, const std::ma
     const int t1 = sides[0].triangle, t2 = sides[1].triangle;
     if (!model.triangle_fracturable[t1] || !model.triangle_fracturable[t2]) continue;
     const int joint = joint_of(key);
-    const int props = joint >= 0 ? first_joint + joint
-                                 : pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]];
+    const int props = props_of(key, t1, t2);
     if (props < 0) {
       ++unbonded;
       continue;
@@ -270,6 +288,7 @@ void split_fracturable(Model& model, const io::CaseConfig& config, const std::ma
     model.ce4_triangles.push_back({t1, t2});
     model.ce4_properties.push_back(props);
     if (!config.joints.empty()) model.ce4_joint.push_back(joint);
+    if (config.grains) model.ce4_grain_boundary.push_back(grain_side(t1, t2));
   }
   if (unbonded)
     notes.push_back(std::to_string(unbonded) + " edges between two different fracturable materials have no [[interface]]: "
@@ -288,8 +307,7 @@ void split_fracturable(Model& model, const io::CaseConfig& config, const std::ma
     // corner couples, as at an unbonded interface).
     const int joint = joint_of(key);
     const bool bonded = model.triangle_fracturable[t1] && model.triangle_fracturable[t2] &&
-                        (joint >= 0 ? !model.joint_broken[joint]
-                                    : pair_fracture[model.triangle_material[t1] * n_materials + model.triangle_material[t2]] >= 0);
+                        (joint >= 0 ? !model.joint_broken[joint] : props_of(key, t1, t2) >= 0);
     if (!bonded) model.vertex_bonded[key.first] = model.vertex_bonded[key.second] = 0;
   }
   model.node_origin = origin;
@@ -448,6 +466,36 @@ void set_heterogeneity(Model& model, const io::CaseConfig& config) {
       }
     }
   }
+}
+
+std::string grains_summary(const Model& model, const io::CaseConfig& config) {
+  if (!config.grains) return "";
+  const io::GrainsConfig& g = *config.grains;
+  double total = 0;
+  size_t present = 0;
+  std::vector<double> by_material(model.materials.size(), 0.0);
+  for (size_t k = 0; k < model.grain_area.size(); ++k) {
+    total += model.grain_area[k];
+    present += model.grain_area[k] > 0;
+    by_material[size_t(model.grain_mineral[k])] += model.grain_area[k];
+  }
+  const double mean = present ? total / double(present) : 0.0;
+  std::string line = std::to_string(model.grain_area.size()) + " grains in '" + g.region + "' (seed " +
+                     std::to_string(g.seed) + "), mean size " + format_number(std::sqrt(4 * mean / std::acos(-1.0)), 4) +
+                     " m (diameter of a disc of the mean area " + format_number(mean, 4) + " m²); minerals (asked / achieved area fraction):";
+  for (size_t m = 0; m < g.minerals.size(); ++m)
+    for (size_t k = 0; k < config.materials.size(); ++k)
+      if (config.materials[k].name == g.minerals[m]) {
+        char text[64];
+        std::snprintf(text, sizeof text, " %.3f / %.3f", g.fractions[m], total > 0 ? by_material[k] / total : 0.0);
+        line += (m ? ", '" : " '") + g.minerals[m] + "'" + text;
+      }
+  size_t boundary = 0;
+  for (int b : model.ce4_grain_boundary) boundary += b == 1;
+  line += "; " + std::to_string(boundary) + " grain-boundary CE4s (T_s " + format_number(g.boundary.tensile_strength) +
+          " Pa, c " + format_number(g.boundary.cohesion) + " Pa, phi " + format_number(g.boundary.friction_angle) +
+          " deg, GI " + format_number(g.boundary.gf1) + ", GII " + format_number(g.boundary.gf2) + " J/m²)";
+  return line;
 }
 
 std::vector<std::string> joint_summary(const Model& model, const io::CaseConfig& config) {
@@ -694,8 +742,43 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       group_material[g] = static_cast<int>(m);
     }
   }
+  // [grains]: the region's triangles take their grain's mineral (the front end drew the
+  // seeds, io::draw_grains); the region itself belongs to no material.
+  std::vector<int> triangle_material(mesh.triangles.size(), -1), mesh_grain;
+  int grain_group = -1;
+  if (config.grains) {
+    const io::GrainsConfig& grains = *config.grains;
+    const std::string where = io::origin_of(config, "grains.region") + ": grains.region = \"" + grains.region + "\"";
+    grain_group = mesh.find_group(grains.region, 2);
+    if (grain_group < 0)
+      throw InputError(where + " is not a physical surface of " + mesh.source +
+                       io::did_you_mean(grains.region, group_names(mesh, 2)) + "; its surfaces are " +
+                       list_names(group_names(mesh, 2)));
+    if (group_material[grain_group] >= 0)
+      throw InputError(where + " is in the regions of material '" + config.materials[group_material[grain_group]].name +
+                       "': the grains' triangles take their minerals' materials; take it out of that material's regions");
+    if (grains.points.empty())
+      throw InputError(where + ": the grains were not drawn (the case must be prepared from its .geo: fdem check or fdem run)");
+    std::vector<int> mineral_material;
+    for (const std::string& name : grains.minerals)
+      for (size_t m = 0; m < config.materials.size(); ++m)
+        if (config.materials[m].name == name) mineral_material.push_back(static_cast<int>(m));
+    const io::GrainFinder finder(grains.points);
+    mesh_grain.assign(mesh.triangles.size(), -1);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.triangle_group[t] != grain_group) continue;
+      const auto& tri = mesh.triangles[t];
+      const io::Point2 c{(mesh.x[tri[0]] + mesh.x[tri[1]] + mesh.x[tri[2]]) / 3 * scale,
+                         (mesh.y[tri[0]] + mesh.y[tri[1]] + mesh.y[tri[2]]) / 3 * scale};
+      mesh_grain[t] = io::grain_at(finder, grains.cells, c);
+      triangle_material[t] = mineral_material[size_t(grains.mineral[size_t(mesh_grain[t])])];
+    }
+    for (int m : grains.mineral) model.grain_mineral.push_back(mineral_material[size_t(m)]);
+  }
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const int g = mesh.triangle_group[t];
+    if (g == grain_group) continue;
+    triangle_material[t] = group_material[g];
     if (group_material[g] < 0) {
       const auto& group = mesh.groups[g];
       throw InputError(mesh.source + ": physical surface '" + group.name + "' (tag " +
@@ -727,9 +810,8 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   // Triangles grouped by material, stable within a material (keeps the mesher's locality).
   std::vector<size_t> order(mesh.triangles.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return group_material[mesh.triangle_group[a]] < group_material[mesh.triangle_group[b]];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return triangle_material[a] < triangle_material[b]; });
 
   // Nodes used by triangles, renumbered in their original order.
   std::vector<int> new_index(mesh.x.size(), -1);
@@ -752,7 +834,8 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
   for (size_t k : order) {
     const auto& tri = mesh.triangles[k];
     triangle_group.push_back(mesh.triangle_group[k]);
-    const int mat = group_material[mesh.triangle_group[k]];
+    const int mat = triangle_material[k];
+    if (!mesh_grain.empty()) model.triangle_grain.push_back(mesh_grain[k]);
     model.triangles.push_back({new_index[tri[0]], new_index[tri[1]], new_index[tri[2]]});
     model.triangle_material.push_back(mat);
     model.triangle_tags.push_back(mesh.triangle_tags[k]);
@@ -963,6 +1046,16 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     if (!config.fluid->crack.empty())
       remember_region(config.fluid->crack, dim, region_nodes(config.fluid->crack, config.path + ": fluid.crack", &dim), false);
     remember_region(config.fluid->source, dim, region_nodes(config.fluid->source, config.path + ": fluid.source", &dim), false);
+  }
+  if (config.grains) {  // each grain's area, from its triangles
+    model.grain_area.assign(model.grain_mineral.size(), 0.0);
+    for (size_t t = 0; t < model.num_triangles(); ++t) {
+      if (model.triangle_grain[t] < 0) continue;
+      const auto& tri = model.triangles[t];
+      model.grain_area[size_t(model.triangle_grain[t])] +=
+          0.5 * std::fabs((model.x[tri[1]] - model.x[tri[0]]) * (model.y[tri[2]] - model.y[tri[0]]) -
+                          (model.x[tri[2]] - model.x[tri[0]]) * (model.y[tri[1]] - model.y[tri[0]]));
+    }
   }
   split_fracturable(model, config, joint_edges(mesh, new_index, model, config), notes);
   if (config.fluid) model.fluid = build_fluid_model(model, *config.fluid, config.path);

@@ -143,6 +143,15 @@ struct Model {
   std::vector<int> ce4_joint;
   std::vector<std::string> joint_names;
   std::vector<char> joint_broken;
+  // [grains] (all empty without): per triangle its grain (-1: outside the grains' region),
+  // per grain its mineral (a material index) and area [m²] (of its triangles), and per
+  // CE4 1 on a grain boundary (two grains), 0 inside one grain, -1 not between two grains'
+  // triangles. The grain-boundary CE4s take the properties fracture[grain_boundary_fracture].
+  std::vector<int> triangle_grain;
+  std::vector<int> grain_mineral;
+  std::vector<double> grain_area;
+  std::vector<int> ce4_grain_boundary;
+  int grain_boundary_fracture = -1;
   // After the split (empty without CE4s): the mesh node each node is a copy of, and per
   // mesh node whether its whole fan is bonded (every triangle at it fracturable, every
   // interior edge at it a CE4): 1 bonded, 0 not. The triangles around a bonded mesh node
@@ -201,6 +210,11 @@ std::vector<std::string> heterogeneity_summary(const Model& model, const io::Cas
 // One line per [[joint]] for `fdem check`: its name, curves, CE4 count, total length and
 // its properties (or "broken" with its friction angle).
 std::vector<std::string> joint_summary(const Model& model, const io::CaseConfig& config);
+
+// `fdem check`'s line on [grains]: the number of grains, their mean size (the diameter of
+// a disc of their mean area), each mineral's share of the area (asked, achieved) and the
+// grain-boundary CE4s; "" without grains.
+std::string grains_summary(const Model& model, const io::CaseConfig& config);
 
 // The mean edge length of the model's triangles [m] (every triangle, reference
 // positions): the element size h of the contact defaults below.

@@ -16,7 +16,7 @@ class BreakCatalogue : public Output {
   Role role() const override { return Role::Record; }
   Needs needs() const override { return Need::Breaks; }
   void open(const std::string& partial, const Snapshot& setup) override {
-    file_ = std::make_unique<io::EventsWriter>(partial, p_.config.title);
+    file_ = std::make_unique<io::EventsWriter>(partial, p_.config.title, !p_.model.ce4_grain_boundary.empty());
     write(setup);  // the catalogue so far
   }
   void write(const Snapshot& snap) override {

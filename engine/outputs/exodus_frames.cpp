@@ -18,6 +18,9 @@ std::vector<std::string> element_names(const Model& model) {
   // [[joint]]: on the cohesive block the joint's number (joint[k]: k + 1) of each CE4, 0
   // off the joints and on the triangles; a Threshold JOINT >= 1 shows the joints.
   if (!model.ce4_joint.empty()) names.push_back("JOINT");
+  // [grains]: on the triangles the grain's number (grain k: k + 1), 0 outside the grains'
+  // region and on the cohesive block.
+  if (!model.triangle_grain.empty()) names.push_back("GRAIN");
   // [[excavation]]: how much of each triangle (and CE4) is removed, 0 (whole) to 1
   // (gone); a Threshold EXCAVATED < 1 in ParaView shows the hole.
   if (!model.excavations.empty()) names.push_back("EXCAVATED");
@@ -137,6 +140,16 @@ void ExodusFrames::write(const Snapshot& f) {
     }
     if (!model.ce4_joint.empty())
       for (size_t e = 0; e < count; ++e) elem[11].back()[e] = model.ce4_joint[e] + 1;
+  }
+  if (!model.triangle_grain.empty()) {  // after JOINT, before EXCAVATED: 0 on the CE4 block
+    const size_t k = elem.size() - 1 - (model.excavations.empty() ? 0 : 1) - (model.fluid.enabled ? 2 : 0);
+    for (size_t m = 0, b = 0; m < model.materials.size(); ++m) {
+      const size_t begin = model.block_start[m], end = model.block_start[m + 1];
+      if (begin == end) continue;
+      elem[k][b].assign(end - begin, 0.0);
+      for (size_t t = begin; t < end; ++t) elem[k][b][t - begin] = model.triangle_grain[t] + 1;
+      ++b;
+    }
   }
   if (!model.excavations.empty()) {  // after the CE4 variables
     const size_t k = elem.size() - 1 - (model.fluid.enabled ? 2 : 0);

@@ -453,6 +453,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
   m.loads = g.loads;
   m.fracture = g.fracture;
   m.joint_names = g.joint_names;
+  m.grain_mineral = g.grain_mineral, m.grain_area = g.grain_area, m.grain_boundary_fracture = g.grain_boundary_fracture;
   m.joint_broken = g.joint_broken;
   m.gravity = g.gravity;
   m.in_situ = g.in_situ;
@@ -491,6 +492,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       if (!g.triangle_fracturable.empty()) m.triangle_fracturable.push_back(g.triangle_fracturable[t]);
       if (!g.young_factor.empty()) m.young_factor.push_back(g.young_factor[t]);
       if (!g.triangle_excavation.empty()) m.triangle_excavation.push_back(g.triangle_excavation[t]);
+      if (!g.triangle_grain.empty()) m.triangle_grain.push_back(g.triangle_grain[t]);
       if (!g.contact_active.empty()) m.contact_active.push_back(g.contact_active[t]);
       if (g.contact.enabled) m.triangle_owned.push_back(partition.triangle_part[t] == rank ? 1 : 0);
       ++m.block_start[g.triangle_material[t] + 1];
@@ -505,6 +507,7 @@ LocalModel local_model(const Model& g, const Partition& partition, int rank) {
       m.ce4_properties.push_back(g.ce4_properties[c]);
       if (!g.ce4_strength_factor.empty()) m.ce4_strength_factor.push_back(g.ce4_strength_factor[c]);
       if (!g.ce4_joint.empty()) m.ce4_joint.push_back(g.ce4_joint[c]);
+      if (!g.ce4_grain_boundary.empty()) m.ce4_grain_boundary.push_back(g.ce4_grain_boundary[c]);
       if (g.contact.enabled) m.ce4_owned.push_back(partition.triangle_part[g.ce4_triangles[c][0]] == rank ? 1 : 0);
     }
   for (size_t k = 0; k < g.loaded_edges.size(); ++k) {

@@ -10,6 +10,7 @@ std::vector<io::BreakRecord> with_triangles(const Model& model, std::vector<io::
   for (auto& b : records) {
     b.tri_a = model.ce4_triangles[b.ce4][0], b.tri_b = model.ce4_triangles[b.ce4][1];
     if (!model.ce4_joint.empty()) b.joint = model.ce4_joint[b.ce4];
+    if (!model.ce4_grain_boundary.empty()) b.grain_boundary = model.ce4_grain_boundary[b.ce4];
   }
   return records;
 }

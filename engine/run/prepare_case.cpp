@@ -12,6 +12,7 @@
 #include "base/errors.hpp"
 #include "base/format.hpp"
 #include "io/gmsh_reader.hpp"
+#include "io/grain_geometry.hpp"
 #include "io/joint_geometry.hpp"
 
 namespace fdem {
@@ -104,10 +105,19 @@ void check_output(const PreparedCase& p) {
   }
 }
 
-// The .geo text that embeds the [[joint]] files and sets in the surfaces of `base` (the
-// .geo meshed as it is), or "" when no joint has a file or a set. Notes what each gave.
-static std::string joint_geo_text(const io::CaseConfig& c, const io::Mesh& base, std::vector<std::string>& notes) {
+// The .geo text that embeds the [[joint]] files and sets and the [grains] boundaries in
+// the surfaces of `base` (the .geo meshed as it is), or "" when no joint has a file or a
+// set and there are no grains. Notes what each gave. Draws the grains (c.grains->points
+// and mineral) from `base`.
+static std::string joint_geo_text(io::CaseConfig& c, const io::Mesh& base, std::vector<std::string>& notes) {
   std::vector<io::JointSegment> segments;
+  io::GrainDraw grains;
+  if (c.grains) {
+    grains = io::draw_grains(*c.grains, base, c.mesh.scale, c);
+    const auto edges = io::grain_boundaries(c.grains->points, grains.lo, grains.hi, io::kGrainMerge * grains.mean_edge,
+                                            &c.grains->cells);
+    segments.insert(segments.end(), edges.begin(), edges.end());
+  }
   io::Point2 lo{1e300, 1e300}, hi{-1e300, -1e300};
   for (size_t n = 0; n < base.x.size(); ++n) {
     lo = {std::min(lo[0], base.x[n] * c.mesh.scale), std::min(lo[1], base.y[n] * c.mesh.scale)};
@@ -130,8 +140,21 @@ static std::string joint_geo_text(const io::CaseConfig& c, const io::Mesh& base,
       any = true;
     }
   }
-  if (!any) return "";
-  const io::JointEmbedding e = io::embed_joints(base, c.mesh.scale, segments, int(c.joints.size()));
+  if (!any && !c.grains) return "";
+  std::vector<int> grain_entities;  // the surface entities of the grains' region
+  if (c.grains) {
+    const int group = base.find_group(c.grains->region, 2);
+    for (size_t t = 0; t < base.triangles.size() && t < base.triangle_entity.size(); ++t)
+      if (base.triangle_group[t] == group &&
+          std::find(grain_entities.begin(), grain_entities.end(), base.triangle_entity[t]) == grain_entities.end())
+        grain_entities.push_back(base.triangle_entity[t]);
+  }
+  const io::JointEmbedding e = io::embed_joints(base, c.mesh.scale, segments, int(c.joints.size()), grain_entities);
+  if (c.grains)
+    notes.push_back("grains: " + std::to_string(c.grains->points.size()) + " Voronoi grains in '" + c.grains->region +
+                    "', their boundaries embedded into " + c.mesh.geo + " (" + std::to_string(e.grain_pieces) +
+                    " straight pieces, " + format_number(e.grain_length, 4) + " m; half an element off the region's "
+                    "boundaries)");
   for (size_t j = 0; j < c.joints.size(); ++j) {
     if (c.joints[j].file.empty() && !c.joints[j].set) continue;
     if (e.pieces[j] == 0 && c.joints[j].curves.empty())
@@ -162,7 +185,8 @@ PreparedCase prepare_case(const std::string& case_path, const std::vector<std::s
     const char* cache = std::getenv("FDEM_MESH_CACHE");
     const std::string cache_dir = cache && *cache ? cache : c.output.dir;
     mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache_dir, io::geo_meshing());
-    // [[joint]] files and sets: embedded into the .geo, which is meshed again with them.
+    // [[joint]] files and sets and [grains]: embedded into the .geo, which is meshed again
+    // with them.
     const std::string extra = joint_geo_text(c, io::read_gmsh(mesh_path), p.notes);
     if (!extra.empty())
       mesh_path = io::mesh_geo(c.mesh.geo, c.mesh.size, c.mesh.algorithm, cache_dir, io::geo_meshing(), extra);

@@ -38,7 +38,7 @@ _EXODUS_UNITS = [
     (re.compile(r"^DISPL[XY]$|^(OPENING|SLIP|FLUID_APERTURE)$"), "m"),
     (re.compile(r"^VEL[XY]$"), "m/s"),
     (re.compile(r"^CONTACT_F[XY]$"), "N"),
-    (re.compile(r"^(DAMAGE|BROKEN|MODE|FRAGMENT)$"), "1"),
+    (re.compile(r"^(DAMAGE|BROKEN|MODE|FRAGMENT|JOINT|GRAIN)$"), "1"),
 ]
 
 
