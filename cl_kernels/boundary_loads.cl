@@ -19,6 +19,9 @@
 //                  L₀ t (2 T_a + T_b)/6 and L₀ t (T_a + 2 T_b)/6 (T the traction at the
 //                  node): exactly what the triangles' constant stresses at their
 //                  centroids and the lumped weight ask of the boundary.
+//   LOAD_GAS       (-, -, -): [fluid.gas]'s hole, the follower pressure gas_hole.x that
+//                  the fluid stage computed at the end of the last step from the gas left in
+//                  the hole and the hole's volume (built with GAS_LOADS only).
 // Loads other than the absorbing and in-situ ones put half of f on each node. The force on each
 // node is written to the edge's two slots (the node gather sums them).
 // Energy account: before overwriting its slots the edge adds the work its forces did over
@@ -80,7 +83,11 @@ inline real4 edge_load_forces(const uint e,
                                    const real time,
                                    __global real2* restrict edge_force,
                                    const real dt,
-                                   const int step) {
+                                   const int step
+#ifdef GAS_LOADS
+                                   , __global const real4* restrict gas_hole
+#endif
+                                   ) {
   const uint2 ab = edge_nodes[e];
   const real4 load = load_table[edge_load[e]];
   const int kind = (int)load.x;
@@ -125,6 +132,10 @@ inline real4 edge_load_forces(const uint e,
       p = load.y * (load.z > (real)0 ? fmin(time / load.z, (real)1) : (real)1);
     else if (kind == LOAD_BLAST)
       p = load.y * (exp(-load.z * time) - exp(-load.w * time));
+#ifdef GAS_LOADS
+    else if (kind == LOAD_GAS)
+      p = gas_hole[0].x;
+#endif
     else
       p = table_pressure(pressure_points, (uint)load.y, (uint)load.z, time);
     f = -p * thickness * outward_length;
@@ -151,10 +162,18 @@ __kernel void boundary_loads(const uint n_edges,
                              __global real2* restrict edge_force,
                              const real dt,
                              const int step,
-                             __global real2* restrict edge_energy) {
+                             __global real2* restrict edge_energy
+#ifdef GAS_LOADS
+                             , __global const real4* restrict gas_hole
+#endif
+                             ) {
   const uint e = get_global_id(0);
   if (e >= n_edges) return;
   const real4 energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position,
-                                        position, velocity, thickness, time, edge_force, dt, step);
+                                        position, velocity, thickness, time, edge_force, dt, step
+#ifdef GAS_LOADS
+                                        , gas_hole
+#endif
+                                        );
   edge_energy[e] += energy.xy;
 }

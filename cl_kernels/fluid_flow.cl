@@ -33,11 +33,32 @@
 // faces' work is Σ p ΔV with the pressure their forces had over the step; lumped
 // half-volumes and the forces of the same halves make it the forces' work to first order.
 // No floating-point atomics: every sum is over a CSR list in fixed order.
+//
+// GAS ([fluid.gas]): the fluid is a polytropic gas, p = p0 (V₀/V)^γ with V₀ its volume at
+// the reference density ρ0 (GAS_P0, GAS_GAMMA from the host); its energy at a vertex is
+// U = p V / (γ - 1) (∂U/∂V = -p at fixed V₀: an isentropic gas), and fluid entering at p
+// brings H = γ/(γ - 1) p0 (p/p0)^((γ-1)/γ) per unit V₀. The source is the blast hole:
+// gas_hole_state (one work-item, after the sub-steps) sets the hole's (p, V, V₀, U) from
+// the gas the wall vertices have not taken and the wall polygon's area; the next step's
+// sub-steps hold the wall vertices at that p, and its LOAD_GAS edges (boundary_loads.cl)
+// push the wall with it.
+// CAP_APERTURE (fluid.aperture_limit = "cap"): the conductance uses min(w_m, w_max) and a
+// wider segment does not stop the run (the stable step holds; the volume is the true one).
 
 inline real fluid_excess(const real v0, const real v) { return v > (real)0 ? fmax(v0 / v - (real)1, (real)0) : (real)0; }
 inline real fluid_stored(const real bulk, const real v, const real d) {
   return bulk * v * (((real)1 + d) * log1p(d) - d);
 }
+#if GAS
+inline real gas_pressure(const real v0, const real v) {
+  return v > (real)0 && v0 > (real)0 ? (real)GAS_P0 * pow(v0 / v, (real)GAS_GAMMA) : (real)0;
+}
+inline real gas_energy(const real p, const real v) { return p * v / ((real)GAS_GAMMA - (real)1); }
+inline real gas_enthalpy(const real p) {
+  return (real)GAS_GAMMA / ((real)GAS_GAMMA - (real)1) * (real)GAS_P0 *
+         pow(p / (real)GAS_P0, ((real)GAS_GAMMA - (real)1) / (real)GAS_GAMMA);
+}
+#endif
 
 __kernel void fluid_segments(const uint n_ce4,
                              __global const uint4* restrict ce4_nodes,
@@ -53,6 +74,9 @@ __kernel void fluid_segments(const uint n_ce4,
                              const real viscosity,
                              const int step,
                              __global real4* restrict seg_geom,
+#if GAS
+                             __global uchar* restrict seg_joined,
+#endif
                              __global int* restrict too_wide,
                              __global uint* restrict wet_count) {
   const uint e = get_global_id(0);
@@ -68,8 +92,14 @@ __kernel void fluid_segments(const uint n_ce4,
 #endif
   if (!carries) {
     seg_geom[e] = (real4)(0, 0, 0, 0);
+#if GAS
+    seg_joined[e] = 0;
+#endif
     return;
   }
+#if GAS
+  seg_joined[e] = seg_geom[e].z == (real)0;  // carries from this step on (its conductance is > 0 once it does)
+#endif
   const uint4 nd = ce4_nodes[e];
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
   const real2 chord = (xj - xi) + (xj2 - xi2);
@@ -79,12 +109,19 @@ __kernel void fluid_segments(const uint n_ce4,
   const real wb = fmax(dot(xj2 - xj, n), (real)0) + residual;
   const real h = seg_h[e];
   const real wm = (real)0.5 * (wa + wb);
+#if CAP_APERTURE
+  const real wc = fmin(wm, max_aperture);
+  const real c = wc * wc * wc * thickness / ((real)12 * viscosity * h);
+#else
   const real c = wm * wm * wm * thickness / ((real)12 * viscosity * h);
+#endif
   seg_geom[e] = (real4)(h * thickness * ((real)3 * wa + wb) / (real)8, h * thickness * (wa + (real)3 * wb) / (real)8, c, wm);
+#if !CAP_APERTURE
   if (fmax(wa, wb) > max_aperture) {
     atomic_min(&too_wide[0], (int)e);
     atomic_min(&too_wide[1], step);
   }
+#endif
 }
 
 // vertex_state: (V₀ [m³], V [m³], p [Pa], U [J]); vertex_energy: (injection work [J],
@@ -99,6 +136,10 @@ __kernel void fluid_vertices(const uint n_vertices,
 #if LEAK_OFF
                              __global const real* restrict seg_exposed,
 #endif
+#if GAS
+                             __global const uchar* restrict seg_joined,
+                             __global real* restrict vertex_rate,
+#endif
                              __global real4* restrict vertex_state,
                              __global real4* restrict vertex_energy,
                              __global real2* restrict front,
@@ -107,11 +148,17 @@ __kernel void fluid_vertices(const uint n_vertices,
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   real volume = 0;
+#if GAS
+  real joined = 0;  // the halves of the segments that joined the network this step
+#endif
   bool flows = source[v] != 0;  // a sub-step can change this vertex: list it
   for (uint k = vertex_start[v]; k < vertex_start[v + 1]; ++k) {
     const uint end = vertex_end[k];
     const real4 g = seg_geom[end >> 1];
     volume += (end & 1u) ? g.y : g.x;
+#if GAS
+    if (seg_joined[end >> 1]) joined += (end & 1u) ? g.y : g.x;
+#endif
     flows = flows || g.z != (real)0;
 #if LEAK_OFF
     flows = flows || seg_exposed[end >> 1] >= (real)0;
@@ -121,6 +168,24 @@ __kernel void fluid_vertices(const uint n_vertices,
   // vertex's sub-step reads only the copies: the results do not depend on the order.
   if (flows) wet[atomic_inc(wet_count)] = v;
   real4 s = vertex_state[v];
+#if GAS
+  const real p = gas_pressure(s.x, volume);
+  if (volume != s.y) {
+    real4 en = vertex_energy[v];
+    // The faces moved the old segments' room at the pressure their forces had; the room
+    // of a segment that just joined was opened dry, and the gas expands into it freely:
+    // what that expansion takes from its energy is lost (booked with the dissipation).
+    const real moved = volume - joined;
+    const real rate = vertex_rate[v];
+    en.y += gas_pressure(s.x, s.y + (real)0.5 * rate) * (moved - s.y);  // the forces' (mid-step) pressure
+    vertex_rate[v] = moved - s.y;
+    if (joined > (real)0 && s.x > (real)0)
+      en.w += gas_energy(gas_pressure(s.x, moved), moved) - gas_energy(p, volume);
+    vertex_energy[v] = en;
+  }
+  else
+    vertex_rate[v] = 0;
+#else
   const real d = fluid_excess(s.x, volume);
   const real p = bulk * d;
   if (volume != s.y) {
@@ -128,7 +193,12 @@ __kernel void fluid_vertices(const uint n_vertices,
     en.y += s.z * (volume - s.y);  // the pressure the faces' forces had over the last step
     vertex_energy[v] = en;
   }
+#endif
+#if GAS
+  vertex_state[v] = (real4)(s.x, volume, p, gas_energy(p, volume));
+#else
   vertex_state[v] = (real4)(s.x, volume, p, fluid_stored(bulk, volume, d));
+#endif
   front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
 }
 
@@ -141,7 +211,8 @@ __kernel void fluid_vertices(const uint n_vertices,
 // one vertex is exactly what enters the other; one launch a sub-step instead of a flux and
 // a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
 // source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
-// are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀.
+// are held at `source_value` [Pa] (GAS: at the hole's pressure gas_hole.x); else each
+// takes source_value [m³/s] of V₀.
 __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global const uint* restrict wet,
                             __global const uint* restrict vertex_start,
@@ -160,6 +231,9 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global const real* restrict seg_h,
                             __global real* restrict seg_exposed,
                             __global real2* restrict vertex_leak,
+#endif
+#if GAS
+                            __global const real4* restrict gas_hole,
 #endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
@@ -217,7 +291,11 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
   // The flow's loss at this vertex: its energy before less after the fluxes (the sum over
   // the vertices is the viscous dissipation of the sub-step, exactly as the explicit
   // update has it; Σ q (H_a - H_b) Δt_s over-counts it by the update's O(Δt_s²) term).
+#if GAS
+  const real u_flowed = gas_energy(gas_pressure(s.x, s.y), s.y);
+#else
   const real u_flowed = fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
+#endif
   real4 en = vertex_energy[v];
   en.w += s.w - u_flowed;
 #if LEAK_OFF
@@ -241,7 +319,13 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
   }
 #endif
   if (source[v] && s.y > (real)0) {
-#if PRESSURE_SOURCE
+#if GAS
+    // Held at the hole's pressure p_h: filled (or emptied back into the hole) to
+    // V (p_h/p0)^(1/γ), the gas moving at H(p_h).
+    const real p_hole = gas_hole[0].x;
+    const real added = s.y * pow(p_hole / (real)GAS_P0, (real)1 / (real)GAS_GAMMA) - s.x;
+    const real h_work = gas_enthalpy(p_hole);
+#elif PRESSURE_SOURCE
     // Held at p_s: the source fills the vertex to V (1 + p_s / K_f) and works at p_s.
     const real added = s.y * ((real)1 + source_value / bulk) - s.x;
     const real h_work = bulk * log1p(source_value / bulk);
@@ -252,14 +336,56 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
     s.x += added;
     en.x += h_work * added;
     en.z += added;
+#if GAS
+    // The gas that rushes in (or back into the hole) expands irreversibly: the energy it
+    // brought, H(p_h) per unit V₀, less what the vertex now holds more is lost (throttling;
+    // the isentropic law has no heat to keep it), booked with the flow's dissipation.
+    en.w += h_work * added - (gas_energy(gas_pressure(s.x, s.y), s.y) - u_flowed);
+#endif
   }
   vertex_energy[v] = en;
+#if GAS
+  s.z = gas_pressure(s.x, s.y);
+  s.w = gas_energy(s.z, s.y);
+#else
   const real d = fluid_excess(s.x, s.y);
   s.z = bulk * d;
   s.w = fluid_stored(bulk, s.y, d);
+#endif
   vertex_state[v] = s;
   back[v] = (real2)(s.x, s.z);
 }
+
+#if GAS
+// One work-item (the rest return): the blast hole's gas at the end of the step, from the
+// wall polygon's area on the step's positions (shoelace, in polygon order; the wall is
+// walked clockwise, a crack's mouth closing it between two copies of a vertex) and the
+// gas the wall vertices have taken so far (their injected V₀, in source order):
+// gas_hole = (p, V, V₀ left, U) with p = p0 (V₀/V)^γ, U = p V / (γ - 1). The next step's
+// wall loads and sub-steps read p; no atomics, the same bits every run.
+__kernel void gas_hole_state(const uint n_polygon,
+                             __global const uint* restrict polygon,
+                             __global const real2* restrict position,
+                             const real thickness,
+                             const uint n_source,
+                             __global const uint* restrict source_vertices,
+                             __global const real4* restrict vertex_energy,
+                             const real hole_gas0,
+                             __global real4* restrict gas_hole) {
+  if (get_global_id(0) != 0) return;
+  real twice_area = 0;
+  for (uint i = 0; i < n_polygon; ++i) {
+    const real2 a = position[polygon[i]], b = position[polygon[i + 1 < n_polygon ? i + 1 : 0]];
+    twice_area += a.x * b.y - b.x * a.y;
+  }
+  const real volume = (real)-0.5 * twice_area * thickness;
+  real taken = 0;
+  for (uint k = 0; k < n_source; ++k) taken += vertex_energy[source_vertices[k]].z;
+  const real left = hole_gas0 - taken;
+  const real p = gas_pressure(left, volume);
+  gas_hole[0] = (real4)(p, volume, left, gas_energy(p, volume));
+}
+#endif
 
 __kernel void fluid_forces(const uint n_ce4,
                            __global const uint4* restrict ce4_nodes,
@@ -268,6 +394,9 @@ __kernel void fluid_forces(const uint n_ce4,
                            __global const real4* restrict seg_geom,
                            __global const real* restrict seg_h,
                            __global const real4* restrict vertex_state,
+#if GAS
+                           __global const real* restrict vertex_rate,
+#endif
                            const real thickness,
                            __global real2* restrict fluid_slots) {
   const uint e = get_global_id(0);
@@ -283,11 +412,39 @@ __kernel void fluid_forces(const uint n_ce4,
   const real2 t = chord / length(chord);
   const real2 n = (real2)(t.y, -t.x);
   const uint2 ab = seg_vertex[e];
+#if GAS
+  // The pressure at the step's middle: the vertex's volume moved on by half the change of
+  // the last step (a predictor: the forces' work is then the gas's ∫p dV to second order;
+  // with the step-start pressure the fast-expanding gas gave the solid p ΔV, more than the
+  // isentrope gives, 1.4% of the blast's energy in tests/data/cases/gas_small.toml).
+  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
+  const real pa = gas_pressure(sa.x, sa.y + (real)0.5 * vertex_rate[ab.x]);
+  const real pb = gas_pressure(sb.x, sb.y + (real)0.5 * vertex_rate[ab.y]);
+#else
   const real pa = vertex_state[ab.x].z, pb = vertex_state[ab.y].z;
+#endif
   const real ht = seg_h[e] * thickness / (real)8;
+#if GAS
+  // The forces are the exact gradient of the fluid's work p_a V_a + p_b V_b over the four
+  // nodes (the gas's large, fast volume changes make any other force create or lose
+  // energy): an end pushes only while open (w = max(o, 0) + w_r: in overlap the volume
+  // does not change), and the chord's rotation changes the openings of a sheared segment,
+  // ∂o/∂c = -s n / |c| (s = (x' - x)·t its end's slip, c the chord), a couple of forces
+  // ±Q n on the two ends' nodes.
+  const real2 da = xi2 - xi, db = xj2 - xj;
+  const real oa = dot(da, n), ob = dot(db, n);
+  const real force_a = oa > (real)0 ? ht * ((real)3 * pa + pb) : (real)0;
+  const real force_b = ob > (real)0 ? ht * (pa + (real)3 * pb) : (real)0;
+  const real2 q = -(force_a * dot(da, t) + force_b * dot(db, t)) / length(chord) * n;
+  fluid_slots[4 * e] = -force_a * n - q;      // i
+  fluid_slots[4 * e + 1] = -force_b * n + q;  // j
+  fluid_slots[4 * e + 2] = force_b * n + q;   // j'
+  fluid_slots[4 * e + 3] = force_a * n - q;   // i'
+#else
   const real2 fa = ht * ((real)3 * pa + pb) * n, fb = ht * (pa + (real)3 * pb) * n;
   fluid_slots[4 * e] = -fa;      // i: face 1 pushed away from face 2
   fluid_slots[4 * e + 1] = -fb;  // j
   fluid_slots[4 * e + 2] = fb;   // j'
   fluid_slots[4 * e + 3] = fa;   // i'
+#endif
 }

@@ -208,11 +208,21 @@ struct BoundaryConfig {
   std::optional<BlastConfig> blast;            // Eq. 21 pressure on a blast hole
   bool absorbing = false;                      // viscous non-reflecting boundary (Eq. 20)
   bool in_situ = false;                        // in_situ = true: the [in_situ] field's traction σ₀·n (dead load)
+  bool gas = false;  // not a key: the hole of [fluid.gas], whose pressure the gas's state gives (engine/model)
 };
 
 // [fluid]: a viscous, slightly compressible fluid in the cracks (engine/stages/fluid_flow.*).
 // The source injects either a volume rate per unit thickness or holds a pressure; each is
 // a number or a piecewise linear table in time.
+// [fluid.gas]: the explosion products in a blast hole, a polytropic gas p = p0 (ρ/ρ0)^γ
+// that fills the hole and flows into the cracks connected to it.
+struct GasConfig {
+  double gamma = 0;     // γ > 1
+  double density = 0;   // ρ0 [kg/m³]: the products' density at the start (filling the hole)
+  double pressure = 0;  // p0 [Pa]: their pressure at ρ0
+  std::string hole;     // the physical curve of the hole's wall (a closed curve)
+};
+
 struct FluidConfig {
   double viscosity = 0;          // μ [Pa s]
   double bulk_modulus = 0;       // K_f [Pa]
@@ -225,6 +235,8 @@ struct FluidConfig {
   std::string source;            // physical point or curve the fluid enters at
   std::optional<PressureTable> rate;      // Q(t) [m²/s] (volume per second per metre of thickness)
   std::optional<PressureTable> pressure;  // p(t) [Pa] held at the source
+  std::optional<GasConfig> gas;           // a gas from a blast hole instead (no bulk_modulus, source, rate, pressure)
+  bool cap_aperture = false;  // aperture_limit = "cap": conductances use min(w_m, max_aperture), no stop
 };
 
 struct InitialConfig {

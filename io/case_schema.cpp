@@ -66,8 +66,10 @@ const Schema kProbeKeys{{{"name"}, {"point"}}};
 const Schema kInSituKeys{{{"stress"}, {"principal"}, {"angle"}, {"datum"}, {"density"}, {"k_H"}, {"k_h"},
                           {"azimuth"}}};
 const Schema kExcavationKeys{{{"region"}, {"start"}, {"duration"}}};
+const Schema kGasKeys{{{"gamma"}, {"density"}, {"pressure"}, {"hole"}}};
 const Schema kFluidKeys{{{"viscosity"}, {"bulk_modulus"}, {"residual_aperture"}, {"max_aperture"}, {"safety"}, {"leak_off"}, {"segments"},
-                         {"crack"}, {"source"}, {"rate"}, {"pressure"}}};
+                         {"crack"}, {"source"}, {"rate"}, {"pressure"}, {"aperture_limit"},
+                         {"gas", Shape::Table, &kGasKeys}}};
 const Schema kRootKeys{{{"title"},
                         {"mesh", Shape::Table, &kMeshKeys},
                         {"time", Shape::Table, &kTimeKeys},

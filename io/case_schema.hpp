@@ -35,7 +35,7 @@ struct Schema {
 extern const Schema kMeshPerturbKeys, kMeshKeys, kTimeKeys, kOutputEventsKeys, kOutputKeys, kStiffnessKeys, kPenaltyKeys,
     kSofteningKeys, kFractureKeys, kMaterialKeys, kInterfaceKeys, kJointSetKeys, kJointKeys, kGrainsKeys, kGravityKeys, kDampingKeys,
     kBlastKeys, kPressureTableKeys, kBoundaryKeys, kInitialKeys, kContactDampingKeys,
-    kContactPairKeys, kContactKeys, kProbeKeys, kInSituKeys, kHeterogeneityKeys, kExcavationKeys, kFluidKeys, kRootKeys;
+    kContactPairKeys, kContactKeys, kProbeKeys, kInSituKeys, kHeterogeneityKeys, kExcavationKeys, kGasKeys, kFluidKeys, kRootKeys;
 
 // The nearest of `candidates` to a misspelt name (letter case ignored), or "" when none
 // is close enough to be a plausible typo.

@@ -202,6 +202,7 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
         for (size_t k = 0; k < l.times.size(); ++k) points.push_back({real(l.times[k]), real(l.values[k])});
         break;
       case LoadKind::Absorbing: loads.push_back({kind, real(l.material), 0, 0}); break;
+      case LoadKind::Gas: loads.push_back({kind, 0, 0, 0}); break;
       case LoadKind::InSitu: {
         const InSituField& f = model.in_situ;
         loads.push_back({kind, real(f.uniform[0]), real(f.uniform[1]), real(f.uniform[2])});

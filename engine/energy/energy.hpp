@@ -43,6 +43,11 @@ struct EnergyTotals {
   // leaked fluid took out of the network [J] (dissipated: it left the model).
   double fluid_leak_off = 0, fluid_leaked_volume = 0;
   double fluid_face_work = 0, fluid_volume = 0, fluid_injected_volume = 0, wellbore_pressure = 0, crack_volume = 0;
+  // [fluid.gas]: the blast hole's gas (FluidFlow::gas_hole) and ρ0, which turns the
+  // volumes at reference density above into masses. The hole is the network's source:
+  // outside the account, which books its wall work as load work and what it gives the
+  // cracks as injection work.
+  double hole_pressure = 0, hole_volume = 0, hole_gas_mass = 0, hole_gas_energy = 0, gas_density = 0;
 
   double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential + fluid_stored; }
   double dissipated() const {

@@ -33,8 +33,23 @@ struct FluidModel {
   std::string source_name, crack_name;
   bool pressure_source = false;          // the source holds `history` [Pa], else injects `history` [m²/s]
   io::PressureTable history;
-  // Stable step of the explicit flow, 3 μ h² / (K_f w_max²) for the shortest CE4 (h): the
-  // fluid stage sub-cycles at safety × it (FluidFlow::substeps).
+  bool cap_aperture = false;             // fluid.aperture_limit = "cap": conductance from min(w_m, w_max), no stop
+  // [fluid.gas]: a polytropic gas p = p0 (V₀/V)^γ, V₀ its volume at the reference density
+  // ρ0 (V₀ ρ0 is its mass), filling the blast hole at the start; the hole is the source:
+  // its wall's network vertices are held at the hole's pressure, and the gas they take
+  // leaves the hole (FluidFlow, cl_kernels/fluid_flow.cl gas_hole).
+  bool gas = false;
+  double gamma = 0, gas_density = 0, gas_pressure = 0;
+  std::string hole_name;
+  // The hole's wall as a closed polygon of split nodes, clockwise (the body on the left of
+  // each wall edge): edge by edge a, b, next edge's a, ...; a crack's mouth is the step
+  // from one edge's b to the next one's a (two copies of one mesh vertex, apart once open).
+  std::vector<uint32_t> hole_polygon;
+  double hole_volume = 0;                // at the start [m³] (area × thickness)
+  // The modulus the stable step uses: K_f, or γ p0 for the gas (its K = γ p at p0).
+  double stiffness() const { return gas ? gamma * gas_pressure : bulk_modulus; }
+  // Stable step of the explicit flow, 3 μ h² / (K w_max²) for the shortest CE4 (h), K the
+  // stiffness() above: the fluid stage sub-cycles at safety × it (FluidFlow::substeps).
   double stable_dt = 0;
   size_t shortest_ce4 = 0;
 };

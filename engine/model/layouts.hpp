@@ -102,7 +102,8 @@ namespace fdem::layout {
   X(LOAD_BLAST, 2)                                                                           \
   X(LOAD_TABLE, 3)                                                                           \
   X(LOAD_ABSORBING, 4)                                                                       \
-  X(LOAD_IN_SITU, 5)   /* two rows: (kind, σ₀ at the datum), (datum, dσ/d depth) */
+  X(LOAD_IN_SITU, 5)   /* two rows: (kind, σ₀ at the datum), (datum, dσ/d depth) */          \
+  X(LOAD_GAS, 6)       /* [fluid.gas]: the pressure gas_hole[0].x of the fluid stage */
 
 #define FDEM_LAYOUT_ENUMERATOR(name, value) name = value,
 enum Material : int { FDEM_MATERIAL_LAYOUT(FDEM_LAYOUT_ENUMERATOR) };

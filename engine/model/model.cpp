@@ -906,9 +906,23 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
   };
 
-  for (size_t i = 0; i < config.boundaries.size(); ++i) {
-    const auto& bc = config.boundaries[i];
-    const std::string where = config.path + ": boundary[" + std::to_string(i) + "]";
+  // [fluid.gas]: the hole's wall carries the gas's pressure (LoadKind::Gas), one more entry.
+  std::vector<io::BoundaryConfig> boundaries = config.boundaries;
+  if (config.fluid && config.fluid->gas) {
+    for (size_t i = 0; i < boundaries.size(); ++i) {
+      const auto& b = boundaries[i];
+      if (b.region == config.fluid->gas->hole && (b.traction || b.pressure || b.pressure_table || b.blast || b.absorbing || b.in_situ))
+        throw InputError(config.path + ": boundary[" + std::to_string(i) + "] loads region '" + b.region +
+                         "', the hole of [fluid.gas] whose pressure the gas gives: remove that load (fluid.gas.hole)");
+    }
+    io::BoundaryConfig hole;
+    hole.region = config.fluid->gas->hole;
+    hole.gas = true;
+    boundaries.push_back(hole);
+  }
+  for (size_t i = 0; i < boundaries.size(); ++i) {
+    const auto& bc = boundaries[i];
+    const std::string where = bc.gas ? config.path + ": fluid.gas.hole" : config.path + ": boundary[" + std::to_string(i) + "]";
     int dim = 0;
     const auto nodes = region_nodes(bc.region, where, &dim);
     const bool prescribes = bc.fix_x || bc.fix_y || bc.velocity.has_value();
@@ -924,7 +938,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
           const uint32_t bit = 1u << axis;
           double& gv = axis == 0 ? g.vx : g.vy;
           if ((g.mask & bit) && gv != v) {
-            const auto& other = config.boundaries[node_bc_entry[2 * n + axis]];
+            const auto& other = boundaries[node_bc_entry[2 * n + axis]];
             throw InputError(where + ": region '" + bc.region + "' prescribes v" + "xy"[axis] + " = " +
                              std::to_string(v) + " on node " + std::to_string(model.node_tags[n]) +
                              ", which region '" + other.region + "' already prescribes as " +
@@ -943,7 +957,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
     }
 
-    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing || bc.in_situ) {
+    if (bc.traction || bc.pressure || bc.pressure_table || bc.blast || bc.absorbing || bc.in_situ || bc.gas) {
       if (dim != 1)
         throw InputError(where + ": loads and absorbing boundaries act on a physical curve; '" + bc.region +
                          "' is a " + dim_word(dim));
@@ -965,6 +979,7 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
       }
       if (bc.absorbing) load.kind = LoadKind::Absorbing;
       if (bc.in_situ) load.kind = LoadKind::InSitu;
+      if (bc.gas) load.kind = LoadKind::Gas;
       // An absorbing edge needs the impedance of its own material: one load per
       // material along the curve.
       std::map<int, int> load_of_material;
@@ -1045,7 +1060,11 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     int dim = 0;
     if (!config.fluid->crack.empty())
       remember_region(config.fluid->crack, dim, region_nodes(config.fluid->crack, config.path + ": fluid.crack", &dim), false);
-    remember_region(config.fluid->source, dim, region_nodes(config.fluid->source, config.path + ": fluid.source", &dim), false);
+    if (config.fluid->gas)
+      remember_region(config.fluid->gas->hole, dim,
+                      region_nodes(config.fluid->gas->hole, config.path + ": fluid.gas.hole", &dim), false);
+    else
+      remember_region(config.fluid->source, dim, region_nodes(config.fluid->source, config.path + ": fluid.source", &dim), false);
   }
   if (config.grains) {  // each grain's area, from its triangles
     model.grain_area.assign(model.grain_mineral.size(), 0.0);
@@ -1143,6 +1162,7 @@ double speed_scale(const Model& model, const io::CaseConfig& config) {
       for (double v : b.pressure_table->values) push(v);
     if (b.blast) push(b.blast->peak);
   }
+  if (config.fluid && config.fluid->gas) push(config.fluid->gas->pressure);
   for (const auto& i : config.initials) speed = std::max(speed, std::hypot(i.velocity[0], i.velocity[1]));
   return speed;
 }

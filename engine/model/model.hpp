@@ -41,7 +41,8 @@ enum class LoadKind {
   Blast = layout::LOAD_BLAST,
   Table = layout::LOAD_TABLE,
   Absorbing = layout::LOAD_ABSORBING,
-  InSitu = layout::LOAD_IN_SITU  // the in-situ field's traction σ₀·n on the reference edge (Model::in_situ)
+  InSitu = layout::LOAD_IN_SITU,  // the in-situ field's traction σ₀·n on the reference edge (Model::in_situ)
+  Gas = layout::LOAD_GAS          // [fluid.gas]: the hole's gas pressure, from the fluid stage's gas_hole (device)
 };
 
 struct EdgeLoad {

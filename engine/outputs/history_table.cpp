@@ -166,6 +166,18 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
     }
     add("wellbore_pressure", "Pa", "fluid pressure at the source (mean over its vertices)",
         [](HistoryRow& r) { return r.snap.energy.wellbore_pressure; });
+    if (model.fluid.gas) {  // [fluid.gas]: the blast hole's gas, and the masses
+      add("hole_pressure", "Pa", "pressure of the gas in the blast hole, p0 (rho/rho0)^gamma",
+          [](HistoryRow& r) { return r.snap.energy.hole_pressure; });
+      add("hole_volume", "m3", "volume of the blast hole (its wall polygon's area times the thickness)",
+          [](HistoryRow& r) { return r.snap.energy.hole_volume; });
+      add("hole_gas_mass", "kg", "mass of gas left in the blast hole",
+          [](HistoryRow& r) { return r.snap.energy.hole_gas_mass; });
+      add("network_gas_mass", "kg", "mass of gas in the cracks (rho0 times fluid_volume)",
+          [](HistoryRow& r) { return r.snap.energy.gas_density * r.snap.energy.fluid_volume; });
+      add("hole_gas_energy", "J", "energy of the gas left in the blast hole, p V / (gamma - 1) (outside the account: the hole is the source)",
+          [](HistoryRow& r) { return r.snap.energy.hole_gas_energy; });
+    }
   }
 
   // Per node, not through node_group and groups at each row (half of a row's host time at 139k nodes).

@@ -13,10 +13,12 @@ MemoryPlan BoundaryLoads::plan(size_t loaded_edges, size_t group_size) {
   return MemoryPlan().add("boundary_loads edge_energy", std::max<size_t>(1, loaded_edges) * sizeof(real2));
 }
 
-BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool in_situ)
+BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool in_situ,
+                             compute::buffer* gas_hole)
     : cl_(cl), count_(a.num_loaded_edges), groups_(work_groups(cl, a.num_loaded_edges)) {
   std::map<std::string, std::string> defines{{"GROUP_SIZE", std::to_string(cl.group_size())}};
   if (in_situ) defines["IN_SITU_LOADS"] = "1";  // a model without them builds the kernel it always had
+  if (gas_hole) defines["GAS_LOADS"] = "1";
   kernel_ = compute::kernel(cl.build(kernel_source::boundary_loads, defines), "boundary_loads");
   edge_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads edge_energy");
   upload(cl, edge_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
@@ -28,7 +30,9 @@ BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, d
   time_ = args.later("time", real(0));
   args("edge_force", a.edge_force)("dt", static_cast<real>(dt));
   step_ = args.later("step", cl_int(0));
-  args("edge_energy", edge_energy_).done();
+  args("edge_energy", edge_energy_);
+  if (gas_hole) args("gas_hole", *gas_hole);
+  args.done();
 }
 
 void BoundaryLoads::enqueue(double time, int step) {

@@ -12,7 +12,10 @@ class BoundaryLoads {
  public:
   // `in_situ`: the model has in-situ tractions (LoadKind::InSitu); without, the kernel is
   // built without their branch.
-  BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool in_situ = false);
+  // `gas_hole`: FluidFlow::gas_hole() when the model has a [fluid.gas] hole (LoadKind::Gas
+  // edges read its pressure), else null.
+  BoundaryLoads(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool in_situ = false,
+                compute::buffer* gas_hole = nullptr);
   // The arrays the constructor allocates (`group_size`: ClContext::group_size()).
   static MemoryPlan plan(size_t loaded_edges, size_t group_size);
   // Edge forces at time `time` (absorbing edges use the current velocities) of step

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include <climits>
@@ -29,7 +30,12 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid vertex_energy", v * sizeof(real4))
       .add("fluid too_wide", 2 * sizeof(cl_int))
       .add("fluid seg_exposed", ce4 * sizeof(real))
-      .add("fluid vertex_leak", v * sizeof(real2));
+      .add("fluid vertex_leak", v * sizeof(real2))
+      .add("fluid gas_hole", sizeof(real4))
+      .add("fluid seg_joined", (model.fluid.gas ? ce4 : 1) * sizeof(cl_uchar))
+      .add("fluid vertex_rate", (model.fluid.gas ? v : 1) * sizeof(real))
+      .add("fluid hole_polygon", std::max<size_t>(model.fluid.hole_polygon.size(), 1) * sizeof(cl_uint))
+      .add("fluid hole_sources", std::max<size_t>(model.fluid.gas ? model.fluid.source_vertices.size() : 0, 1) * sizeof(cl_uint));
 }
 
 long FluidFlow::substeps(const FluidModel& f, double dt) {
@@ -56,6 +62,11 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
   seg_exposed_ = make("fluid seg_exposed"), vertex_leak_ = make("fluid vertex_leak");
+  seg_joined_ = make("fluid seg_joined");
+  upload(cl, seg_joined_, std::vector<cl_uchar>(fluid_.gas ? ce4_ : 1, 0));
+  vertex_rate_ = make("fluid vertex_rate");
+  upload(cl, vertex_rate_, std::vector<real>(fluid_.gas ? vertices_ : 1, 0));
+  gas_hole_ = make("fluid gas_hole"), hole_polygon_ = make("fluid hole_polygon"), hole_sources_ = make("fluid hole_sources");
 
   std::vector<cl_uint4> nodes;
   for (const auto& e : model.ce4) nodes.push_back({{cl_uint(e[0]), cl_uint(e[1]), cl_uint(e[2]), cl_uint(e[3])}});
@@ -91,7 +102,16 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const bool leak = fluid_.leak_off > 0;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
-                                             {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"}};
+                                             {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
+                                             {"CAP_APERTURE", fluid_.cap_aperture ? "1" : "0"},
+                                             {"GAS", fluid_.gas ? "1" : "0"}};
+  if (fluid_.gas) {  // the gas's constants, every digit of the doubles
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", fluid_.gas_pressure);
+    defines["GAS_P0"] = text;
+    std::snprintf(text, sizeof text, "%.17g", fluid_.gamma);
+    defines["GAS_GAMMA"] = text;
+  }
   const compute::program program = cl.build(kernel_source::fluid_flow, defines);
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
@@ -101,13 +121,16 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
       "thickness", thickness)("residual", real(fluid_.residual_aperture))("max_aperture", real(fluid_.max_aperture))(
       "viscosity", real(fluid_.viscosity));
   step_ = s.later("step", cl_int(0));
-  s("seg_geom", seg_geom_)("too_wide", too_wide_)("wet_count", wet_count_).done();
+  s("seg_geom", seg_geom_);
+  if (fluid_.gas) s("seg_joined", seg_joined_);
+  s("too_wide", too_wide_)("wet_count", wet_count_).done();
 
   vertices_kernel_ = compute::kernel(program, "fluid_vertices");
   KernelArgs v(vertices_kernel_);
   v("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_geom", seg_geom_)(
        "bulk", bulk)("source", source_);
   if (leak) v("seg_exposed", seg_exposed_);
+  if (fluid_.gas) v("seg_joined", seg_joined_)("vertex_rate", vertex_rate_);
   v("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)("wet_count", wet_count_)("wet", wet_)
       .done();
 
@@ -125,14 +148,31 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
       b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
           "vertex_leak", vertex_leak_);
     }
+    if (fluid_.gas) b("gas_hole", gas_hole_);
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
 
   forces_ = compute::kernel(program, "fluid_forces");
   KernelArgs g(forces_);
   g("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)(
-       "seg_h", seg_h_)("vertex_state", vertex_state_)("thickness", thickness)("fluid_slots", slots_)
-      .done();
+       "seg_h", seg_h_)("vertex_state", vertex_state_);
+  if (fluid_.gas) g("vertex_rate", vertex_rate_);
+  g("thickness", thickness)("fluid_slots", slots_).done();
+
+  if (fluid_.gas) {
+    upload(cl, hole_polygon_, fluid_.hole_polygon);
+    upload(cl, hole_sources_, fluid_.source_vertices);
+    hole_kernel_ = compute::kernel(program, "gas_hole_state");
+    KernelArgs h(hole_kernel_);
+    h("n_polygon", cl_uint(fluid_.hole_polygon.size()))("polygon", hole_polygon_)("position", position)(
+        "thickness", thickness)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_)(
+        "vertex_energy", vertex_energy_)("hole_gas0", real(fluid_.hole_volume))("gas_hole", gas_hole_)
+        .done();
+    // The hole full of gas at ρ0: its V₀ is its volume, so p = p0 (up to rounding).
+    cl_.enqueue(hole_kernel_, 1);
+  } else {
+    upload(cl, gas_hole_, std::vector<real4>(1));
+  }
 }
 
 void FluidFlow::enqueue(double time, long step) {
@@ -152,6 +192,7 @@ void FluidFlow::enqueue(double time, long step) {
     cl_.enqueue(substep_[copy], vertices_);
   }
   cl_.enqueue(forces_, ce4_);
+  if (fluid_.gas) cl_.enqueue(hole_kernel_, 1);  // the hole's gas for the next step's wall and sub-steps
 }
 
 EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
@@ -166,8 +207,16 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
   // The wellbore pressure: the mean over the source's vertices (read when the sums land).
   const std::vector<uint32_t> wells = fluid_.source_vertices;
   ClContext* cl = &cl_;
-  const compute::buffer states = vertex_state_;
-  return [state, energy, leak, wells, cl, states](EnergyTotals& e) {
+  const compute::buffer states = vertex_state_, hole = gas_hole_;
+  const bool gas = fluid_.gas;
+  const double density = fluid_.gas_density;
+  return [state, energy, leak, wells, cl, states, hole, gas, density](EnergyTotals& e) {
+    if (gas) {  // the hole's gas as the end of the last step left it
+      const real4 h = download<real4>(*cl, hole, 1)[0];
+      e.hole_pressure = double(h.x), e.hole_volume = double(h.y);
+      e.hole_gas_mass = density * double(h.z), e.hole_gas_energy = double(h.w);
+      e.gas_density = density;
+    }
     const auto s = state();
     const auto w = energy();
     const auto l = leak();
@@ -224,6 +273,11 @@ void FluidFlow::save_state(StateWriter& out) const {
     out.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
     out.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
   }
+  if (fluid_.gas) {
+    out.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
+    out.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
+    out.buffer<cl_uchar>("fluid_seg_joined", seg_joined_, ce4_, 1);
+  }
 }
 
 void FluidFlow::load_state(StateReader& in) {
@@ -232,6 +286,11 @@ void FluidFlow::load_state(StateReader& in) {
   if (fluid_.leak_off > 0) {
     in.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
     in.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
+  }
+  if (fluid_.gas) {
+    in.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
+    in.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
+    in.buffer<cl_uchar>("fluid_seg_joined", seg_joined_, ce4_, 1);
   }
 }
 

@@ -34,6 +34,9 @@ class FluidFlow {
   // flow sub-steps over [t, t + dt], the pressures' forces into slots(). Never waits.
   void enqueue(double time, long step);
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 (i, j, j', i') [N]
+  // [fluid.gas]: the hole's gas, one real4 (p [Pa], V [m³], V₀ left [m³], U [J]) as the
+  // end of the last step left it (BoundaryLoads' LOAD_GAS edges read p).
+  compute::buffer& gas_hole() { return gas_hole_; }
 
   // The fluid's terms of the account and its history figures, summed in item order.
   EnergyPart queue_energy(const ItemSums& sums);
@@ -70,6 +73,10 @@ class FluidFlow {
       vertex_state_, vertex_energy_, too_wide_, slots_;
   compute::buffer seg_exposed_;  // per CE4: Carter's exposure time [s], -1 before (leak-off only)
   compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
+  compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])
+  compute::buffer gas_hole_, hole_polygon_, hole_sources_;
+  compute::buffer seg_joined_;  // per CE4 (gas): 1 in the step it joined the network
+  compute::buffer vertex_rate_;  // per vertex (gas): its volume's change over the last step, joins excluded [m³]
 };
 
 }  // namespace fdem
