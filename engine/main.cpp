@@ -342,6 +342,15 @@ void check_input_file(const std::string& path, const char* what) {
                            "), not a " + what);
 }
 
+// `fdem check`'s line for [fluid.gas]: the gas's constants and its hole.
+std::string gas_line(const fdem::FluidModel& f) {
+  std::ostringstream o;
+  o << "gas       gamma " << f.gamma << ", rho0 " << f.gas_density << " kg/m3, p0 " << f.gas_pressure << " Pa in hole '"
+    << f.hole_name << "' (" << f.hole_volume << " m3, " << f.gas_density * f.hole_volume
+    << " kg; K = gamma p0 in the stable steps)\n";
+  return o.str();
+}
+
 std::string mib(size_t bytes) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1) << bytes / 1048576.0 << " MiB";
@@ -488,7 +497,8 @@ int check_command(const Arguments& a) {
   if (m.fluid.enabled)  // the flow's own stable step (cubic law and K_f at fluid.max_aperture)
     std::cout << "fluid     " << m.fluid.vertices << " network vertices, " << m.fluid.crack_ce4.size()
               << " CE4s on the crack, source '" << m.fluid.source_name << "' (" << m.fluid.source_vertices.size()
-              << " vertices, " << (m.fluid.pressure_source ? "pressure" : "rate") << ")\n"
+              << " vertices, " << (m.fluid.gas ? "the gas's hole" : m.fluid.pressure_source ? "pressure" : "rate") << ")\n"
+              << (m.fluid.gas ? gas_line(m.fluid) : std::string())
               << "fluid dt  " << m.fluid.stable_dt << " s stable (CE4 " << m.fluid.shortest_ce4 << ", w_max "
               << m.fluid.max_aperture << " m), " << fdem::FluidFlow::substeps(m.fluid, p.dt)
               << " sub-steps per step\n"

@@ -276,7 +276,7 @@ void FluidFlow::save_state(StateWriter& out) const {
   if (fluid_.gas) {
     out.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
     out.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
-    out.buffer<cl_uchar>("fluid_seg_joined", seg_joined_, ce4_, 1);
+    out.buffer<real>("fluid_seg_geom", seg_geom_, ce4_, 4);  // which segments carried: the next step's joins
   }
 }
 
@@ -290,7 +290,7 @@ void FluidFlow::load_state(StateReader& in) {
   if (fluid_.gas) {
     in.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
     in.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
-    in.buffer<cl_uchar>("fluid_seg_joined", seg_joined_, ce4_, 1);
+    in.buffer<real>("fluid_seg_geom", seg_geom_, ce4_, 4);
   }
 }
 
