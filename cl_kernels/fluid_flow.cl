@@ -202,19 +202,8 @@ __kernel void fluid_vertices(const uint n_vertices,
   front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
 }
 
-// One sub-step of the flow, one work-item per wet vertex (the list fluid_vertices made:
-// a vertex with no open or exposed segment and no source has nothing to do): the net inflow from the fluxes
-// q = c (p_a - p_b) of its segments (CSR order), taken from the pressures and fluid of the
-// sub-step's start in `front` ((V₀, p) per vertex, read for the neighbours), the new V₀, p
-// and U in vertex_state (its own, in place) and (V₀, p) into `back` for the next sub-step.
-// Each segment's flux is computed at both its ends with the same operands, so what leaves
-// one vertex is exactly what enters the other; one launch a sub-step instead of a flux and
-// a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
-// source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
-// are held at `source_value` [Pa] (GAS: at the hole's pressure gas_hole.x); else each
-// takes source_value [m³/s] of V₀.
-__kernel void fluid_substep(__global const uint* restrict wet_count,
-                            __global const uint* restrict wet,
+// One vertex's sub-step (fluid_substep and fluid_substeps_group below).
+inline void substep_vertex(const uint v,
                             __global const uint* restrict vertex_start,
                             __global const uint* restrict vertex_end,
                             __global const uint2* restrict seg_vertex,
@@ -238,9 +227,6 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
                             __global real2* restrict back) {
-  const uint i = get_global_id(0);
-  if (i >= wet_count[0]) return;
-  const uint v = wet[i];
   real inflow = 0;
 #if LEAK_OFF
   // Carter: each exposed segment loses 2 C_L / √(t - t_e) per unit of its area h t (both
@@ -355,6 +341,95 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
   vertex_state[v] = s;
   back[v] = (real2)(s.x, s.z);
 }
+
+// One sub-step of the flow, one work-item per wet vertex (the list fluid_vertices made:
+// a vertex with no open or exposed segment and no source has nothing to do): the net inflow from the fluxes
+// q = c (p_a - p_b) of its segments (CSR order), taken from the pressures and fluid of the
+// sub-step's start in `front` ((V₀, p) per vertex, read for the neighbours), the new V₀, p
+// and U in vertex_state (its own, in place) and (V₀, p) into `back` for the next sub-step.
+// Each segment's flux is computed at both its ends with the same operands, so what leaves
+// one vertex is exactly what enters the other; one launch a sub-step instead of a flux and
+// a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
+// source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
+// are held at `source_value` [Pa] (GAS: at the hole's pressure gas_hole.x); else each
+// takes source_value [m³/s] of V₀.
+__kernel void fluid_substep(__global const uint* restrict wet_count,
+                            __global const uint* restrict wet,
+                            __global const uint* restrict vertex_start,
+                            __global const uint* restrict vertex_end,
+                            __global const uint2* restrict seg_vertex,
+                            __global const real4* restrict seg_geom,
+                            __global const real2* restrict front,
+                            __global const uchar* restrict source,
+                            const real source_value,
+                            const real bulk,
+                            const real dt_sub,
+#if LEAK_OFF
+                            const real t_sub,
+                            const real leak_off,
+                            const real thickness,
+                            __global const real* restrict seg_h,
+                            __global real* restrict seg_exposed,
+                            __global real2* restrict vertex_leak,
+#endif
+#if GAS
+                            __global const real4* restrict gas_hole,
+#endif
+                            __global real4* restrict vertex_state,
+                            __global real4* restrict vertex_energy,
+                            __global real2* restrict back) {
+  const uint i = get_global_id(0);
+  if (i >= wet_count[0]) return;
+  substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, front, source, source_value, bulk, dt_sub
+#if LEAK_OFF
+                 , t_sub, leak_off, thickness, seg_h, seg_exposed, vertex_leak
+#endif
+#if GAS
+                 , gas_hole
+#endif
+                 , vertex_state, vertex_energy, back);
+}
+
+#if !LEAK_OFF
+// All n_sub sub-steps of a step in one launch of one work-group of FLUID_GROUP work-items
+// (the host takes it for a source constant in time, or the gas's hole, and no leak-off):
+// work-item l does the wet vertices l, l + FLUID_GROUP, ..., sub-step k reading `front`
+// and writing `back` for even k, the other way for odd k, a barrier between sub-steps.
+// Each vertex's sub-step is fluid_substep's, with the same operands: the same bits as
+// n_sub launches of it, without their launch costs (the fluid's cost on a small network).
+__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
+void fluid_substeps_group(const uint n_sub,
+                          __global const uint* restrict wet_count,
+                          __global const uint* restrict wet,
+                          __global const uint* restrict vertex_start,
+                          __global const uint* restrict vertex_end,
+                          __global const uint2* restrict seg_vertex,
+                          __global const real4* restrict seg_geom,
+                          __global real2* front,
+                          __global const uchar* restrict source,
+                          const real source_value,
+                          const real bulk,
+                          const real dt_sub,
+#if GAS
+                          __global const real4* restrict gas_hole,
+#endif
+                          __global real4* restrict vertex_state,
+                          __global real4* restrict vertex_energy,
+                          __global real2* back) {
+  const uint n = wet_count[0];
+  for (uint k = 0; k < n_sub; ++k) {
+    __global real2* from = (k & 1u) ? back : front;
+    __global real2* to = (k & 1u) ? front : back;
+    for (uint i = get_local_id(0); i < n; i += FLUID_GROUP)
+      substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, from, source, source_value, bulk, dt_sub
+#if GAS
+                     , gas_hole
+#endif
+                     , vertex_state, vertex_energy, to);
+    barrier(CLK_GLOBAL_MEM_FENCE);
+  }
+}
+#endif
 
 #if GAS
 // One work-item (the rest return): the blast hole's gas at the end of the step, from the

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -573,6 +574,43 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
     for (int c = 0; c < 4; ++c) CHECK(worst[c] <= tolerance[c]);
     CHECK(force_scale > 0);
     CHECK(force_worst <= tolerance[2]);
+  }
+}
+
+TEST_CASE("fluid: the sub-steps in one work-group's launch give the launches' bits (KGD rate, held pressure, gas)") {
+  // FDEM_FLUID_GROUP=0 keeps one launch a sub-step; =1 takes the group whatever the size.
+  struct Run {
+    std::string path;
+    std::vector<std::string> sets;
+    long steps;
+  };
+  const std::vector<Run> runs{
+      {test::source_path("cases/kgd/viscosity.toml"), {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_tg\""}, 400},
+      {test::source_path("cases/sneddon/case.toml"), {"mesh.size=0.2", "fluid.pressure=1e6", "output.dir=\"/tmp/fdem_tg\""}, 150},
+      {test::source_path("tests/data/cases/gas_small.toml"), {"output.dir=\"/tmp/fdem_tg\""}, 300}};
+  for (const auto& r : runs) {
+    CAPTURE(r.path);
+    const PreparedCase p = prepare_case(r.path, r.sets);
+    std::vector<real2> x[2];
+    std::vector<real4> state[2];
+    for (int group = 0; group < 2; ++group) {
+      setenv("FDEM_FLUID_GROUP", group ? "1" : "0", 1);
+      Solver solver(test::context(), p.model, p.dt);
+      CHECK(solver.fluid()->one_group() == (group == 1));
+      for (long k = 0; k < r.steps; ++k) solver.step(false);
+      x[group] = solver.positions();
+      state[group] = solver.fluid()->vertex_state();
+    }
+    unsetenv("FDEM_FLUID_GROUP");
+    REQUIRE(x[0].size() == x[1].size());
+    size_t differ = 0, wet = 0;
+    for (size_t i = 0; i < x[0].size(); ++i) differ += x[0][i].x != x[1][i].x || x[0][i].y != x[1][i].y;
+    for (size_t v = 0; v < state[0].size(); ++v) {
+      differ += state[0][v].x != state[1][v].x || state[0][v].z != state[1][v].z;
+      wet += state[0][v].x > 0;
+    }
+    CHECK(differ == 0);
+    CHECK(wet > 4);  // the fluid moved
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 
 #include <climits>
@@ -104,7 +105,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
                                              {"CAP_APERTURE", fluid_.cap_aperture ? "1" : "0"},
-                                             {"GAS", fluid_.gas ? "1" : "0"}};
+                                             {"GAS", fluid_.gas ? "1" : "0"},
+                                             {"FLUID_GROUP", std::to_string(kFluidGroup)}};
   if (fluid_.gas) {  // the gas's constants, every digit of the doubles
     char text[64];
     std::snprintf(text, sizeof text, "%.17g", fluid_.gas_pressure);
@@ -152,6 +154,28 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
 
+  // All sub-steps in one launch of one work-group when the source's value is the same in
+  // every sub-step (a constant rate or pressure, or the gas's hole), no leak-off (its
+  // exposure times are per sub-step) and a network of at most kFluidGroupUpTo vertices
+  // (one work-group is one compute unit, one core on PoCL: a large wet network would
+  // wait on it). The same bits as the launches (tests/test_fluid.cpp); FDEM_FLUID_GROUP=0
+  // keeps the launches, =1 takes the group whatever the network's size.
+  const char* group_env = std::getenv("FDEM_FLUID_GROUP");
+  const std::string group_choice = group_env ? group_env : "";
+  one_group_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) && group_choice != "0" &&
+               (group_choice == "1" || vertices_ <= kFluidGroupUpTo);
+  if (one_group_) {
+    const double value = fluid_.gas ? 0.0 : fluid_source_value(fluid_.history, 0.0);
+    group_kernel_ = compute::kernel(program, "fluid_substeps_group");
+    KernelArgs b(group_kernel_);
+    b("n_sub", cl_uint(substeps_))("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)(
+        "vertex_end", vertex_end_)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("front", front_)("source", source_)(
+        "source_value", static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_))(
+        "bulk", bulk)("dt_sub", dt_sub);
+    if (fluid_.gas) b("gas_hole", gas_hole_);
+    b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", back_).done();
+  }
+
   forces_ = compute::kernel(program, "fluid_forces");
   KernelArgs g(forces_);
   g("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)(
@@ -180,7 +204,8 @@ void FluidFlow::enqueue(double time, long step) {
   cl_.enqueue(segments_, ce4_);
   cl_.enqueue(vertices_kernel_, vertices_);
   const double dt_sub = dt_ / static_cast<double>(substeps_);
-  for (long k = 0; k < substeps_; ++k) {
+  if (one_group_) cl_.enqueue(group_kernel_, kFluidGroup, kFluidGroup);
+  for (long k = 0; !one_group_ && k < substeps_; ++k) {
     // The source at the sub-step's middle (a rate) or its end (a held pressure).
     const double t = time + dt_sub * (static_cast<double>(k) + (fluid_.pressure_source ? 1.0 : 0.5));
     const double value = fluid_source_value(fluid_.history, t);

@@ -54,6 +54,7 @@ class FluidFlow {
   void segment_fields(std::vector<real>& pressure, std::vector<real>& aperture);
   const FluidModel& network() const { return fluid_; }
   long substeps() const { return substeps_; }
+  bool one_group() const { return one_group_; }  // the sub-steps in one work-group's launch
 
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
@@ -74,6 +75,10 @@ class FluidFlow {
   compute::buffer seg_exposed_;  // per CE4: Carter's exposure time [s], -1 before (leak-off only)
   compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
   compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])
+  // fluid_substeps_group: every sub-step of a step in one work-group of kFluidGroup items.
+  static constexpr size_t kFluidGroup = 256, kFluidGroupUpTo = 16384;
+  bool one_group_ = false;
+  compute::kernel group_kernel_;
   compute::buffer gas_hole_, hole_polygon_, hole_sources_;
   compute::buffer seg_joined_;  // per CE4 (gas): 1 in the step it joined the network
   compute::buffer vertex_rate_;  // per vertex (gas): its volume's change over the last step, joins excluded [m³]
