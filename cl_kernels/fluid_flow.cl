@@ -50,10 +50,37 @@ inline real fluid_stored(const real bulk, const real v, const real d) {
   return bulk * v * (((real)1 + d) * log1p(d) - d);
 }
 #if GAS
-inline real gas_pressure(const real v0, const real v) {
-  return v > (real)0 && v0 > (real)0 ? (real)GAS_P0 * pow(v0 / v, (real)GAS_GAMMA) : (real)0;
+// The law stops at p0: gas denser than ρ0 (V₀ > V) holds p0 (a plateau; the products
+// are never squeezed above their initial pressure: a blast's crack closing on its gas
+// took it to 300 GPa, a spring no explicit step could follow). Its energy stays the
+// potential of its pressure, ∂U/∂V = -p: p0 V₀/(γ - 1) + p0 (V₀ - V) on the plateau.
+// The gas's aperture: w = w_r ln(1 + e^(o/w_r)), o + w_r ln 2 ... o for an open end
+// (o ≫ w_r), w_r ln 2 at o = 0, towards 0 in overlap: smooth, so the faces' forces, its
+// slope dw/do = 1/(1 + e^(-o/w_r)) times the pressure, have no jump where a face closes
+// (a jump there let trapped gas chatter the faces and the account drift).
+inline real gas_aperture(const real o, const real wr) {
+  const real x = o / wr;
+  return x > (real)30 ? o : wr * log1p(exp(x));
 }
-inline real gas_energy(const real p, const real v) { return p * v / ((real)GAS_GAMMA - (real)1); }
+inline real gas_aperture_slope(const real o, const real wr) {
+  const real x = o / wr;
+  return x > (real)30 ? (real)1 : (real)1 / ((real)1 + exp(-x));
+}
+inline real gas_pressure(const real v0, const real v) {
+  if (!(v > (real)0 && v0 > (real)0)) return (real)0;
+  return v0 >= v ? (real)GAS_P0 : (real)GAS_P0 * pow(v0 / v, (real)GAS_GAMMA);
+}
+inline real gas_energy(const real v0, const real v) {
+  if (!(v > (real)0 && v0 > (real)0)) return (real)0;
+  if (v0 >= v) return (real)GAS_P0 * (v0 / ((real)GAS_GAMMA - (real)1) + (v0 - v));
+  return gas_pressure(v0, v) * v / ((real)GAS_GAMMA - (real)1);
+}
+// The room predicted for the middle of the step, V + ½ ΔV_last, the change bounded to
+// ±V/4: a room that closed fast in the last step would otherwise be extrapolated to
+// nothing and its gas to any pressure (a blast's closing cracks did, and the run blew up).
+inline real mid_step_volume(const real v, const real rate) {
+  return v + clamp((real)0.5 * rate, (real)-0.25 * v, (real)0.25 * v);
+}
 inline real gas_enthalpy(const real p) {
   return (real)GAS_GAMMA / ((real)GAS_GAMMA - (real)1) * (real)GAS_P0 *
          pow(p / (real)GAS_P0, ((real)GAS_GAMMA - (real)1) / (real)GAS_GAMMA);
@@ -81,7 +108,10 @@ __kernel void fluid_segments(const uint n_ce4,
                              __global uint* restrict wet_count) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
-  if (e == 0) wet_count[0] = 0;  // fluid_vertices, next in the queue, lists the wet vertices anew
+  if (e == 0) {
+    wet_count[0] = 0;  // fluid_vertices, next in the queue, lists the wet vertices anew
+    wet_count[1] = 0;  // and (ADAPTIVE) finds the network's largest rate anew
+  }
 #if DAMAGED_SEGMENTS
   // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
   // (irreversible, so a segment never closes to the network again).
@@ -105,8 +135,12 @@ __kernel void fluid_segments(const uint n_ce4,
   const real2 chord = (xj - xi) + (xj2 - xi2);
   const real2 t = chord / length(chord);
   const real2 n = (real2)(t.y, -t.x);
+#if GAS
+  const real wa = gas_aperture(dot(xi2 - xi, n), residual), wb = gas_aperture(dot(xj2 - xj, n), residual);
+#else
   const real wa = fmax(dot(xi2 - xi, n), (real)0) + residual;
   const real wb = fmax(dot(xj2 - xj, n), (real)0) + residual;
+#endif
   const real h = seg_h[e];
   const real wm = (real)0.5 * (wa + wb);
 #if CAP_APERTURE
@@ -148,6 +182,9 @@ __kernel void fluid_vertices(const uint n_vertices,
   const uint v = get_global_id(0);
   if (v >= n_vertices) return;
   real volume = 0;
+#if ADAPTIVE
+  real conductance = 0;  // Σ c of its segments
+#endif
 #if GAS
   real joined = 0;  // the halves of the segments that joined the network this step
 #endif
@@ -160,6 +197,9 @@ __kernel void fluid_vertices(const uint n_vertices,
     if (seg_joined[end >> 1]) joined += (end & 1u) ? g.y : g.x;
 #endif
     flows = flows || g.z != (real)0;
+#if ADAPTIVE
+    conductance += g.z;
+#endif
 #if LEAK_OFF
     flows = flows || seg_exposed[end >> 1] >= (real)0;
 #endif
@@ -167,6 +207,15 @@ __kernel void fluid_vertices(const uint n_vertices,
   // The list's order depends on the atomics, its content does not, and each listed
   // vertex's sub-step reads only the copies: the results do not depend on the order.
   if (flows) wet[atomic_inc(wet_count)] = v;
+#if ADAPTIVE
+  // The vertex's rate K Σc / V (K = K_f, or γ p0 for the gas: the plan's modulus): the
+  // explicit exchange is stable for Δt_s below 1 / max of it (Gershgorin), and the
+  // sub-steps take half that (substeps_now). The maximum over the vertices is kept as a
+  // float's bits in wet_count[1] (positive floats order as their bits): the same word
+  // whatever the order of the atomics.
+  if (volume > (real)0 && conductance > (real)0)
+    atomic_max(&wet_count[1], as_uint((float)(FLUID_MODULUS * conductance / volume)));
+#endif
   real4 s = vertex_state[v];
 #if GAS
   const real p = gas_pressure(s.x, volume);
@@ -177,10 +226,10 @@ __kernel void fluid_vertices(const uint n_vertices,
     // what that expansion takes from its energy is lost (booked with the dissipation).
     const real moved = volume - joined;
     const real rate = vertex_rate[v];
-    en.y += gas_pressure(s.x, s.y + (real)0.5 * rate) * (moved - s.y);  // the forces' (mid-step) pressure
+    en.y += gas_pressure(s.x, mid_step_volume(s.y, rate)) * (moved - s.y);  // the forces' (mid-step) pressure
     vertex_rate[v] = moved - s.y;
     if (joined > (real)0 && s.x > (real)0)
-      en.w += gas_energy(gas_pressure(s.x, moved), moved) - gas_energy(p, volume);
+      en.w += gas_energy(s.x, moved) - gas_energy(s.x, volume);
     vertex_energy[v] = en;
   }
   else
@@ -195,12 +244,26 @@ __kernel void fluid_vertices(const uint n_vertices,
   }
 #endif
 #if GAS
-  vertex_state[v] = (real4)(s.x, volume, p, gas_energy(p, volume));
+  vertex_state[v] = (real4)(s.x, volume, p, gas_energy(s.x, volume));
 #else
   vertex_state[v] = (real4)(s.x, volume, p, fluid_stored(bulk, volume, d));
 #endif
   front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
 }
+
+#if ADAPTIVE
+// The step's sub-steps (ADAPTIVE: a source constant in time or the gas's hole, no
+// leak-off): the plan's count (`planned`, from fluid.max_aperture) or fewer, as many as
+// the network's largest rate (fluid_vertices) asks for at the step's `safety`,
+// ceil(Δt / (safety × 0.5 / rate)); the plan's own bound is 3 μ h² / (K w_max²), half the
+// rate bound of a chain of equal segments of aperture w_max.
+inline uint substeps_now(__global const uint* wet_count, const real dt, const real safety, const uint planned) {
+  const real rate = (real)as_float(wet_count[1]);
+  if (!(rate > (real)0)) return 1u;
+  const real n = ceil(dt * rate / ((real)0.5 * safety));
+  return n >= (real)planned ? planned : (n < (real)1 ? 1u : (uint)n);
+}
+#endif
 
 // One vertex's sub-step (fluid_substep and fluid_substeps_group below).
 inline void substep_vertex(const uint v,
@@ -222,7 +285,8 @@ inline void substep_vertex(const uint v,
                             __global real2* restrict vertex_leak,
 #endif
 #if GAS
-                            __global const real4* restrict gas_hole,
+                            const real p_hole,
+                            const real fill_cap,
 #endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
@@ -278,7 +342,7 @@ inline void substep_vertex(const uint v,
   // the vertices is the viscous dissipation of the sub-step, exactly as the explicit
   // update has it; Σ q (H_a - H_b) Δt_s over-counts it by the update's O(Δt_s²) term).
 #if GAS
-  const real u_flowed = gas_energy(gas_pressure(s.x, s.y), s.y);
+  const real u_flowed = gas_energy(s.x, s.y);
 #else
   const real u_flowed = fluid_stored(bulk, s.y, fluid_excess(s.x, s.y));
 #endif
@@ -308,8 +372,10 @@ inline void substep_vertex(const uint v,
 #if GAS
     // Held at the hole's pressure p_h: filled (or emptied back into the hole) to
     // V (p_h/p0)^(1/γ), the gas moving at H(p_h).
-    const real p_hole = gas_hole[0].x;
-    const real added = s.y * pow(p_hole / (real)GAS_P0, (real)1 / (real)GAS_GAMMA) - s.x;
+    // A wall vertex takes at most fill_cap, its equal share of the gas the hole holds at
+    // the sub-step's start: together they never take more than the hole has (the hole's
+    // pressure is held over the sub-step while they fill).
+    const real added = fmin(s.y * pow(p_hole / (real)GAS_P0, (real)1 / (real)GAS_GAMMA) - s.x, fill_cap);
     const real h_work = gas_enthalpy(p_hole);
 #elif PRESSURE_SOURCE
     // Held at p_s: the source fills the vertex to V (1 + p_s / K_f) and works at p_s.
@@ -326,13 +392,13 @@ inline void substep_vertex(const uint v,
     // The gas that rushes in (or back into the hole) expands irreversibly: the energy it
     // brought, H(p_h) per unit V₀, less what the vertex now holds more is lost (throttling;
     // the isentropic law has no heat to keep it), booked with the flow's dissipation.
-    en.w += h_work * added - (gas_energy(gas_pressure(s.x, s.y), s.y) - u_flowed);
+    en.w += h_work * added - (gas_energy(s.x, s.y) - u_flowed);
 #endif
   }
   vertex_energy[v] = en;
 #if GAS
   s.z = gas_pressure(s.x, s.y);
-  s.w = gas_energy(s.z, s.y);
+  s.w = gas_energy(s.x, s.y);
 #else
   const real d = fluid_excess(s.x, s.y);
   s.z = bulk * d;
@@ -363,7 +429,14 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global const uchar* restrict source,
                             const real source_value,
                             const real bulk,
+#if ADAPTIVE
+                            const real dt,
+                            const real safety,
+                            const uint planned,
+                            const uint k_sub,
+#else
                             const real dt_sub,
+#endif
 #if LEAK_OFF
                             const real t_sub,
                             const real leak_off,
@@ -374,31 +447,38 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
 #endif
 #if GAS
                             __global const real4* restrict gas_hole,
+                            const uint n_source,
 #endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
                             __global real2* restrict back) {
   const uint i = get_global_id(0);
   if (i >= wet_count[0]) return;
+#if ADAPTIVE
+  // Launched `planned` times; the launches past the step's own count do nothing.
+  const uint n_sub = substeps_now(wet_count, dt, safety, planned);
+  if (k_sub >= n_sub) return;
+  const real dt_sub = dt / (real)n_sub;
+#endif
   substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, front, source, source_value, bulk, dt_sub
 #if LEAK_OFF
                  , t_sub, leak_off, thickness, seg_h, seg_exposed, vertex_leak
 #endif
 #if GAS
-                 , gas_hole
+                 , gas_hole[0].x, fmax(gas_hole[0].z, (real)0) / (real)n_source
 #endif
                  , vertex_state, vertex_energy, back);
 }
 
 #if !LEAK_OFF
-// All n_sub sub-steps of a step in one launch of one work-group of FLUID_GROUP work-items
+// All sub-steps of a step in one launch of one work-group of FLUID_GROUP work-items
 // (the host takes it for a source constant in time, or the gas's hole, and no leak-off):
 // work-item l does the wet vertices l, l + FLUID_GROUP, ..., sub-step k reading `front`
 // and writing `back` for even k, the other way for odd k, a barrier between sub-steps.
 // Each vertex's sub-step is fluid_substep's, with the same operands: the same bits as
 // n_sub launches of it, without their launch costs (the fluid's cost on a small network).
 __kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
-void fluid_substeps_group(const uint n_sub,
+void fluid_substeps_group(const uint planned,
                           __global const uint* restrict wet_count,
                           __global const uint* restrict wet,
                           __global const uint* restrict vertex_start,
@@ -409,24 +489,62 @@ void fluid_substeps_group(const uint n_sub,
                           __global const uchar* restrict source,
                           const real source_value,
                           const real bulk,
+#if ADAPTIVE
+                          const real dt,
+                          const real safety,
+#else
                           const real dt_sub,
+#endif
 #if GAS
                           __global const real4* restrict gas_hole,
+                          const uint n_source,
+                          __global const uint* restrict source_vertices,
+                          const real hole_gas0,
 #endif
                           __global real4* restrict vertex_state,
                           __global real4* restrict vertex_energy,
                           __global real2* back) {
   const uint n = wet_count[0];
+#if GAS
+  // The hole's pressure and gas anew after each sub-step (work-item 0, the wall vertices'
+  // intake in source order, the hole's volume of the step's start: the geometry does not
+  // move during the sub-steps), so that a hole that empties fast is not drawn on at the
+  // pressure of the step's start; each wall vertex takes at most its share of what is left.
+  __local real hole_local[2];  // (p, V₀ left)
+  if (get_local_id(0) == 0) hole_local[0] = gas_hole[0].x, hole_local[1] = gas_hole[0].z;
+  barrier(CLK_LOCAL_MEM_FENCE);
+#endif
+#if ADAPTIVE
+  const uint n_sub = substeps_now(wet_count, dt, safety, planned);
+  const real dt_sub = dt / (real)n_sub;
+#else
+  const uint n_sub = planned;
+#endif
   for (uint k = 0; k < n_sub; ++k) {
     __global real2* from = (k & 1u) ? back : front;
     __global real2* to = (k & 1u) ? front : back;
+#if GAS
+    const real p_hole = hole_local[0], fill_cap = fmax(hole_local[1], (real)0) / (real)n_source;
+#endif
     for (uint i = get_local_id(0); i < n; i += FLUID_GROUP)
       substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, from, source, source_value, bulk, dt_sub
 #if GAS
-                     , gas_hole
+                     , p_hole, fill_cap
 #endif
                      , vertex_state, vertex_energy, to);
+#if GAS
+    barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0) {
+      real taken = 0;
+      for (uint j = 0; j < n_source; ++j) taken += vertex_energy[source_vertices[j]].z;
+      const real left = hole_gas0 - taken;
+      hole_local[0] = gas_pressure(left, gas_hole[0].y);
+      hole_local[1] = left;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+#else
     barrier(CLK_GLOBAL_MEM_FENCE);
+#endif
   }
 }
 #endif
@@ -458,7 +576,7 @@ __kernel void gas_hole_state(const uint n_polygon,
   for (uint k = 0; k < n_source; ++k) taken += vertex_energy[source_vertices[k]].z;
   const real left = hole_gas0 - taken;
   const real p = gas_pressure(left, volume);
-  gas_hole[0] = (real4)(p, volume, left, gas_energy(p, volume));
+  gas_hole[0] = (real4)(p, volume, left, gas_energy(left, volume));
 }
 #endif
 
@@ -471,6 +589,7 @@ __kernel void fluid_forces(const uint n_ce4,
                            __global const real4* restrict vertex_state,
 #if GAS
                            __global const real* restrict vertex_rate,
+                           const real residual,
 #endif
                            const real thickness,
                            __global real2* restrict fluid_slots) {
@@ -493,8 +612,8 @@ __kernel void fluid_forces(const uint n_ce4,
   // with the step-start pressure the fast-expanding gas gave the solid p ΔV, more than the
   // isentrope gives, 1.4% of the blast's energy in tests/data/cases/gas_small.toml).
   const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
-  const real pa = gas_pressure(sa.x, sa.y + (real)0.5 * vertex_rate[ab.x]);
-  const real pb = gas_pressure(sb.x, sb.y + (real)0.5 * vertex_rate[ab.y]);
+  const real pa = gas_pressure(sa.x, mid_step_volume(sa.y, vertex_rate[ab.x]));
+  const real pb = gas_pressure(sb.x, mid_step_volume(sb.y, vertex_rate[ab.y]));
 #else
   const real pa = vertex_state[ab.x].z, pb = vertex_state[ab.y].z;
 #endif
@@ -508,8 +627,8 @@ __kernel void fluid_forces(const uint n_ce4,
   // ±Q n on the two ends' nodes.
   const real2 da = xi2 - xi, db = xj2 - xj;
   const real oa = dot(da, n), ob = dot(db, n);
-  const real force_a = oa > (real)0 ? ht * ((real)3 * pa + pb) : (real)0;
-  const real force_b = ob > (real)0 ? ht * (pa + (real)3 * pb) : (real)0;
+  const real force_a = gas_aperture_slope(oa, residual) * ht * ((real)3 * pa + pb);
+  const real force_b = gas_aperture_slope(ob, residual) * ht * (pa + (real)3 * pb);
   const real2 q = -(force_a * dot(da, t) + force_b * dot(db, t)) / length(chord) * n;
   fluid_slots[4 * e] = -force_a * n - q;      // i
   fluid_slots[4 * e + 1] = -force_b * n + q;  // j

@@ -48,6 +48,7 @@ struct EnergyTotals {
   // outside the account, which books its wall work as load work and what it gives the
   // cracks as injection work.
   double hole_pressure = 0, hole_volume = 0, hole_gas_mass = 0, hole_gas_energy = 0, gas_density = 0;
+  double fluid_substeps = 0;  // the flow's sub-steps in the last step (FluidFlow)
 
   double stored() const { return kinetic + strain + cohesive_stored + contact_stored + gravity_potential + fluid_stored; }
   double dissipated() const {

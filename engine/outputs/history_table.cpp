@@ -166,6 +166,8 @@ HistoryTable::HistoryTable(const Model& model, const std::vector<real2>& masses,
     }
     add("wellbore_pressure", "Pa", "fluid pressure at the source (mean over its vertices)",
         [](HistoryRow& r) { return r.snap.energy.wellbore_pressure; });
+    add("fluid_substeps", "1", "sub-steps of the flow in the last step (the plan's from fluid.max_aperture, or fewer when the network's rate allows)",
+        [](HistoryRow& r) { return r.snap.energy.fluid_substeps; });
     if (model.fluid.gas) {  // [fluid.gas]: the blast hole's gas, and the masses
       add("hole_pressure", "Pa", "pressure of the gas in the blast hole, p0 (rho/rho0)^gamma",
           [](HistoryRow& r) { return r.snap.energy.hole_pressure; });

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 
 #include <climits>
@@ -21,7 +22,7 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid seg_geom", ce4 * sizeof(real4))
       .add("fluid front", v * sizeof(real2))
       .add("fluid wet", v * sizeof(cl_uint))
-      .add("fluid wet_count", sizeof(cl_uint))
+      .add("fluid wet_count", 2 * sizeof(cl_uint))
       .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
@@ -78,7 +79,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, front_, std::vector<real2>(vertices_));
   upload(cl, back_, std::vector<real2>(vertices_));
   upload(cl, wet_, std::vector<cl_uint>(vertices_, 0));
-  upload(cl, wet_count_, std::vector<cl_uint>(1, 0));
+  upload(cl, wet_count_, std::vector<cl_uint>(2, 0));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
@@ -101,12 +102,25 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const real thickness = static_cast<real>(model.thickness), bulk = static_cast<real>(fluid_.bulk_modulus);
   const real dt_sub = static_cast<real>(dt / static_cast<double>(substeps_));
   const bool leak = fluid_.leak_off > 0;
+  // Sub-steps from the network's current rate (never more than the plan's): for a source
+  // constant in time (its value does not depend on where the sub-steps fall) or the gas's
+  // hole, and no leak-off (its exposure times are the sub-steps'). FDEM_FLUID_ADAPTIVE=0
+  // keeps the plan's count.
+  const char* adaptive_env = std::getenv("FDEM_FLUID_ADAPTIVE");
+  adaptive_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) &&
+              !(adaptive_env && std::string(adaptive_env) == "0");
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
                                              {"CAP_APERTURE", fluid_.cap_aperture ? "1" : "0"},
                                              {"GAS", fluid_.gas ? "1" : "0"},
-                                             {"FLUID_GROUP", std::to_string(kFluidGroup)}};
+                                             {"FLUID_GROUP", std::to_string(kFluidGroup)},
+                                             {"ADAPTIVE", adaptive_ ? "1" : "0"}};
+  {
+    char text[64];
+    std::snprintf(text, sizeof text, "((real)%.17g)", fluid_.stiffness());
+    defines["FLUID_MODULUS"] = text;
+  }
   if (fluid_.gas) {  // the gas's constants, every digit of the doubles
     char text[64];
     std::snprintf(text, sizeof text, "%.17g", fluid_.gas_pressure);
@@ -144,13 +158,19 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     b("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
         "seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("front", copy == 0 ? front_ : back_)("source", source_);
     source_value_[copy] = b.later("source_value", real(0));
-    b("bulk", bulk)("dt_sub", dt_sub);
+    b("bulk", bulk);
+    if (adaptive_) {
+      b("dt", real(dt))("safety", real(fluid_.safety))("planned", cl_uint(substeps_));
+      k_sub_[copy] = b.later("k_sub", cl_uint(0));
+    } else {
+      b("dt_sub", dt_sub);
+    }
     if (leak) {
       sub_time_[copy] = b.later("t_sub", real(0));
       b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
           "vertex_leak", vertex_leak_);
     }
-    if (fluid_.gas) b("gas_hole", gas_hole_);
+    if (fluid_.gas) b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()));
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
 
@@ -164,15 +184,23 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const std::string group_choice = group_env ? group_env : "";
   one_group_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) && group_choice != "0" &&
                (group_choice == "1" || vertices_ <= kFluidGroupUpTo);
+  // The gas always: its group follows the hole's gas from one sub-step to the next.
+  if (fluid_.gas) one_group_ = true;
   if (one_group_) {
     const double value = fluid_.gas ? 0.0 : fluid_source_value(fluid_.history, 0.0);
     group_kernel_ = compute::kernel(program, "fluid_substeps_group");
     KernelArgs b(group_kernel_);
-    b("n_sub", cl_uint(substeps_))("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)(
+    b("planned", cl_uint(substeps_))("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)(
         "vertex_end", vertex_end_)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)("front", front_)("source", source_)(
         "source_value", static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_))(
-        "bulk", bulk)("dt_sub", dt_sub);
-    if (fluid_.gas) b("gas_hole", gas_hole_);
+        "bulk", bulk);
+    if (adaptive_)
+      b("dt", real(dt))("safety", real(fluid_.safety));
+    else
+      b("dt_sub", dt_sub);
+    if (fluid_.gas)
+      b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_)(
+          "hole_gas0", real(fluid_.hole_volume));
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", back_).done();
   }
 
@@ -180,7 +208,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   KernelArgs g(forces_);
   g("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)(
        "seg_h", seg_h_)("vertex_state", vertex_state_);
-  if (fluid_.gas) g("vertex_rate", vertex_rate_);
+  if (fluid_.gas) g("vertex_rate", vertex_rate_)("residual", real(fluid_.residual_aperture));
   g("thickness", thickness)("fluid_slots", slots_).done();
 
   if (fluid_.gas) {
@@ -212,6 +240,7 @@ void FluidFlow::enqueue(double time, long step) {
     // A rate is per unit thickness, shared equally by the source's vertices.
     const int copy = static_cast<int>(k & 1);
     source_value_[copy].set(static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_));
+    if (adaptive_) k_sub_[copy].set(static_cast<cl_uint>(k));
     if (fluid_.leak_off > 0)  // the sub-step's start, for Carter's √(t - t_exposed)
       sub_time_[copy].set(static_cast<real>(time + dt_sub * static_cast<double>(k)));
     cl_.enqueue(substep_[copy], vertices_);
@@ -235,7 +264,24 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
   const compute::buffer states = vertex_state_, hole = gas_hole_;
   const bool gas = fluid_.gas;
   const double density = fluid_.gas_density;
-  return [state, energy, leak, wells, cl, states, hole, gas, density](EnergyTotals& e) {
+  const compute::buffer counts = wet_count_;
+  const bool adaptive = adaptive_;
+  const long planned = substeps_;
+  const double dt = dt_, safety = fluid_.safety;
+  return [state, energy, leak, wells, cl, states, hole, gas, density, counts, adaptive, planned, dt,
+          safety](EnergyTotals& e) {
+    e.fluid_substeps = static_cast<double>(planned);
+    if (adaptive) {  // substeps_now (fluid_flow.cl) on the last step's largest rate
+      const cl_uint bits = download<cl_uint>(*cl, counts, 2)[1];
+      float rate = 0;
+      std::memcpy(&rate, &bits, sizeof rate);
+      if (!(rate > 0)) {
+        e.fluid_substeps = 1;
+      } else {
+        const double n = std::ceil(dt * double(rate) / (0.5 * safety));
+        e.fluid_substeps = n >= double(planned) ? double(planned) : std::max(1.0, n);
+      }
+    }
     if (gas) {  // the hole's gas as the end of the last step left it
       const real4 h = download<real4>(*cl, hole, 1)[0];
       e.hole_pressure = double(h.x), e.hole_volume = double(h.y);

@@ -55,6 +55,7 @@ class FluidFlow {
   const FluidModel& network() const { return fluid_; }
   long substeps() const { return substeps_; }
   bool one_group() const { return one_group_; }  // the sub-steps in one work-group's launch
+  bool adaptive() const { return adaptive_; }     // as many sub-steps as the network's rate asks
 
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
@@ -78,6 +79,8 @@ class FluidFlow {
   // fluid_substeps_group: every sub-step of a step in one work-group of kFluidGroup items.
   static constexpr size_t kFluidGroup = 256, kFluidGroupUpTo = 16384;
   bool one_group_ = false;
+  bool adaptive_ = false;  // sub-steps from the network's rate (ADAPTIVE in fluid_flow.cl)
+  KernelArg<cl_uint> k_sub_[2];
   compute::kernel group_kernel_;
   compute::buffer gas_hole_, hole_polygon_, hole_sources_;
   compute::buffer seg_joined_;  // per CE4 (gas): 1 in the step it joined the network
