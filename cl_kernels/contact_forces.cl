@@ -274,7 +274,7 @@ inline bool excavated_triangle(const uint t, __global const int* excavation_of, 
 // Nor are two triangles that meet at a corner of a bonded fan whose CE4s are all intact:
 // the fan holds them (under compression their corners overlap by the CE4s' own
 // compliance, as the faces of an intact CE4 do).
-inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
+__attribute__((always_inline)) inline bool classify_couple(const uint c, __global const ulong* keys, const uint n_previous,
                             __global const ulong* previous_keys, __global const real* previous_history,
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,

@@ -22,7 +22,7 @@ std::string spelled(std::string_view name, Shape shape, bool top_level) {
 
 // Defined in dependency order: a table's schema after the schemas of its sub-tables.
 const Schema kMeshPerturbKeys{{{"amplitude"}, {"seed"}, {"min_quality"}}};
-const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}, {"refine"}, {"algorithm"},
+const Schema kMeshKeys{{{"geo"}, {"file"}, {"size"}, {"scale"}, {"thickness"}, {"refine"}, {"algorithm"}, {"order"},
                         {"perturb", Shape::Table, &kMeshPerturbKeys}}};
 const Schema kTimeKeys{{{"dt"}, {"safety"}, {"end"}, {"steps"}}};
 const Schema kOutputEventsKeys{{{"distance"}, {"window"}}};

@@ -57,6 +57,21 @@ struct EdgeOwner {
 
 std::pair<int, int> edge_key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
+// Position of cell (x, y) of a 65,536 × 65,536 grid along the Hilbert curve that fills it
+// (the classic rotate-and-flip walk, one quadrant per bit pair).
+uint64_t hilbert_index(uint32_t x, uint32_t y) {
+  uint64_t d = 0;
+  for (uint32_t s = 1u << 15; s > 0; s >>= 1) {
+    const uint32_t rx = (x & s) ? 1u : 0u, ry = (y & s) ? 1u : 0u;
+    d += uint64_t(s) * uint64_t(s) * ((3u * rx) ^ ry);
+    if (ry == 0) {
+      if (rx == 1) x = 65535u - x, y = 65535u - y;  // flips the lower bits, which are what is left to read
+      std::swap(x, y);
+    }
+  }
+  return d;
+}
+
 }  // namespace
 
 double mean_edge_length(const Model& model) {
@@ -807,24 +822,55 @@ Model build_model(const io::Mesh& source_mesh, const io::CaseConfig& config,
     notes.push_back(text);
   }
 
-  // Triangles grouped by material, stable within a material (keeps the mesher's locality).
+  // Triangles grouped by material; within a material, mesh.order = "hilbert" (the default)
+  // sorts them along a Hilbert curve through their centroids, "file" keeps the file's order.
+  // Why: every per-element stage reads its neighbours' nodes (a CE4 the nodes of its two
+  // triangles, the node gather the slots of the CE4s at a node), and gmsh's numbering puts
+  // neighbours thousands of triangles apart (the blasting mesh: median 4,250), so each such
+  // read missed the caches (docs/performance-notes.md, session 19).
+  std::vector<uint64_t> curve(mesh.triangles.size(), 0);
+  if (config.mesh.order == "hilbert" && !mesh.triangles.empty()) {
+    double lo_x = mesh.x[0], hi_x = mesh.x[0], lo_y = mesh.y[0], hi_y = mesh.y[0];
+    for (size_t n = 0; n < mesh.x.size(); ++n) {
+      lo_x = std::min(lo_x, mesh.x[n]), hi_x = std::max(hi_x, mesh.x[n]);
+      lo_y = std::min(lo_y, mesh.y[n]), hi_y = std::max(hi_y, mesh.y[n]);
+    }
+    const double span = std::max({hi_x - lo_x, hi_y - lo_y, std::numeric_limits<double>::min()});
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      const double cx = (mesh.x[tri[0]] + mesh.x[tri[1]] + mesh.x[tri[2]]) / 3, cy = (mesh.y[tri[0]] + mesh.y[tri[1]] + mesh.y[tri[2]]) / 3;
+      curve[t] = hilbert_index(static_cast<uint32_t>(std::clamp((cx - lo_x) / span, 0.0, 1.0) * 65535.0),
+                               static_cast<uint32_t>(std::clamp((cy - lo_y) / span, 0.0, 1.0) * 65535.0));
+    }
+  }
   std::vector<size_t> order(mesh.triangles.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return triangle_material[a] < triangle_material[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return triangle_material[a] != triangle_material[b] ? triangle_material[a] < triangle_material[b] : curve[a] < curve[b];
+  });
 
-  // Nodes used by triangles, renumbered in their original order.
+  // Nodes used by triangles, renumbered: "hilbert" in the order the sorted triangles first
+  // use them, "file" in the file's order.
   std::vector<int> new_index(mesh.x.size(), -1);
-  for (const auto& tri : mesh.triangles)
-    for (int n : tri) new_index[n] = 0;
+  std::vector<size_t> node_order;
+  if (config.mesh.order == "hilbert") {
+    std::vector<char> seen(mesh.x.size(), 0);
+    for (size_t k : order)
+      for (int n : mesh.triangles[k])
+        if (!seen[size_t(n)]) seen[size_t(n)] = 1, node_order.push_back(size_t(n));
+  } else {
+    for (const auto& tri : mesh.triangles)
+      for (int n : tri) new_index[n] = 0;
+    for (size_t n = 0; n < mesh.x.size(); ++n)
+      if (new_index[n] >= 0) node_order.push_back(n);
+  }
   size_t used = 0;
-  for (size_t n = 0; n < mesh.x.size(); ++n)
-    if (new_index[n] >= 0) {
-      new_index[n] = static_cast<int>(used++);
-      model.x.push_back(mesh.x[n] * scale);
-      model.y.push_back(mesh.y[n] * scale);
-      model.node_tags.push_back(mesh.node_tags[n]);
-    }
+  for (size_t n : node_order) {
+    new_index[n] = static_cast<int>(used++);
+    model.x.push_back(mesh.x[n] * scale);
+    model.y.push_back(mesh.y[n] * scale);
+    model.node_tags.push_back(mesh.node_tags[n]);
+  }
   if (used < mesh.x.size())
     notes.push_back(std::to_string(mesh.x.size() - used) + " mesh nodes belong to no triangle and were dropped");
 
