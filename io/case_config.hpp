@@ -20,7 +20,7 @@ struct MeshConfig {
   double thickness = 1.0;   // out-of-plane thickness [m]
   int refine = 0;           // times every triangle is split into four after reading (io::refine_mesh)
   std::string algorithm;    // gmsh's 2D algorithm for a .geo ("" = the .geo's own / gmsh's default)
-  std::string order = "file";  // triangle numbering: "file" (the mesh file's) or "hilbert" (along a Hilbert curve)
+  std::string order = "hilbert";  // triangle numbering: "hilbert" (along a Hilbert curve, the default) or "file" (the mesh file's)
   double perturb = 0.0;     // mesh.perturb.amplitude: random moves of fracturable interior nodes (io::perturb_mesh)
   long perturb_seed = 1;
   double perturb_min_quality = 0.5;

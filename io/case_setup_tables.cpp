@@ -64,7 +64,7 @@ MeshConfig read_mesh(const TableReader& r, const std::string& case_dir) {
                                                     {"delaunay", "delaunay"},
                                                     {"meshadapt", "meshadapt"}})
                     .value_or("");
-  m.order = r.choice<std::string>("order", {{"hilbert", "hilbert"}, {"file", "file"}}).value_or("file");
+  m.order = r.choice<std::string>("order", {{"hilbert", "hilbert"}, {"file", "file"}}).value_or("hilbert");
   if (const toml::table* t = subtable(r, "perturb")) {
     const TableReader perturb = subtable_reader(r, *t, "perturb");
     perturb.check_keys(kMeshPerturbKeys);

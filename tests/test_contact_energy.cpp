@@ -170,7 +170,16 @@ TEST_CASE("undamped sliding block: stops within 2% of v²/(2μg), and its energy
   CHECK(worst < 0.01 * initial);
   CHECK(rows.back().kinetic < 0.01 * initial);            // it has stopped
   CHECK(rows.back().friction > 0.95 * initial);           // friction took the energy, not numerics
-  for (size_t k = 1; k < rows.size(); ++k) CHECK(rows[k].friction >= rows[k - 1].friction - 1e-9 * initial);
+  double drop = 0;
+  size_t drop_at = 0;
+  for (size_t k = 1; k < rows.size(); ++k)
+    if (rows[k - 1].friction - rows[k].friction > drop) drop = rows[k - 1].friction - rows[k].friction, drop_at = k;
+  MESSAGE("largest drop of the friction account " << drop << " J at " << rows[drop_at]);
+  // The account may step back by round-off: a couple that lets go books its last half
+  // step's trapezoid work, which can be negative while the stopped block rocks. Measured:
+  // no drop with the mesh file's numbering, 1.0e-8 J (4.4e-9 × initial) with the Hilbert
+  // numbering (mesh.order), whose couples pair the triangles the other way round.
+  for (size_t k = 1; k < rows.size(); ++k) CHECK(rows[k].friction >= rows[k - 1].friction - 1e-8 * initial);
   CHECK(rows.back().damping == 0);
 }
 
