@@ -368,7 +368,13 @@ inline void substep_vertex(const uint v,
     vertex_leak[v] = l;
   }
 #endif
+#if GAS
+  // fill_cap < 0: the wall vertices are filled after the sub-step's fluxes, together with
+  // the hole (fluid_substeps_group), not here.
+  if (source[v] && s.y > (real)0 && fill_cap >= (real)0) {
+#else
   if (source[v] && s.y > (real)0) {
+#endif
 #if GAS
     // Held at the hole's pressure p_h: filled (or emptied back into the hole) to
     // V (p_h/p0)^(1/γ), the gas moving at H(p_h).
@@ -510,7 +516,7 @@ void fluid_substeps_group(const uint planned,
   // intake in source order, the hole's volume of the step's start: the geometry does not
   // move during the sub-steps), so that a hole that empties fast is not drawn on at the
   // pressure of the step's start; each wall vertex takes at most its share of what is left.
-  __local real hole_local[2];  // (p, V₀ left)
+  __local real hole_local[3];  // (r, V₀ left, H_eff) of the last sub-step's fill
   if (get_local_id(0) == 0) hole_local[0] = gas_hole[0].x, hole_local[1] = gas_hole[0].z;
   barrier(CLK_LOCAL_MEM_FENCE);
 #endif
@@ -524,7 +530,7 @@ void fluid_substeps_group(const uint planned,
     __global real2* from = (k & 1u) ? back : front;
     __global real2* to = (k & 1u) ? front : back;
 #if GAS
-    const real p_hole = hole_local[0], fill_cap = fmax(hole_local[1], (real)0) / (real)n_source;
+    const real p_hole = (real)0, fill_cap = (real)-1;  // the wall is filled below, with the hole
 #endif
     for (uint i = get_local_id(0); i < n; i += FLUID_GROUP)
       substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, from, source, source_value, bulk, dt_sub
@@ -533,15 +539,50 @@ void fluid_substeps_group(const uint planned,
 #endif
                      , vertex_state, vertex_energy, to);
 #if GAS
+    // The hole and its wall vertices, after the sub-step's fluxes, come to their common
+    // pressure: the gas of the hole and of the wall vertices spread over their joint room
+    // (ratio r of V₀ to volume). Filling the wall vertices to the hole's pressure of the
+    // sub-step's start instead was unstable once the wall's rooms (the cracks opened at
+    // the wall) held as much as the hole: what they took dropped the hole's pressure below
+    // theirs (p ∝ ρ^γ) and the next sub-step gave it back, booking injection work and
+    // dissipation a hundred times the gas's energy (cases/blasting/README.md). The hole
+    // gives its energy drop U(L) - U(L') (volume of the step's start, isentropic), booked
+    // at the wall vertices as injection in proportion to what each takes (H_eff per unit
+    // V₀; a vertex that gives back is charged at the same rate).
     barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
     if (get_local_id(0) == 0) {
-      real taken = 0;
-      for (uint j = 0; j < n_source; ++j) taken += vertex_energy[source_vertices[j]].z;
-      const real left = hole_gas0 - taken;
-      hole_local[0] = gas_pressure(left, gas_hole[0].y);
-      hole_local[1] = left;
+      const real v_hole = gas_hole[0].y, left = hole_local[1];
+      real gas = fmax(left, (real)0), room = v_hole;
+      for (uint j = 0; j < n_source; ++j) {
+        const real4 st = vertex_state[source_vertices[j]];
+        if (st.y > (real)0) gas += st.x, room += st.y;
+      }
+      const real r = gas / room, left_after = v_hole * r, given = left - left_after;
+      const real drop = gas_energy(left, v_hole) - gas_energy(left_after, v_hole);
+      hole_local[0] = r;
+      hole_local[1] = left_after;
+      hole_local[2] = given != (real)0 ? drop / given : gas_enthalpy(gas_pressure(left_after, v_hole));
     }
     barrier(CLK_LOCAL_MEM_FENCE);
+    const real r = hole_local[0], h_eff = hole_local[2];
+    for (uint j = get_local_id(0); j < n_source; j += FLUID_GROUP) {
+      const uint w = source_vertices[j];
+      real4 st = vertex_state[w];
+      if (!(st.y > (real)0)) continue;
+      const real added = st.y * r - st.x;
+      real4 en = vertex_energy[w];
+      const real u_flowed = st.w;
+      st.x += added;
+      st.z = gas_pressure(st.x, st.y);
+      st.w = gas_energy(st.x, st.y);
+      en.x += h_eff * added;
+      en.z += added;
+      en.w += h_eff * added - (st.w - u_flowed);  // the mixing's loss (throttling)
+      vertex_energy[w] = en;
+      vertex_state[w] = st;
+      to[w] = (real2)(st.x, st.z);
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE);
 #else
     barrier(CLK_GLOBAL_MEM_FENCE);
 #endif
