@@ -5,9 +5,13 @@
 
 REGIME is "toughness" (K-vertex) or "viscosity" (M-vertex); OUT the run's output folder
 (out/kgd_toughness, out/kgd_viscosity). From the frames: the half-length ℓ (the mean of
-the two wings' tips: the far end of the farthest broken CE4 on the line y = 0; l_zone, the
-end of the softening zone ahead of it, where the faces close, is printed beside it but not
-checked) and the opening at the well (DISPLY above less below at the origin's copies); from the history:
+the two wings' tips). The tip is where the crack's faces meet: the far end of the
+softening zone (the farthest CE4 on the line y = 0 past its peak, damage > 0), Hillerborg's
+fictitious crack tip. The vertex solutions' crack opens to a point tip; a cohesive crack is
+open, and filled, through its softening zone, and its broken CE4s end where the faces are
+still the critical opening apart (0.39 mm in the K case), so the broken tip is printed
+beside ℓ but not checked. And the opening at the well (DISPLY above less below at the
+origin's copies); from the history:
 the well's net pressure (less the confining stress σ0 of the case), the injected volume, the
 network's and the leaked volume. Prints one row per frame where the crack spans at least
 20 edges per wing and exits 1 when a figure is more than 10% off its vertex or the volumes
@@ -77,7 +81,7 @@ def measure(out, sigma0):
         right = xs.max() + EDGE / 2 if np.any(xs > 0) else 0.0
         left = -xs.min() + EDGE / 2 if np.any(xs < 0) else 0.0
         # The end of the softening zone ahead of the broken tips (CE4s past their peak,
-        # damage > 0), where the faces close: informative, not checked.
+        # damage > 0), where the faces close: the crack's tip (the docstring says why).
         zone = 0.5 * (left + right)
         if damage is not None:
             xd = mid_x[on_line][damage[k][on_line] > 0]
@@ -116,19 +120,19 @@ def main():
     rows = measure(a.out, c["sigma0"])
     print(f"{a.regime}: K_m = {dimensionless_toughness(c):.3f}")
     print(f"{'t [s]':>8} {'l [m]':>8} {'vertex':>8} {'err':>7} {'w0 [mm]':>8} {'vertex':>8} {'err':>7} "
-          f"{'p0 [MPa]':>9} {'vertex':>8} {'err':>7} {'balance':>9} {'l_zone':>7} {'err':>7}")
+          f"{'p0 [MPa]':>9} {'vertex':>8} {'err':>7} {'balance':>9} {'broken':>7} {'err':>7}")
     worst = 0.0
     checked = 0
     for r in rows:
         if r["t"] <= 0:
             continue
         vl, vw, vp = vertex(a.regime, c, r["t"])
-        errs = (r["length"] / vl - 1, r["opening"] / vw - 1, r["pressure"] / vp - 1)
+        errs = (r["zone"] / vl - 1, r["opening"] / vw - 1, r["pressure"] / vp - 1)
         balance = (r["network"] + r["leaked"]) / r["injected"] - 1 if r["injected"] > 0 else 0.0
-        spans = r["length"] >= 20 * EDGE
-        print(f"{r['t']:8.4f} {r['length']:8.3f} {vl:8.3f} {100 * errs[0]:6.1f}% {1e3 * r['opening']:8.4f} "
+        spans = r["zone"] >= 20 * EDGE
+        print(f"{r['t']:8.4f} {r['zone']:8.3f} {vl:8.3f} {100 * errs[0]:6.1f}% {1e3 * r['opening']:8.4f} "
               f"{1e3 * vw:8.4f} {100 * errs[1]:6.1f}% {r['pressure'] / 1e6:9.3f} {vp / 1e6:8.3f} {100 * errs[2]:6.1f}% "
-              f"{balance:9.1e} {r['zone']:7.3f} {100 * (r['zone'] / vl - 1):6.1f}%{'' if spans else '  (< 20 edges)'}")
+              f"{balance:9.1e} {r['length']:7.3f} {100 * (r['length'] / vl - 1):6.1f}%{'' if spans else '  (< 20 edges)'}")
         if spans:
             checked += 1
             worst = max(worst, *(abs(e) for e in errs))
@@ -142,14 +146,14 @@ def main():
         tv = np.linspace(t[0], t[-1], 200)
         ref = np.array([vertex(a.regime, c, s) for s in tv])
         fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-        for ax, key, col, scale, label in ((axes[0], "length", 0, 1, "half-length ℓ [m]"),
+        for ax, key, col, scale, label in ((axes[0], "zone", 0, 1, "half-length ℓ [m]"),
                                            (axes[1], "opening", 1, 1e3, "opening at the well w₀ [mm]"),
                                            (axes[2], "pressure", 2, 1e-6, "net pressure at the well p₀ [MPa]")):
             ax.plot(tv, scale * ref[:, col], "k-", label=("K" if a.regime == "toughness" else "M") + "-vertex")
             ax.plot(t, [scale * r[key] for r in rows if r["t"] > 0], "o", ms=4,
-                    label="fdem-cl (broken tip)" if key == "length" else "fdem-cl")
-            if key == "length":
-                ax.plot(t, [r["zone"] for r in rows if r["t"] > 0], "x", ms=5, label="end of the softening zone")
+                    label="fdem-cl (end of the softening zone)" if key == "zone" else "fdem-cl")
+            if key == "zone":
+                ax.plot(t, [r["length"] for r in rows if r["t"] > 0], "x", ms=5, label="broken tip (not checked)")
             ax.set_xlabel("t [s]")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
