@@ -176,14 +176,18 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 
   // All sub-steps in one launch of one work-group when the source's value is the same in
   // every sub-step (a constant rate or pressure, or the gas's hole), no leak-off (its
-  // exposure times are per sub-step) and a network of at most kFluidGroupUpTo vertices
-  // (one work-group is one compute unit, one core on PoCL: a large wet network would
-  // wait on it). The same bits as the launches (tests/test_fluid.cpp); FDEM_FLUID_GROUP=0
-  // keeps the launches, =1 takes the group whatever the network's size.
+  // exposure times are per sub-step) and, on a CPU device, a network of at most
+  // kFluidGroupUpTo vertices (one work-group is one core there: a large wet network would
+  // wait on it). On a GPU whatever the network's size: the group visits only the wet
+  // vertices, while each launch of the other path costs some 4 µs and covers the whole
+  // network (the kgd:2 bench row, 37,409 vertices, 88 sub-steps: +983% with launches on
+  // an H100, docs/performance-notes.md "Session 21"). The same bits as the launches
+  // (tests/test_fluid.cpp); FDEM_FLUID_GROUP=0 keeps the launches, =1 takes the group
+  // whatever the device and the network's size.
   const char* group_env = std::getenv("FDEM_FLUID_GROUP");
   const std::string group_choice = group_env ? group_env : "";
   one_group_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) && group_choice != "0" &&
-               (group_choice == "1" || vertices_ <= kFluidGroupUpTo);
+               (group_choice == "1" || cl.info().is_gpu || vertices_ <= kFluidGroupUpTo);
   // The gas always: its group follows the hole's gas from one sub-step to the next.
   if (fluid_.gas) one_group_ = true;
   if (one_group_) {
