@@ -120,13 +120,11 @@ __kernel void fluid_segments(const uint n_ce4,
 #else
   const bool carries = status[e].x >= 1;
 #endif
-  if (!carries) {
-    seg_geom[e] = (real4)(0, 0, 0, 0);
-#if GAS
-    seg_joined[e] = 0;
-#endif
-    return;
-  }
+  // A CE4 that does not carry now never has (carrying is irreversible: a closed or released
+  // CE4 stays so, D_max only grows), so its seg_geom (and seg_joined) still hold the zeros
+  // FluidFlow made them with or a checkpoint restored: nothing to write. Most CE4s of a
+  // model are such, and the stage's cost on a GPU is these passes over every CE4.
+  if (!carries) return;
 #if GAS
   seg_joined[e] = seg_geom[e].z == (real)0;  // carries from this step on (its conductance is > 0 once it does)
 #endif
@@ -636,11 +634,9 @@ __kernel void fluid_forces(const uint n_ce4,
                            __global real2* restrict fluid_slots) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
-  if (seg_geom[e].z == (real)0) {
-    const real2 zero = (real2)(0, 0);
-    fluid_slots[4 * e] = zero, fluid_slots[4 * e + 1] = zero, fluid_slots[4 * e + 2] = zero, fluid_slots[4 * e + 3] = zero;
-    return;
-  }
+  // A segment that has never carried (its mean aperture w is at least w_r > 0 once it
+  // does): its four slots still hold the zeros FluidFlow made them with.
+  if (seg_geom[e].w == (real)0) return;
   const uint4 nd = ce4_nodes[e];
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
   const real2 chord = (xj - xi) + (xj2 - xi2);
