@@ -12,14 +12,16 @@
 //                   cubic-law conductance w_m³ t / (12 μ h) with w_m = (w_a + w_b) / 2; a
 //                   segment wider than w_max flags itself (the stable step assumed it).
 //   fluid_vertices  one work-item per vertex: its volume V (the halves at it, CSR order),
-//                   the work of the pressure on the faces ½ (p + p') (V' - V), new p;
+//                   the work of the pressure on the faces p_mid (V' - V), new p, and
+//                   V' - V into vertex_rate (the next step's mid-step prediction);
 //                   (V₀, p) also into the `front` copy the sub-steps' neighbours read.
 //   n_sub × fluid_substep per vertex: V₀ += Δt_s Σ q (CSR order), q = c (p_a - p_b)
 //                   from the front copy, the energy that took out of the vertex (the
 //                   viscous dissipation), then the source; (V₀, p) into the `back` copy
 //                   (the two copies swap each sub-step). (LEAK_OFF: a segment's exposure
 //                   time is stamped, Carter's leak-off taken out of V₀ before the source)
-//   fluid_forces    one work-item per CE4: the pressures on the two faces into four slots
+//   fluid_forces    one work-item per CE4: the pressures at the ends' mid-step rooms
+//                   (mid_step_volume) on the two faces into four slots
 //                   (i, j, j', i'), the same slots the CE4 stage has, which the node
 //                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl).
 // The fluid at a vertex is V₀, its volume at zero pressure; the state law is
@@ -30,8 +32,9 @@
 // fluxes took out of the vertices). The injection work is ∫ H dV₀, the source's V₀ times
 // H at the pressure it enters at (a held pressure: that pressure): ∫ p Q dt while p << K_f
 // (H = p (1 - p/2K_f + ...); with p = 0.3 K_f the difference was 13%, in a test). The
-// faces' work is Σ p ΔV with the pressure their forces had over the step; lumped
-// half-volumes and the forces of the same halves make it the forces' work to first order.
+// faces' work is Σ p ΔV with the pressure their forces had over the step (the mid-step
+// prediction's); lumped half-volumes and the forces of the same halves make it the
+// forces' work to first order.
 // No floating-point atomics: every sum is over a CSR list in fixed order.
 //
 // GAS ([fluid.gas]): the fluid is a polytropic gas, p = p0 (V₀/V)^γ with V₀ its volume at
@@ -39,9 +42,10 @@
 // U = p V / (γ - 1) (∂U/∂V = -p at fixed V₀: an isentropic gas), and fluid entering at p
 // brings H = γ/(γ - 1) p0 (p/p0)^((γ-1)/γ) per unit V₀. The source is the blast hole:
 // gas_hole_state (one work-item, after the sub-steps) sets the hole's (p, V, V₀, U) from
-// the gas the wall vertices have not taken and the wall polygon's area; the next step's
-// sub-steps hold the wall vertices at that p, and its LOAD_GAS edges (boundary_loads.cl)
-// push the wall with it.
+// the gas the wall vertices have not taken and the wall polygon's area; in the next
+// step's sub-steps (fluid_substeps_group) the hole and its wall vertices come to a common
+// pressure after each sub-step's fluxes, and its LOAD_GAS edges (boundary_loads.cl) push
+// the wall with the hole's p.
 // CAP_APERTURE (fluid.aperture_limit = "cap"): the conductance uses min(w_m, w_max) and a
 // wider segment does not stop the run (the stable step holds; the volume is the true one).
 
@@ -49,6 +53,25 @@ inline real fluid_excess(const real v0, const real v) { return v > (real)0 ? fma
 inline real fluid_stored(const real bulk, const real v, const real d) {
   return bulk * v * (((real)1 + d) * log1p(d) - d);
 }
+// The room predicted for the middle of the step, V + ½ ΔV_last (vertex_rate: the last
+// step's change), bounded to ±V/4: the faces' forces and their booked work take the
+// pressure at it, so the fluid–solid staggering is second order in the step (with the
+// step-start pressure the liquid's faces lagged a step: the KGD start's energy error
+// grew with Δt). The bound: a room that closed fast in the last step would otherwise be
+// extrapolated to nothing and its fluid to any pressure (a blast's closing cracks did,
+// and the run blew up).
+inline real mid_step_volume(const real v, const real rate) {
+  return v + clamp((real)0.5 * rate, (real)-0.25 * v, (real)0.25 * v);
+}
+#if !GAS
+// The liquid's pressure on the faces over the step: at the mid-step room, or the state's
+// own p where no change is predicted (rate 0: a held-pressure source vertex, refilled to
+// its p in every sub-step whatever its room, so its p is the held one all step, and the
+// account closes exactly with it: p_s ΔV = H(p_s) ΔV₀ - ΔU).
+inline real liquid_face_pressure(const real4 s, const real rate) {
+  return rate == (real)0 ? s.z : (real)FLUID_MODULUS * fluid_excess(s.x, mid_step_volume(s.y, rate));
+}
+#endif
 #if GAS
 // The law stops at p0: gas denser than ρ0 (V₀ > V) holds p0 (a plateau; the products
 // are never squeezed above their initial pressure: a blast's crack closing on its gas
@@ -74,12 +97,6 @@ inline real gas_energy(const real v0, const real v) {
   if (!(v > (real)0 && v0 > (real)0)) return (real)0;
   if (v0 >= v) return (real)GAS_P0 * (v0 / ((real)GAS_GAMMA - (real)1) + (v0 - v));
   return gas_pressure(v0, v) * v / ((real)GAS_GAMMA - (real)1);
-}
-// The room predicted for the middle of the step, V + ½ ΔV_last, the change bounded to
-// ±V/4: a room that closed fast in the last step would otherwise be extrapolated to
-// nothing and its gas to any pressure (a blast's closing cracks did, and the run blew up).
-inline real mid_step_volume(const real v, const real rate) {
-  return v + clamp((real)0.5 * rate, (real)-0.25 * v, (real)0.25 * v);
 }
 inline real gas_enthalpy(const real p) {
   return (real)GAS_GAMMA / ((real)GAS_GAMMA - (real)1) * (real)GAS_P0 *
@@ -170,8 +187,8 @@ __kernel void fluid_vertices(const uint n_vertices,
 #endif
 #if GAS
                              __global const uchar* restrict seg_joined,
-                             __global real* restrict vertex_rate,
 #endif
+                             __global real* restrict vertex_rate,
                              __global real4* restrict vertex_state,
                              __global real4* restrict vertex_energy,
                              __global real2* restrict front,
@@ -237,9 +254,14 @@ __kernel void fluid_vertices(const uint n_vertices,
   const real p = bulk * d;
   if (volume != s.y) {
     real4 en = vertex_energy[v];
-    en.y += s.z * (volume - s.y);  // the pressure the faces' forces had over the last step
+    en.y += liquid_face_pressure(s, vertex_rate[v]) * (volume - s.y);  // the forces' (mid-step) pressure
     vertex_energy[v] = en;
   }
+#if PRESSURE_SOURCE
+  vertex_rate[v] = source[v] ? (real)0 : volume - s.y;
+#else
+  vertex_rate[v] = volume - s.y;
+#endif
 #endif
 #if GAS
   vertex_state[v] = (real4)(s.x, volume, p, gas_energy(s.x, volume));
@@ -281,10 +303,6 @@ inline void substep_vertex(const uint v,
                             __global const real* restrict seg_h,
                             __global real* restrict seg_exposed,
                             __global real2* restrict vertex_leak,
-#endif
-#if GAS
-                            const real p_hole,
-                            const real fill_cap,
 #endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
@@ -366,22 +384,11 @@ inline void substep_vertex(const uint v,
     vertex_leak[v] = l;
   }
 #endif
-#if GAS
-  // fill_cap < 0: the wall vertices are filled after the sub-step's fluxes, together with
-  // the hole (fluid_substeps_group), not here.
-  if (source[v] && s.y > (real)0 && fill_cap >= (real)0) {
-#else
+#if !GAS
+  // (The gas's wall vertices are filled after the sub-step's fluxes, together with the
+  // hole, in fluid_substeps_group.)
   if (source[v] && s.y > (real)0) {
-#endif
-#if GAS
-    // Held at the hole's pressure p_h: filled (or emptied back into the hole) to
-    // V (p_h/p0)^(1/γ), the gas moving at H(p_h).
-    // A wall vertex takes at most fill_cap, its equal share of the gas the hole holds at
-    // the sub-step's start: together they never take more than the hole has (the hole's
-    // pressure is held over the sub-step while they fill).
-    const real added = fmin(s.y * pow(p_hole / (real)GAS_P0, (real)1 / (real)GAS_GAMMA) - s.x, fill_cap);
-    const real h_work = gas_enthalpy(p_hole);
-#elif PRESSURE_SOURCE
+#if PRESSURE_SOURCE
     // Held at p_s: the source fills the vertex to V (1 + p_s / K_f) and works at p_s.
     const real added = s.y * ((real)1 + source_value / bulk) - s.x;
     const real h_work = bulk * log1p(source_value / bulk);
@@ -392,13 +399,8 @@ inline void substep_vertex(const uint v,
     s.x += added;
     en.x += h_work * added;
     en.z += added;
-#if GAS
-    // The gas that rushes in (or back into the hole) expands irreversibly: the energy it
-    // brought, H(p_h) per unit V₀, less what the vertex now holds more is lost (throttling;
-    // the isentropic law has no heat to keep it), booked with the flow's dissipation.
-    en.w += h_work * added - (gas_energy(s.x, s.y) - u_flowed);
-#endif
   }
+#endif
   vertex_energy[v] = en;
 #if GAS
   s.z = gas_pressure(s.x, s.y);
@@ -421,8 +423,9 @@ inline void substep_vertex(const uint v,
 // one vertex is exactly what enters the other; one launch a sub-step instead of a flux and
 // a balance launch (the fluid's cost is mostly launches: issue 32's fluid row).
 // source: per vertex 1 where the fluid enters. With PRESSURE_SOURCE the source vertices
-// are held at `source_value` [Pa] (GAS: at the hole's pressure gas_hole.x); else each
-// takes source_value [m³/s] of V₀.
+// are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀. (Not built
+// for the gas: it always takes fluid_substeps_group, which follows the hole's gas.)
+#if !GAS
 __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global const uint* restrict wet,
                             __global const uint* restrict vertex_start,
@@ -449,10 +452,6 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global real* restrict seg_exposed,
                             __global real2* restrict vertex_leak,
 #endif
-#if GAS
-                            __global const real4* restrict gas_hole,
-                            const uint n_source,
-#endif
                             __global real4* restrict vertex_state,
                             __global real4* restrict vertex_energy,
                             __global real2* restrict back) {
@@ -468,11 +467,9 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
 #if LEAK_OFF
                  , t_sub, leak_off, thickness, seg_h, seg_exposed, vertex_leak
 #endif
-#if GAS
-                 , gas_hole[0].x, fmax(gas_hole[0].z, (real)0) / (real)n_source
-#endif
                  , vertex_state, vertex_energy, back);
 }
+#endif
 
 #if !LEAK_OFF
 // All sub-steps of a step in one launch of one work-group of FLUID_GROUP work-items
@@ -503,7 +500,6 @@ void fluid_substeps_group(const uint planned,
                           __global const real4* restrict gas_hole,
                           const uint n_source,
                           __global const uint* restrict source_vertices,
-                          const real hole_gas0,
 #endif
                           __global real4* restrict vertex_state,
                           __global real4* restrict vertex_energy,
@@ -527,15 +523,9 @@ void fluid_substeps_group(const uint planned,
   for (uint k = 0; k < n_sub; ++k) {
     __global real2* from = (k & 1u) ? back : front;
     __global real2* to = (k & 1u) ? front : back;
-#if GAS
-    const real p_hole = (real)0, fill_cap = (real)-1;  // the wall is filled below, with the hole
-#endif
     for (uint i = get_local_id(0); i < n; i += FLUID_GROUP)
-      substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, from, source, source_value, bulk, dt_sub
-#if GAS
-                     , p_hole, fill_cap
-#endif
-                     , vertex_state, vertex_energy, to);
+      substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, from, source, source_value, bulk, dt_sub,
+                     vertex_state, vertex_energy, to);
 #if GAS
     // The hole and its wall vertices, after the sub-step's fluxes, come to their common
     // pressure: the gas of the hole and of the wall vertices spread over their joint room
@@ -626,8 +616,8 @@ __kernel void fluid_forces(const uint n_ce4,
                            __global const real4* restrict seg_geom,
                            __global const real* restrict seg_h,
                            __global const real4* restrict vertex_state,
-#if GAS
                            __global const real* restrict vertex_rate,
+#if GAS
                            const real residual,
 #endif
                            const real thickness,
@@ -652,7 +642,8 @@ __kernel void fluid_forces(const uint n_ce4,
   const real pa = gas_pressure(sa.x, mid_step_volume(sa.y, vertex_rate[ab.x]));
   const real pb = gas_pressure(sb.x, mid_step_volume(sb.y, vertex_rate[ab.y]));
 #else
-  const real pa = vertex_state[ab.x].z, pb = vertex_state[ab.y].z;
+  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
+  const real pa = liquid_face_pressure(sa, vertex_rate[ab.x]), pb = liquid_face_pressure(sb, vertex_rate[ab.y]);
 #endif
   const real ht = seg_h[e] * thickness / (real)8;
 #if GAS

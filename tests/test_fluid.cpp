@@ -1,6 +1,7 @@
 // [fluid]: the flow network on the cracks (engine/stages/fluid_flow.*, cl_kernels/fluid_flow.cl).
 // Sneddon's pressurised crack on a coarse mesh, the mass balance of a rate source, the
 // energy account, determinism and the refusal of bad keys.
+#include <algorithm>
 #include <doctest/doctest.h>
 
 #include <array>
@@ -85,12 +86,21 @@ struct FluidReference {
   const Model& m;
   const FluidModel& f;
   std::vector<std::array<double, 4>> state, energy;  // per vertex, as vertex_state / vertex_energy
+  std::vector<double> rate;                           // per vertex: V's change over the last step
   std::vector<double> exposed;                        // per CE4
   std::vector<std::array<double, 2>> slots;           // 4 per CE4
   explicit FluidReference(const Model& model)
       : m(model), f(model.fluid), state(f.vertices, {0, 0, 0, 0}), energy(f.vertices, {0, 0, 0, 0}),
-        exposed(model.ce4.size(), -1.0), slots(4 * model.ce4.size(), {0, 0}) {}
+        rate(f.vertices, 0.0), exposed(model.ce4.size(), -1.0), slots(4 * model.ce4.size(), {0, 0}) {}
   static double excess(double v0, double v) { return v > 0 ? std::max(v0 / v - 1, 0.0) : 0.0; }
+  // The pressure the faces' forces take: at the room predicted for mid-step, V + ½ ΔV_last
+  // with the change bounded to ±V/4; the state's p where no change is predicted (a vertex
+  // held at the source's pressure).
+  double mid_step_pressure(size_t v) const {
+    if (rate[v] == 0) return state[v][2];
+    const double room = state[v][1] + std::clamp(0.5 * rate[v], -0.25 * state[v][1], 0.25 * state[v][1]);
+    return f.bulk_modulus * excess(state[v][0], room);
+  }
   double stored(double v, double d) const { return f.bulk_modulus * v * ((1 + d) * std::log1p(d) - d); }
 
   void step(double time, double dt, long substeps, const std::vector<real2>& x, const std::vector<int>& carries) {
@@ -111,6 +121,8 @@ struct FluidReference {
       geom[e] = {h * th * (3 * wa + wb) / 8, h * th * (wa + 3 * wb) / 8, wm * wm * wm * th / (12 * f.viscosity * h), wm};
       normal[e] = {nx, ny};
     }
+    std::vector<char> source(f.vertices, 0), held(f.vertices, 0);
+    for (uint32_t v : f.source_vertices) source[v] = 1, held[v] = f.pressure_source;
     for (size_t v = 0; v < f.vertices; ++v) {
       double volume = 0;
       for (uint32_t k = f.vertex_start[v]; k < f.vertex_start[v + 1]; ++k) {
@@ -119,11 +131,10 @@ struct FluidReference {
       }
       auto& s = state[v];
       const double d = excess(s[0], volume);
-      if (volume != s[1]) energy[v][1] += s[2] * (volume - s[1]);
+      if (volume != s[1]) energy[v][1] += mid_step_pressure(v) * (volume - s[1]);
+      rate[v] = held[v] ? 0.0 : volume - s[1];
       s = {s[0], volume, K * d, stored(volume, d)};
     }
-    std::vector<char> source(f.vertices, 0);
-    for (uint32_t v : f.source_vertices) source[v] = 1;
     const double dt_sub = dt / double(substeps), share = 1.0 / double(f.source_vertices.size());
     for (long k = 0; k < substeps; ++k) {
       const double t_sub = time + dt_sub * double(k);
@@ -169,7 +180,7 @@ struct FluidReference {
     for (size_t e = 0; e < n_ce4; ++e) {
       for (int c = 0; c < 4; ++c) slots[4 * e + c] = {0, 0};
       if (geom[e][2] == 0) continue;
-      const double pa = state[f.segment_vertex[2 * e]][2], pb = state[f.segment_vertex[2 * e + 1]][2];
+      const double pa = mid_step_pressure(f.segment_vertex[2 * e]), pb = mid_step_pressure(f.segment_vertex[2 * e + 1]);
       const double ht = f.segment_length[e] * th / 8;
       const double fa = ht * (3 * pa + pb), fb = ht * (pa + 3 * pb);
       const double nx = normal[e][0], ny = normal[e][1];

@@ -31,7 +31,7 @@ import fdem  # noqa: E402
 YOUNG, POISSON, EDGE = 10e9, 0.25, 0.05
 E_PRIME = YOUNG / (1 - POISSON ** 2)
 CASES = {
-    "toughness": dict(q0=0.0874, mu=6.68e-5, k_ic=4e6, sigma0=0.0),
+    "toughness": dict(q0=0.0874, mu=6.68e-6, k_ic=4e6, sigma0=0.0),
     "viscosity": dict(q0=0.338, mu=0.1, k_ic=5e5, sigma0=20e6),
 }
 

@@ -35,7 +35,7 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid vertex_leak", v * sizeof(real2))
       .add("fluid gas_hole", sizeof(real4))
       .add("fluid seg_joined", (model.fluid.gas ? ce4 : 1) * sizeof(cl_uchar))
-      .add("fluid vertex_rate", (model.fluid.gas ? v : 1) * sizeof(real))
+      .add("fluid vertex_rate", v * sizeof(real))
       .add("fluid hole_polygon", std::max<size_t>(model.fluid.hole_polygon.size(), 1) * sizeof(cl_uint))
       .add("fluid hole_sources", std::max<size_t>(model.fluid.gas ? model.fluid.source_vertices.size() : 0, 1) * sizeof(cl_uint));
 }
@@ -67,7 +67,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   seg_joined_ = make("fluid seg_joined");
   upload(cl, seg_joined_, std::vector<cl_uchar>(fluid_.gas ? ce4_ : 1, 0));
   vertex_rate_ = make("fluid vertex_rate");
-  upload(cl, vertex_rate_, std::vector<real>(fluid_.gas ? vertices_ : 1, 0));
+  upload(cl, vertex_rate_, std::vector<real>(vertices_, 0));
   gas_hole_ = make("fluid gas_hole"), hole_polygon_ = make("fluid hole_polygon"), hole_sources_ = make("fluid hole_sources");
 
   std::vector<cl_uint4> nodes;
@@ -146,13 +146,15 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   v("n_vertices", cl_uint(vertices_))("vertex_start", vertex_start_)("vertex_end", vertex_end_)("seg_geom", seg_geom_)(
        "bulk", bulk)("source", source_);
   if (leak) v("seg_exposed", seg_exposed_);
-  if (fluid_.gas) v("seg_joined", seg_joined_)("vertex_rate", vertex_rate_);
+  if (fluid_.gas) v("seg_joined", seg_joined_);
+  v("vertex_rate", vertex_rate_);
   v("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)("wet_count", wet_count_)("wet", wet_)
       .done();
 
   // Two copies of one sub-step kernel: the first reads the neighbours from front_ and
   // writes back_, the second the other way, so the sub-steps swap without setting arguments.
-  for (int copy = 0; copy < 2; ++copy) {
+  // (The gas always takes the group kernel below; its program has no fluid_substep.)
+  for (int copy = 0; copy < (fluid_.gas ? 0 : 2); ++copy) {
     substep_[copy] = compute::kernel(program, "fluid_substep");
     KernelArgs b(substep_[copy]);
     b("wet_count", wet_count_)("wet", wet_)("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
@@ -170,7 +172,6 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
       b("leak_off", real(fluid_.leak_off))("thickness", thickness)("seg_h", seg_h_)("seg_exposed", seg_exposed_)(
           "vertex_leak", vertex_leak_);
     }
-    if (fluid_.gas) b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()));
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
 
@@ -203,8 +204,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     else
       b("dt_sub", dt_sub);
     if (fluid_.gas)
-      b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_)(
-          "hole_gas0", real(fluid_.hole_volume));
+      b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_);
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", back_).done();
   }
 
@@ -212,7 +212,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   KernelArgs g(forces_);
   g("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("seg_vertex", seg_vertex_)("seg_geom", seg_geom_)(
        "seg_h", seg_h_)("vertex_state", vertex_state_);
-  if (fluid_.gas) g("vertex_rate", vertex_rate_)("residual", real(fluid_.residual_aperture));
+  g("vertex_rate", vertex_rate_);
+  if (fluid_.gas) g("residual", real(fluid_.residual_aperture));
   g("thickness", thickness)("fluid_slots", slots_).done();
 
   if (fluid_.gas) {
@@ -344,13 +345,13 @@ void FluidFlow::segment_fields(std::vector<real>& pressure, std::vector<real>& a
 void FluidFlow::save_state(StateWriter& out) const {
   out.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   out.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+  out.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);  // the mid-step predictor's last change
   if (fluid_.leak_off > 0) {  // only then: checkpoints without leak-off keep their items
     out.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
     out.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
   }
   if (fluid_.gas) {
     out.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
-    out.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
     out.buffer<real>("fluid_seg_geom", seg_geom_, ce4_, 4);  // which segments carried: the next step's joins
   }
 }
@@ -358,13 +359,13 @@ void FluidFlow::save_state(StateWriter& out) const {
 void FluidFlow::load_state(StateReader& in) {
   in.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   in.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
+  in.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
   if (fluid_.leak_off > 0) {
     in.buffer<real>("fluid_seg_exposed", seg_exposed_, ce4_, 1);
     in.buffer<real>("fluid_vertex_leak", vertex_leak_, vertices_, 2);
   }
   if (fluid_.gas) {
     in.buffer<real>("fluid_gas_hole", gas_hole_, 1, 4);
-    in.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);
     in.buffer<real>("fluid_seg_geom", seg_geom_, ce4_, 4);
   }
 }

@@ -84,7 +84,7 @@ class FluidFlow {
   compute::kernel group_kernel_;
   compute::buffer gas_hole_, hole_polygon_, hole_sources_;
   compute::buffer seg_joined_;  // per CE4 (gas): 1 in the step it joined the network
-  compute::buffer vertex_rate_;  // per vertex (gas): its volume's change over the last step, joins excluded [m³]
+  compute::buffer vertex_rate_;  // per vertex: its volume's change over the last step (gas: joins excluded) [m³]
 };
 
 }  // namespace fdem
