@@ -594,8 +594,10 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
   }
 }
 
-TEST_CASE("fluid: the sub-steps in one work-group's launch give the launches' bits (KGD rate, held pressure)") {
+TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, give the launches' bits (KGD rate, held pressure)") {
   // FDEM_FLUID_GROUP=0 keeps one launch a sub-step; =1 takes the group whatever the size.
+  // FDEM_FLUID_LOCAL=0 keeps the group on its global path; by default a small wet network
+  // (at most 256 wet vertices of at most 12 CE4 ends) takes the local one.
   struct Run {
     std::string path;
     std::vector<std::string> sets;
@@ -604,30 +606,49 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch give the launches' bi
   const std::vector<Run> runs{
       {test::source_path("cases/kgd/viscosity.toml"), {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_tg\""}, 400},
       {test::source_path("cases/sneddon/case.toml"), {"mesh.size=0.2", "fluid.pressure=1e6", "output.dir=\"/tmp/fdem_tg\""}, 150}};
-  // (The gas always takes the group: it follows the hole's gas from sub-step to sub-step.)
+  // (The gas always takes the group's global path: it follows the hole's gas from
+  // sub-step to sub-step.)
+  struct Unset {
+    ~Unset() {
+      unsetenv("FDEM_FLUID_GROUP");
+      unsetenv("FDEM_FLUID_LOCAL");
+    }
+  } unset;
   for (const auto& r : runs) {
     CAPTURE(r.path);
     const PreparedCase p = prepare_case(r.path, r.sets);
-    std::vector<real2> x[2];
-    std::vector<real4> state[2];
-    for (int group = 0; group < 2; ++group) {
-      setenv("FDEM_FLUID_GROUP", group ? "1" : "0", 1);
+    // The local path's limits hold, so the third run takes it.
+    uint32_t degree = 0;
+    for (size_t v = 0; v < p.model.fluid.vertices; ++v)
+      degree = std::max(degree, p.model.fluid.vertex_start[v + 1] - p.model.fluid.vertex_start[v]);
+    CHECK(degree <= 12);
+    std::vector<real2> x[3];
+    std::vector<real4> state[3];
+    const char* group[3] = {"0", "1", "1"};
+    const char* local[3] = {"1", "0", "1"};
+    for (int way = 0; way < 3; ++way) {
+      setenv("FDEM_FLUID_GROUP", group[way], 1);
+      setenv("FDEM_FLUID_LOCAL", local[way], 1);
       Solver solver(test::context(), p.model, p.dt);
-      CHECK(solver.fluid()->one_group() == (group == 1));
+      CHECK(solver.fluid()->one_group() == (way > 0));
       for (long k = 0; k < r.steps; ++k) solver.step(false);
-      x[group] = solver.positions();
-      state[group] = solver.fluid()->vertex_state();
+      x[way] = solver.positions();
+      state[way] = solver.fluid()->vertex_state();
     }
-    unsetenv("FDEM_FLUID_GROUP");
-    REQUIRE(x[0].size() == x[1].size());
-    size_t differ = 0, wet = 0;
-    for (size_t i = 0; i < x[0].size(); ++i) differ += x[0][i].x != x[1][i].x || x[0][i].y != x[1][i].y;
-    for (size_t v = 0; v < state[0].size(); ++v) {
-      differ += state[0][v].x != state[1][v].x || state[0][v].z != state[1][v].z;
-      wet += state[0][v].x > 0;
-    }
-    CHECK(differ == 0);
+    size_t wet = 0;
+    for (size_t v = 0; v < state[0].size(); ++v) wet += state[0][v].x > 0;
     CHECK(wet > 4);  // the fluid moved
+    CHECK(wet <= 256);
+    for (int way = 1; way < 3; ++way) {
+      CAPTURE(way);
+      REQUIRE(x[0].size() == x[way].size());
+      size_t differ = 0;
+      for (size_t i = 0; i < x[0].size(); ++i) differ += x[0][i].x != x[way][i].x || x[0][i].y != x[way][i].y;
+      for (size_t v = 0; v < state[0].size(); ++v)
+        differ += state[0][v].x != state[way][v].x || state[0][v].z != state[way][v].z ||
+                  state[0][v].w != state[way][v].w;
+      CHECK(differ == 0);
+    }
   }
 }
 

@@ -109,12 +109,17 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const char* adaptive_env = std::getenv("FDEM_FLUID_ADAPTIVE");
   adaptive_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) &&
               !(adaptive_env && std::string(adaptive_env) == "0");
+  // The group kernel's local path for small wet networks (fluid_substeps_group):
+  // FDEM_FLUID_LOCAL=0 keeps them on its global path (the tests compare the two).
+  const char* local_env = std::getenv("FDEM_FLUID_LOCAL");
+  const bool local_choice = !(local_env && std::string(local_env) == "0");
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
                                              {"CAP_APERTURE", fluid_.cap_aperture ? "1" : "0"},
                                              {"GAS", fluid_.gas ? "1" : "0"},
                                              {"FLUID_GROUP", std::to_string(kFluidGroup)},
+                                             {"FLUID_LOCAL", local_choice ? "1" : "0"},
                                              {"ADAPTIVE", adaptive_ ? "1" : "0"}};
   {
     char text[64];
