@@ -89,6 +89,20 @@ inline real gas_aperture_slope(const real o, const real wr) {
   const real x = o / wr;
   return x > (real)30 ? (real)1 : (real)1 / ((real)1 + exp(-x));
 }
+// The gas's room: the area between the faces, of each half of the segment (the quad of
+// face 1's and face 2's halves, i-half (x_i, m, m', x_i'), j-half (m, x_j, x_j', m'), m and
+// m' the faces' midpoints), positive where the faces are apart: 1/2 cross(p3 - p1, p2 - p0)
+// for the quad (p0, p1, p2, p3), a polynomial in the positions whatever the faces' angle.
+// (An opening along the chord's normal had a chord of zero length once a face turned
+// over: two flying one-triangle fragments of the blasting case's own mesh, faces
+// antiparallel, got a couple of 1/|chord| and the run stopped, cases/blasting/README.md.)
+// Its gradient, per corner: (1/2 perp(d2), -1/2 perp(d1), -1/2 perp(d2), 1/2 perp(d1)) with
+// d1 = p2 - p0, d2 = p3 - p1 and perp(v) = (v.y, -v.x).
+inline real open_area(const real2 p0, const real2 p1, const real2 p2, const real2 p3) {
+  const real2 d1 = p2 - p0, d2 = p3 - p1;
+  return (real)0.5 * (d2.x * d1.y - d2.y * d1.x);
+}
+inline real2 perp(const real2 v) { return (real2)(v.y, -v.x); }
 inline real gas_pressure(const real v0, const real v) {
   if (!(v > (real)0 && v0 > (real)0)) return (real)0;
   return v0 >= v ? (real)GAS_P0 : (real)GAS_P0 * pow(v0 / v, (real)GAS_GAMMA);
@@ -147,16 +161,21 @@ __kernel void fluid_segments(const uint n_ce4,
 #endif
   const uint4 nd = ce4_nodes[e];
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
+  const real h = seg_h[e];
+#if GAS
+  // Each half's mean opening (its open area over h/2) through the smooth aperture: the
+  // halves' rooms (h/2) t w_a and (h/2) t w_b; for a thin crack the lumped h t (3 w_i + w_j)/8.
+  const real2 m = (real)0.5 * (xi + xj), m2 = (real)0.5 * (xi2 + xj2);
+  const real half_h = (real)0.5 * h;
+  const real wa = gas_aperture(open_area(xi, m, m2, xi2) / half_h, residual);
+  const real wb = gas_aperture(open_area(m, xj, xj2, m2) / half_h, residual);
+#else
   const real2 chord = (xj - xi) + (xj2 - xi2);
   const real2 t = chord / length(chord);
   const real2 n = (real2)(t.y, -t.x);
-#if GAS
-  const real wa = gas_aperture(dot(xi2 - xi, n), residual), wb = gas_aperture(dot(xj2 - xj, n), residual);
-#else
   const real wa = fmax(dot(xi2 - xi, n), (real)0) + residual;
   const real wb = fmax(dot(xj2 - xj, n), (real)0) + residual;
 #endif
-  const real h = seg_h[e];
   const real wm = (real)0.5 * (wa + wb);
 #if CAP_APERTURE
   const real wc = fmin(wm, max_aperture);
@@ -164,7 +183,11 @@ __kernel void fluid_segments(const uint n_ce4,
 #else
   const real c = wm * wm * wm * thickness / ((real)12 * viscosity * h);
 #endif
+#if GAS
+  seg_geom[e] = (real4)(half_h * thickness * wa, half_h * thickness * wb, c, wm);
+#else
   seg_geom[e] = (real4)(h * thickness * ((real)3 * wa + wb) / (real)8, h * thickness * (wa + (real)3 * wb) / (real)8, c, wm);
+#endif
 #if !CAP_APERTURE
   if (fmax(wa, wb) > max_aperture) {
     atomic_min(&too_wide[0], (int)e);
@@ -233,8 +256,31 @@ __kernel void fluid_vertices(const uint n_vertices,
 #endif
   real4 s = vertex_state[v];
 #if GAS
+  const bool wall = source[v] != 0;
+  if (wall && s.y > (real)0 && volume != s.y) {
+    // A wall vertex: its room opens on the hole, so its gas stays at the hole's density
+    // (the ratio r = V₀/V the last sub-step's common fill left) while its room changes:
+    // the hole gives or takes r ΔV of gas (injected V₀, which the sub-steps and
+    // gas_hole_state take from the hole) and the faces work at the vertex's pressure of
+    // the step's start, the hole's, which its forces had (its vertex_rate is 0: no
+    // prediction). On its own isentrope a closing mouth's few mm² of gas stiffened into a
+    // spring the step could not follow, and the gas swung between the hole and the wall
+    // from step to step (the blasting case's own mesh stopped at 109 µs,
+    // cases/blasting/README.md). The energy: injection ΔU + p ΔV (at a fixed r, U is
+    // linear in V), the faces' work p ΔV of the segments that moved, and the room of those
+    // that joined dry filled at p: p ΔV_joined lost (throttling).
+    real4 en = vertex_energy[v];
+    const real p_step = gas_pressure(s.x, mid_step_volume(s.y, vertex_rate[v]));
+    const real v0 = s.x * (volume / s.y);
+    en.x += (gas_energy(v0, volume) - s.w) + p_step * (volume - s.y);
+    en.y += p_step * ((volume - joined) - s.y);
+    en.z += v0 - s.x;
+    en.w += p_step * joined;
+    vertex_energy[v] = en;
+    s.x = v0;
+  }
   const real p = gas_pressure(s.x, volume);
-  if (volume != s.y) {
+  if (!wall && volume != s.y) {
     real4 en = vertex_energy[v];
     // The faces moved the old segments' room at the pressure their forces had; the room
     // of a segment that just joined was opened dry, and the gas expands into it freely:
@@ -246,9 +292,9 @@ __kernel void fluid_vertices(const uint n_vertices,
     if (joined > (real)0 && s.x > (real)0)
       en.w += gas_energy(s.x, moved) - gas_energy(s.x, volume);
     vertex_energy[v] = en;
-  }
-  else
+  } else {
     vertex_rate[v] = 0;
+  }
 #else
   const real d = fluid_excess(s.x, volume);
   const real p = bulk * d;
@@ -520,6 +566,7 @@ void fluid_substeps_group(const uint planned,
                           __global const real4* restrict gas_hole,
                           const uint n_source,
                           __global const uint* restrict source_vertices,
+                          const real hole_gas0,
 #endif
                           __global real4* restrict vertex_state,
                           __global real4* restrict vertex_energy,
@@ -531,7 +578,13 @@ void fluid_substeps_group(const uint planned,
   // move during the sub-steps), so that a hole that empties fast is not drawn on at the
   // pressure of the step's start; each wall vertex takes at most its share of what is left.
   __local real hole_local[3];  // (r, V₀ left, H_eff) of the last sub-step's fill
-  if (get_local_id(0) == 0) hole_local[0] = gas_hole[0].x, hole_local[1] = gas_hole[0].z;
+  // The gas left in the hole as gas_hole_state sums it (source order), after this step's
+  // fluid_vertices gave or took the wall vertices' changes of room.
+  if (get_local_id(0) == 0) {
+    real taken = 0;
+    for (uint j = 0; j < n_source; ++j) taken += vertex_energy[source_vertices[j]].z;
+    hole_local[0] = gas_hole[0].x, hole_local[1] = hole_gas0 - taken;
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
 #endif
 #if ADAPTIVE
@@ -721,40 +774,37 @@ __kernel void fluid_forces(const uint n_ce4,
   if (seg_geom[e].w == (real)0) return;
   const uint4 nd = ce4_nodes[e];
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
-  const real2 chord = (xj - xi) + (xj2 - xi2);
-  const real2 t = chord / length(chord);
-  const real2 n = (real2)(t.y, -t.x);
   const uint2 ab = seg_vertex[e];
+  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
 #if GAS
   // The pressure at the step's middle: the vertex's volume moved on by half the change of
   // the last step (a predictor: the forces' work is then the gas's ∫p dV to second order;
   // with the step-start pressure the fast-expanding gas gave the solid p ΔV, more than the
-  // isentrope gives, 1.4% of the blast's energy in tests/data/cases/gas_small.toml).
-  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
+  // isentrope gives, 1.4% of the blast's energy in tests/data/cases/gas_small.toml); a
+  // wall vertex's rate is 0: the hole's pressure of the step's start (fluid_vertices).
   const real pa = gas_pressure(sa.x, mid_step_volume(sa.y, vertex_rate[ab.x]));
   const real pb = gas_pressure(sb.x, mid_step_volume(sb.y, vertex_rate[ab.y]));
-#else
-  const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
-  const real pa = liquid_face_pressure(sa, vertex_rate[ab.x]), pb = liquid_face_pressure(sb, vertex_rate[ab.y]);
-#endif
-  const real ht = seg_h[e] * thickness / (real)8;
-#if GAS
   // The forces are the exact gradient of the fluid's work p_a V_a + p_b V_b over the four
   // nodes (the gas's large, fast volume changes make any other force create or lose
-  // energy): an end pushes only while open (w = max(o, 0) + w_r: in overlap the volume
-  // does not change), and the chord's rotation changes the openings of a sheared segment,
-  // ∂o/∂c = -s n / |c| (s = (x' - x)·t its end's slip, c the chord), a couple of forces
-  // ±Q n on the two ends' nodes.
-  const real2 da = xi2 - xi, db = xj2 - xj;
-  const real oa = dot(da, n), ob = dot(db, n);
-  const real force_a = gas_aperture_slope(oa, residual) * ht * ((real)3 * pa + pb);
-  const real force_b = gas_aperture_slope(ob, residual) * ht * (pa + (real)3 * pb);
-  const real2 q = -(force_a * dot(da, t) + force_b * dot(db, t)) / length(chord) * n;
-  fluid_slots[4 * e] = -force_a * n - q;      // i
-  fluid_slots[4 * e + 1] = -force_b * n + q;  // j
-  fluid_slots[4 * e + 2] = force_b * n + q;   // j'
-  fluid_slots[4 * e + 3] = force_a * n - q;   // i'
+  // energy): V = (h/2) t w(A / (h/2)) per half (fluid_segments), so ∂V/∂x = t w'(·) ∂A/∂x,
+  // and a midpoint's gradient goes half to each of its face's nodes.
+  const real half_h = (real)0.5 * seg_h[e];
+  const real2 m = (real)0.5 * (xi + xj), m2 = (real)0.5 * (xi2 + xj2);
+  const real fa = pa * thickness * gas_aperture_slope(open_area(xi, m, m2, xi2) / half_h, residual);
+  const real fb = pb * thickness * gas_aperture_slope(open_area(m, xj, xj2, m2) / half_h, residual);
+  const real2 a1 = perp(m2 - xi), a2 = perp(xi2 - m);  // the i-half's (x_i, m, m', x_i')
+  const real2 b1 = perp(xj2 - m), b2 = perp(m2 - xj);  // the j-half's (m, x_j, x_j', m')
+  const real2 on_m = (real)0.5 * (-fa * a1 + fb * b2), on_m2 = (real)0.5 * (-fa * a2 + fb * b1);
+  fluid_slots[4 * e] = (real)0.5 * fa * a2 + (real)0.5 * on_m;       // i
+  fluid_slots[4 * e + 1] = (real)-0.5 * fb * b1 + (real)0.5 * on_m;  // j
+  fluid_slots[4 * e + 2] = (real)-0.5 * fb * b2 + (real)0.5 * on_m2; // j'
+  fluid_slots[4 * e + 3] = (real)0.5 * fa * a1 + (real)0.5 * on_m2;  // i'
 #else
+  const real2 chord = (xj - xi) + (xj2 - xi2);
+  const real2 t = chord / length(chord);
+  const real2 n = (real2)(t.y, -t.x);
+  const real pa = liquid_face_pressure(sa, vertex_rate[ab.x]), pb = liquid_face_pressure(sb, vertex_rate[ab.y]);
+  const real ht = seg_h[e] * thickness / (real)8;
   const real2 fa = ht * ((real)3 * pa + pb) * n, fb = ht * (pa + (real)3 * pb) * n;
   fluid_slots[4 * e] = -fa;      // i: face 1 pushed away from face 2
   fluid_slots[4 * e + 1] = -fb;  // j

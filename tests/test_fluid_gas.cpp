@@ -7,12 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "base/errors.hpp"
 #include "case_files.hpp"
 #include "fdem_cli.hpp"
 #include "engine/run/prepare_case.hpp"
+#include "engine/stages/fluid_flow.hpp"
+#include "approx.hpp"
 #include "fixture.hpp"
 
 using namespace fdem;
@@ -121,6 +124,122 @@ TEST_CASE("fluid gas: a run to T and a run to T/2 restarted to T give the same h
     for (size_t k = 0; k < a.size(); ++k) differ += a[k] != b[k];
     CHECK(differ == 0);
   }
+}
+
+TEST_CASE("fluid gas: the faces' forces are the gradient of the gas's p V, also where a face has turned over") {
+  // Every CE4 of the small blast broken (so every one carries gas), the nodes moved at
+  // random, and one wall segment's second face turned over and carried 5 cm off (its faces
+  // antiparallel: a chord of zero length, which the chord's normal could not take). One
+  // step of the stage; then per CE4 the four slots against a central difference of
+  // p_a V_a + p_b V_b, the halves' rooms in plain C++ (V = (h/2) t w(A / (h/2)), A the
+  // area between the half faces, w the smooth aperture), at the pressures the kernel's
+  // forces took (the mid-step room from vertex_rate); the vertices' rooms against the same.
+  const PreparedCase p = prepare_case(test::source_path(kGasCase), {"output.dir=\"/tmp/fdem_test_gas_grad\""});
+  const Model& m = p.model;
+  const FluidModel& f = m.fluid;
+  REQUIRE(f.gas);
+  auto& cl = test::context();
+  const size_t n_ce4 = m.ce4.size();
+  std::vector<cl_int2> status(n_ce4, cl_int2{{1, 1}});
+  std::vector<real4> gauss(3 * n_ce4);
+  compute::buffer position(cl.context(), m.num_nodes() * sizeof(real2));
+  compute::buffer status_buffer(cl.context(), n_ce4 * sizeof(cl_int2));
+  compute::buffer gauss_buffer(cl.context(), 3 * n_ce4 * sizeof(real4));
+  upload(cl, status_buffer, status);
+  upload(cl, gauss_buffer, gauss);
+  FluidFlow stage(cl, m, position, status_buffer, gauss_buffer, p.dt);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x(2 * m.num_nodes());
+  for (size_t n = 0; n < m.num_nodes(); ++n) x[2 * n] = m.x[n] + 2e-4 * u(rng), x[2 * n + 1] = m.y[n] + 2e-4 * u(rng);
+  // The turned-over segment: one with an end on the hole's wall (full of gas after the step).
+  size_t flipped = n_ce4;
+  for (size_t e = 0; e < n_ce4 && flipped == n_ce4; ++e)
+    if (std::binary_search(f.source_vertices.begin(), f.source_vertices.end(), f.segment_vertex[2 * e]))
+      flipped = e;
+  REQUIRE(flipped < n_ce4);
+  {
+    const auto& nd = m.ce4[flipped];  // i' over j and j' over i, 5 cm along +x
+    x[2 * nd[3]] = x[2 * nd[1]] + 0.05, x[2 * nd[3] + 1] = x[2 * nd[1] + 1];
+    x[2 * nd[2]] = x[2 * nd[0]] + 0.05, x[2 * nd[2] + 1] = x[2 * nd[0] + 1];
+  }
+  std::vector<real2> xr(m.num_nodes());
+  for (size_t n = 0; n < m.num_nodes(); ++n) xr[n] = {real(x[2 * n]), real(x[2 * n + 1])};
+  upload(cl, position, xr);
+  stage.enqueue(0.0, 0);
+  const auto state = stage.vertex_state();
+  const auto rate = stage.vertex_rate();
+  const auto slots = download<real2>(cl, stage.slots(), 4 * n_ce4);
+
+  const double t = m.thickness, wr = f.residual_aperture;
+  auto aperture = [wr](double o) { return o / wr > 30 ? o : wr * std::log1p(std::exp(o / wr)); };
+  auto area = [](const double* p0, const double* p1, const double* p2, const double* p3) {
+    const double d1x = p2[0] - p0[0], d1y = p2[1] - p0[1], d2x = p3[0] - p1[0], d2y = p3[1] - p1[1];
+    return 0.5 * (d2x * d1y - d2y * d1x);
+  };
+  // The rooms of CE4 e's two halves from its four corners (i, j, j', i').
+  auto rooms = [&](size_t e, const std::array<std::array<double, 2>, 4>& c) {
+    const double h2 = 0.5 * f.segment_length[e];
+    const double m1[2] = {0.5 * (c[0][0] + c[1][0]), 0.5 * (c[0][1] + c[1][1])};
+    const double m2[2] = {0.5 * (c[3][0] + c[2][0]), 0.5 * (c[3][1] + c[2][1])};
+    return std::array<double, 2>{h2 * t * aperture(area(c[0].data(), m1, m2, c[3].data()) / h2),
+                                 h2 * t * aperture(area(m1, c[1].data(), c[2].data(), m2) / h2)};
+  };
+  auto corners = [&](size_t e) {
+    std::array<std::array<double, 2>, 4> c;
+    for (int k = 0; k < 4; ++k) c[k] = {x[2 * m.ce4[e][k]], x[2 * m.ce4[e][k] + 1]};
+    return c;
+  };
+  auto pressure = [&](uint32_t v) {  // gas_pressure at mid_step_volume, as fluid_forces
+    const double room = state[v].y + std::clamp(0.5 * rate[v], -0.25 * state[v].y, 0.25 * state[v].y);
+    const double v0 = state[v].x;
+    if (!(room > 0 && v0 > 0)) return 0.0;
+    return v0 >= room ? f.gas_pressure : f.gas_pressure * std::pow(v0 / room, f.gamma);
+  };
+  std::vector<double> volume(f.vertices, 0.0);
+  double scale = 0, worst = 0;
+  std::vector<std::array<double, 2>> reference(4 * n_ce4);
+  for (size_t e = 0; e < n_ce4; ++e) {
+    const uint32_t a = f.segment_vertex[2 * e], b = f.segment_vertex[2 * e + 1];
+    const auto c = corners(e);
+    const auto v = rooms(e, c);
+    volume[a] += v[0], volume[b] += v[1];
+    const double pa = pressure(a), pb = pressure(b);
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 2; ++d) {
+        const double step = 1e-9;
+        auto plus = c, minus = c;
+        plus[k][d] += step, minus[k][d] -= step;
+        const auto vp = rooms(e, plus), vm = rooms(e, minus);
+        reference[4 * e + k][d] = (pa * (vp[0] - vm[0]) + pb * (vp[1] - vm[1])) / (2 * step);
+        scale = std::max(scale, std::fabs(reference[4 * e + k][d]));
+      }
+  }
+  double flipped_force = 0;
+  for (size_t k = 0; k < slots.size(); ++k) {
+    const double got[2] = {slots[k].x, slots[k].y};
+    for (int d = 0; d < 2; ++d) {
+      REQUIRE(std::isfinite(got[d]));
+      worst = std::max(worst, std::fabs(got[d] - reference[k][d]));
+      if (k / 4 == flipped) flipped_force = std::max(flipped_force, std::fabs(got[d]));
+    }
+  }
+  double room_worst = 0;
+  for (size_t v = 0; v < f.vertices; ++v)
+    room_worst = std::max(room_worst, std::fabs(state[v].y - volume[v]) / std::max(volume[v], 1e-30));
+  CAPTURE(scale);
+  CAPTURE(worst / scale);
+  CAPTURE(room_worst);
+  CAPTURE(flipped_force);
+  MESSAGE("gas forces against the gradient: worst " << worst / scale << " of the largest, rooms " << room_worst
+                                                      << ", turned-over segment " << flipped_force << " N");
+  CHECK(scale > 0);
+  CHECK(worst <= (kDoublePrecision ? 1e-5 : 1e-2) * scale);
+  CHECK(room_worst <= (kDoublePrecision ? 1e-12 : 1e-5));
+  // The turned-over segment: no room between its faces (antiparallel, their quads' areas
+  // cancel), so a force of at most p0 t times its face's length, not the 1/|chord| blow-up.
+  CHECK(flipped_force > 0);
+  CHECK(flipped_force <= f.gas_pressure * t * 2 * f.segment_length[flipped]);
 }
 
 TEST_CASE("fluid gas: bad [fluid.gas] keys and holes are refused with the file and the key (exit 2)") {

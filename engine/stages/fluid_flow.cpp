@@ -209,7 +209,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     else
       b("dt_sub", dt_sub);
     if (fluid_.gas)
-      b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_);
+      b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_)(
+          "hole_gas0", real(fluid_.hole_volume));
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", back_).done();
   }
 
@@ -334,6 +335,7 @@ void FluidFlow::check_too_wide(const std::vector<cl_int>& w) const {
 }
 
 std::vector<real4> FluidFlow::vertex_state() { return download<real4>(cl_, vertex_state_, vertices_); }
+std::vector<real> FluidFlow::vertex_rate() { return download<real>(cl_, vertex_rate_, vertices_); }
 
 void FluidFlow::segment_fields(std::vector<real>& pressure, std::vector<real>& aperture) {
   const auto geom = download<real4>(cl_, seg_geom_, ce4_);

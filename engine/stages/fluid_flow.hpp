@@ -49,6 +49,8 @@ class FluidFlow {
   void check_too_wide(const std::vector<cl_int>& words) const;
   // Per vertex (V₀, V, p, U) (waits; tests and output).
   std::vector<real4> vertex_state();
+  // Per vertex the room's change over the last step, ΔV (the forces' mid-step prediction; waits; tests).
+  std::vector<real> vertex_rate();
   // Per CE4 the mean pressure of its two vertices [Pa] and its mean aperture w_m [m] as
   // this step's flow had them; both 0 on a segment that carries no fluid (waits; frames).
   void segment_fields(std::vector<real>& pressure, std::vector<real>& aperture);
