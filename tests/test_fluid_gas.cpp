@@ -126,6 +126,31 @@ TEST_CASE("fluid gas: a run to T and a run to T/2 restarted to T give the same h
   }
 }
 
+TEST_CASE("fluid gas: the group kernel's size does not change a bit (256 and 1024 work-items)") {
+  // A GPU takes 1024 work-items for the gas's sub-steps, a CPU device 256
+  // (FDEM_FLUID_GROUP_SIZE sets it): each vertex's sub-step is the same whichever item does it.
+  test::TempDir tmp;
+  struct Unset {
+    ~Unset() { unsetenv("FDEM_FLUID_GROUP_SIZE"); }
+  } unset;
+  const std::string path = test::source_path(kGasCase);
+  for (const char* size : {"256", "1024"}) {
+    setenv("FDEM_FLUID_GROUP_SIZE", size, 1);
+    test::run(path, {"output.dir=\"" + tmp.str() + "/g" + size + "\"", "time.end=1e-4", "output.history_every=1e-5"});
+  }
+  for (const char* name : {"hole_pressure", "hole_gas_mass", "network_gas_mass", "broken_ce4", "fluid_face_work",
+                           "fluid_viscous_dissipation", "energy_error"}) {
+    CAPTURE(name);
+    const auto a = test::read_variable(tmp.str() + "/g256/gas_history.nc", name);
+    const auto b = test::read_variable(tmp.str() + "/g1024/gas_history.nc", name);
+    REQUIRE(a.size() == b.size());
+    REQUIRE(a.size() >= 10);
+    size_t differ = 0;
+    for (size_t k = 0; k < a.size(); ++k) differ += a[k] != b[k];
+    CHECK(differ == 0);
+  }
+}
+
 TEST_CASE("fluid gas: the faces' forces are the gradient of the gas's p V, also where a face has turned over") {
   // Every CE4 of the small blast broken (so every one carries gas), the nodes moved at
   // random, and one wall segment's second face turned over and carried 5 cm off (its faces
@@ -134,7 +159,8 @@ TEST_CASE("fluid gas: the faces' forces are the gradient of the gas's p V, also 
   // p_a V_a + p_b V_b, the halves' rooms in plain C++ (V = (h/2) t w(A / (h/2)), A the
   // area between the half faces, w the smooth aperture), at the pressures the kernel's
   // forces took (the mid-step room from vertex_rate); the vertices' rooms against the same.
-  const PreparedCase p = prepare_case(test::source_path(kGasCase), {"output.dir=\"/tmp/fdem_test_gas_grad\""});
+  test::TempDir tmp;  // its own folder: a fixed one is shared with any other run of the suite
+  const PreparedCase p = prepare_case(test::source_path(kGasCase), {"output.dir=\"" + tmp.str() + "/grad\""});
   const Model& m = p.model;
   const FluidModel& f = m.fluid;
   REQUIRE(f.gas);

@@ -113,12 +113,28 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   // FDEM_FLUID_LOCAL=0 keeps them on its global path (the tests compare the two).
   const char* local_env = std::getenv("FDEM_FLUID_LOCAL");
   const bool local_choice = !(local_env && std::string(local_env) == "0");
+  // The group kernel's size: on a GPU the gas's sub-steps visit a wet network of thousands
+  // of vertices (the blasting case's own mesh) from one work-group, whose loads wait in a
+  // chain per vertex, so more work-items hide more of it: 1024 there (the liquid keeps 256:
+  // its small networks take the local path, whose registers 1024 items would spill).
+  // FDEM_FLUID_GROUP_SIZE (a power of two from 64 to the device's limit) overrides it; the
+  // bits do not depend on it (each vertex's sub-step is the same whichever item does it).
+  fluid_group_ = (fluid_.gas && cl.info().is_gpu) ? std::min<size_t>(kFluidGroupWide, cl.device().max_work_group_size())
+                                                  : kFluidGroup;
+  if (const char* env = std::getenv("FDEM_FLUID_GROUP_SIZE"); env && *env) {
+    char* end = nullptr;
+    const unsigned long size = std::strtoul(env, &end, 10);
+    if (*end != '\0' || size < 64 || (size & (size - 1)) != 0 || size > cl.device().max_work_group_size())
+      throw DeviceError(std::string("FDEM_FLUID_GROUP_SIZE=") + env + " is not a power of two from 64 up to " +
+                        std::to_string(cl.device().max_work_group_size()));
+    fluid_group_ = size;
+  }
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
                                              {"CAP_APERTURE", fluid_.cap_aperture ? "1" : "0"},
                                              {"GAS", fluid_.gas ? "1" : "0"},
-                                             {"FLUID_GROUP", std::to_string(kFluidGroup)},
+                                             {"FLUID_GROUP", std::to_string(fluid_group_)},
                                              {"FLUID_LOCAL", local_choice ? "1" : "0"},
                                              {"ADAPTIVE", adaptive_ ? "1" : "0"}};
   {
@@ -133,7 +149,14 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     std::snprintf(text, sizeof text, "%.17g", fluid_.gamma);
     defines["GAS_GAMMA"] = text;
   }
-  const compute::program program = cl.build(kernel_source::fluid_flow, defines);
+  compute::program program = cl.build(kernel_source::fluid_flow, defines);
+  if (fluid_group_ > kFluidGroup &&
+      compute::kernel(program, "fluid_substeps_group").get_work_group_info<size_t>(cl.device(), CL_KERNEL_WORK_GROUP_SIZE) <
+          fluid_group_) {  // the compiled kernel cannot take that many items here: the usual size
+    fluid_group_ = kFluidGroup;
+    defines["FLUID_GROUP"] = std::to_string(fluid_group_);
+    program = cl.build(kernel_source::fluid_flow, defines);
+  }
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
   s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status);
@@ -243,7 +266,7 @@ void FluidFlow::enqueue(double time, long step) {
   cl_.enqueue(segments_, ce4_);
   cl_.enqueue(vertices_kernel_, vertices_);
   const double dt_sub = dt_ / static_cast<double>(substeps_);
-  if (one_group_) cl_.enqueue(group_kernel_, kFluidGroup, kFluidGroup);
+  if (one_group_) cl_.enqueue(group_kernel_, fluid_group_, fluid_group_);
   for (long k = 0; !one_group_ && k < substeps_; ++k) {
     // The source at the sub-step's middle (a rate) or its end (a held pressure).
     const double t = time + dt_sub * (static_cast<double>(k) + (fluid_.pressure_source ? 1.0 : 0.5));

@@ -79,7 +79,8 @@ class FluidFlow {
   compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
   compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])
   // fluid_substeps_group: every sub-step of a step in one work-group of kFluidGroup items.
-  static constexpr size_t kFluidGroup = 256, kFluidGroupUpTo = 16384;
+  static constexpr size_t kFluidGroup = 256, kFluidGroupWide = 1024, kFluidGroupUpTo = 16384;
+  size_t fluid_group_ = kFluidGroup;  // its work-items (the program's FLUID_GROUP)
   bool one_group_ = false;
   bool adaptive_ = false;  // sub-steps from the network's rate (ADAPTIVE in fluid_flow.cl)
   KernelArg<cl_uint> k_sub_[2];
