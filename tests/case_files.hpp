@@ -113,6 +113,18 @@ inline std::vector<double> read_variable(const std::string& file, const std::str
   return values;
 }
 
+// One variable of two runs' files, value by value: the rows each has and how many of the
+// first min(rows) differ in any bit (restart and determinism tests).
+struct VariableDiff {
+  size_t rows_a = 0, rows_b = 0, differ = 0;
+};
+inline VariableDiff compare_variable(const std::string& file_a, const std::string& file_b, const std::string& name) {
+  const auto a = read_variable(file_a, name), b = read_variable(file_b, name);
+  VariableDiff d{a.size(), b.size(), 0};
+  for (size_t k = 0; k < a.size() && k < b.size(); ++k) d.differ += a[k] != b[k];
+  return d;
+}
+
 // Index (1-based, as in vals_elem_varK) of an Exodus element or nodal variable name.
 inline int exodus_variable_index(const std::string& file, const std::string& names_var, const std::string& name) {
   int nc = -1, var = -1;
