@@ -2,6 +2,7 @@
 
 #include <boost/compute/exception.hpp>
 #include <chrono>
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -113,15 +114,21 @@ ClContext::ClContext(const std::string& requested, bool profiling) {
   }
   group_size_ = info_.is_gpu ? 256 : 64;
   // FDEM_GROUP_SIZE (a power of two up to the device's limit) overrides it, for tuning.
-  if (const char* env = std::getenv("FDEM_GROUP_SIZE"); env && *env) {
-    char* end = nullptr;
-    const unsigned long size = std::strtoul(env, &end, 10);
-    if (*end != '\0' || size == 0 || (size & (size - 1)) != 0 || size > device_.max_work_group_size())
-      throw DeviceError(std::string("FDEM_GROUP_SIZE=") + env + " is not a power of two up to " +
-                        std::to_string(device_.max_work_group_size()));
-    group_size_ = size;
-  }
+  if (const std::size_t size = group_size_from_env("FDEM_GROUP_SIZE")) group_size_ = size;
   profiling_ = profiling;
+}
+
+std::size_t ClContext::group_size_from_env(const char* name, std::size_t smallest) const {
+  const char* env = std::getenv(name);
+  if (!env || !*env) return 0;
+  char* end = nullptr;
+  const unsigned long size = std::strtoul(env, &end, 10);
+  if (*end != '\0' || size < std::max<std::size_t>(smallest, 1) || (size & (size - 1)) != 0 ||
+      size > device_.max_work_group_size())
+    throw DeviceError(std::string(name) + "=" + env + " is not a power of two " +
+                      (smallest > 1 ? "from " + std::to_string(smallest) + " " : std::string()) + "up to " +
+                      std::to_string(device_.max_work_group_size()));
+  return size;
 }
 
 std::string ClContext::description() const {

@@ -63,6 +63,9 @@ class ClContext {
 
   // Work-group size used for 1D launches; global sizes are rounded up to it.
   std::size_t group_size() const { return group_size_; }
+  // A work-group size from the environment variable `name` (tuning): 0 when unset or
+  // empty, else a power of two from `smallest` to the device's limit, or a DeviceError.
+  std::size_t group_size_from_env(const char* name, std::size_t smallest = 1) const;
 
   // Enqueues a 1D kernel over `n` work-items (rounded up; kernels guard their index), in
   // work-groups of `local` items (0: group_size(); only for kernels without __local

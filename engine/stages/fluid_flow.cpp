@@ -121,14 +121,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   // bits do not depend on it (each vertex's sub-step is the same whichever item does it).
   fluid_group_ = (fluid_.gas && cl.info().is_gpu) ? std::min<size_t>(kFluidGroupWide, cl.device().max_work_group_size())
                                                   : kFluidGroup;
-  if (const char* env = std::getenv("FDEM_FLUID_GROUP_SIZE"); env && *env) {
-    char* end = nullptr;
-    const unsigned long size = std::strtoul(env, &end, 10);
-    if (*end != '\0' || size < 64 || (size & (size - 1)) != 0 || size > cl.device().max_work_group_size())
-      throw DeviceError(std::string("FDEM_FLUID_GROUP_SIZE=") + env + " is not a power of two from 64 up to " +
-                        std::to_string(cl.device().max_work_group_size()));
-    fluid_group_ = size;
-  }
+  if (const size_t size = cl.group_size_from_env("FDEM_FLUID_GROUP_SIZE", 64)) fluid_group_ = size;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
