@@ -142,6 +142,7 @@ __kernel void fluid_segments(const uint n_ce4,
   if (e == 0) {
     wet_count[0] = 0;  // fluid_vertices, next in the queue, lists the wet vertices anew
     wet_count[1] = 0;  // and (ADAPTIVE) finds the network's largest rate anew
+    wet_count[2] = 0;  // (the gas) and its densest vertex
   }
 #if DAMAGED_SEGMENTS
   // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
@@ -255,6 +256,9 @@ __kernel void fluid_vertices(const uint n_vertices,
     atomic_max(&wet_count[1], as_uint((float)(FLUID_MODULUS * conductance / volume)));
 #endif
   real4 s = vertex_state[v];
+#if ADAPTIVE && GAS
+  if (volume > (real)0 && s.x > (real)0) atomic_max(&wet_count[2], as_uint((float)fmin(s.x / volume, (real)1)));
+#endif
 #if GAS
   const bool wall = source[v] != 0;
   if (wall && s.y > (real)0 && volume != s.y) {
@@ -323,8 +327,9 @@ __kernel void fluid_vertices(const uint n_vertices,
 // the network's largest rate (fluid_vertices) asks for at the step's `safety`,
 // ceil(Δt / (safety × 0.5 / rate)); the plan's own bound is 3 μ h² / (K w_max²), half the
 // rate bound of a chain of equal segments of aperture w_max.
-inline uint substeps_now(__global const uint* wet_count, const real dt, const real safety, const uint planned) {
-  const real rate = (real)as_float(wet_count[1]);
+inline uint substeps_now(__global const uint* wet_count, const real dt, const real safety, const uint planned,
+                         const real factor) {
+  const real rate = (real)as_float(wet_count[1]) * factor;
   if (!(rate > (real)0)) return 1u;
   const real n = ceil(dt * rate / ((real)0.5 * safety));
   return n >= (real)planned ? planned : (n < (real)1 ? 1u : (uint)n);
@@ -484,7 +489,7 @@ inline void substep_vertex(const uint v,
 // are held at `source_value` [Pa]; else each takes source_value [m³/s] of V₀. (Not built
 // for the gas: it always takes fluid_substeps_group, which follows the hole's gas.)
 #if !GAS
-__kernel void fluid_substep(__global const uint* restrict wet_count,
+__kernel void fluid_substep(__global uint* restrict wet_count,
                             __global const uint* restrict wet,
                             __global const uint* restrict vertex_start,
                             __global const uint* restrict vertex_end,
@@ -514,13 +519,14 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
                             __global real4* restrict vertex_energy,
                             __global real2* restrict back) {
   const uint i = get_global_id(0);
-  if (i >= wet_count[0]) return;
 #if ADAPTIVE
   // Launched `planned` times; the launches past the step's own count do nothing.
-  const uint n_sub = substeps_now(wet_count, dt, safety, planned);
+  const uint n_sub = substeps_now(wet_count, dt, safety, planned, (real)1);
+  if (i == 0 && k_sub == 0) wet_count[3] = n_sub;  // the step's count, for the history
   if (k_sub >= n_sub) return;
   const real dt_sub = dt / (real)n_sub;
 #endif
+  if (i >= wet_count[0]) return;
   substep_vertex(wet[i], vertex_start, vertex_end, seg_vertex, seg_geom, front, source, source_value, bulk, dt_sub
 #if LEAK_OFF
                  , t_sub, leak_off, thickness, seg_h, seg_exposed, vertex_leak
@@ -546,7 +552,7 @@ __kernel void fluid_substep(__global const uint* restrict wet_count,
 #define FLUID_LOCAL_DEGREE 12
 __kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
 void fluid_substeps_group(const uint planned,
-                          __global const uint* restrict wet_count,
+                          __global uint* restrict wet_count,
                           __global const uint* restrict wet,
                           __global const uint* restrict vertex_start,
                           __global const uint* restrict vertex_end,
@@ -587,11 +593,28 @@ void fluid_substeps_group(const uint planned,
   }
   barrier(CLK_LOCAL_MEM_FENCE);
 #endif
-#if ADAPTIVE
-  const uint n_sub = substeps_now(wet_count, dt, safety, planned);
+#if ADAPTIVE && GAS
+  // The gas's modulus is γ p, γ p0 r^(γ-1) at the density ratio r = V₀/V (the plateau's r
+  // is 1): the exchange's fastest rate is that of the densest room the flow can fill, the
+  // hole's (the flow only evens densities out) or a vertex squeezed denser (wet_count[2]).
+  // The plan's count took r = 1, the hole's full gas; a blast's hole is at r 0.46 after
+  // 100 µs, 0.17 after 400 µs (docs/performance-notes.md, session 22).
+  const real4 hole = gas_hole[0];
+  const real r_hole = hole.y > (real)0 ? hole.z / hole.y : (real)1;
+  const real r_max = fmin(fmax((real)as_float(wet_count[2]), r_hole), (real)1);
+  const real modulus_share = r_max > (real)0 ? pow(r_max, (real)GAS_GAMMA - (real)1) : (real)1;
+  const uint n_sub = substeps_now(wet_count, dt, safety, planned, modulus_share);
+  const real dt_sub = dt / (real)n_sub;
+#elif ADAPTIVE
+  const uint n_sub = substeps_now(wet_count, dt, safety, planned, (real)1);
   const real dt_sub = dt / (real)n_sub;
 #else
   const uint n_sub = planned;
+#endif
+#if ADAPTIVE
+  // The step's count, for the history (every item read wet_count[0] above, and no item
+  // reads this word).
+  if (get_local_id(0) == 0) wet_count[3] = n_sub;
 #endif
 #if FLUID_LOCAL && !GAS
   __local real2 local_copy[2][FLUID_GROUP];

@@ -22,7 +22,7 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid seg_geom", ce4 * sizeof(real4))
       .add("fluid front", v * sizeof(real2))
       .add("fluid wet", v * sizeof(cl_uint))
-      .add("fluid wet_count", 2 * sizeof(cl_uint))
+      .add("fluid wet_count", 4 * sizeof(cl_uint))
       .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
@@ -79,7 +79,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, front_, std::vector<real2>(vertices_));
   upload(cl, back_, std::vector<real2>(vertices_));
   upload(cl, wet_, std::vector<cl_uint>(vertices_, 0));
-  upload(cl, wet_count_, std::vector<cl_uint>(2, 0));
+  upload(cl, wet_count_, std::vector<cl_uint>(4, 0));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
@@ -294,20 +294,11 @@ EnergyPart FluidFlow::queue_energy(const ItemSums& sums) {
   const compute::buffer counts = wet_count_;
   const bool adaptive = adaptive_;
   const long planned = substeps_;
-  const double dt = dt_, safety = fluid_.safety;
-  return [state, energy, leak, wells, cl, states, hole, gas, density, counts, adaptive, planned, dt,
-          safety](EnergyTotals& e) {
+  return [state, energy, leak, wells, cl, states, hole, gas, density, counts, adaptive, planned](EnergyTotals& e) {
     e.fluid_substeps = static_cast<double>(planned);
-    if (adaptive) {  // substeps_now (fluid_flow.cl) on the last step's largest rate
-      const cl_uint bits = download<cl_uint>(*cl, counts, 2)[1];
-      float rate = 0;
-      std::memcpy(&rate, &bits, sizeof rate);
-      if (!(rate > 0)) {
-        e.fluid_substeps = 1;
-      } else {
-        const double n = std::ceil(dt * double(rate) / (0.5 * safety));
-        e.fluid_substeps = n >= double(planned) ? double(planned) : std::max(1.0, n);
-      }
+    if (adaptive) {  // the count the last step's kernel took (substeps_now, fluid_flow.cl); 1 before any step
+      const cl_uint taken = download<cl_uint>(*cl, counts, 4)[3];
+      e.fluid_substeps = taken > 0 ? double(taken) : 1.0;
     }
     if (gas) {  // the hole's gas as the end of the last step left it
       const real4 h = download<real4>(*cl, hole, 1)[0];
