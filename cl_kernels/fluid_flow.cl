@@ -118,7 +118,8 @@ inline real gas_enthalpy(const real p) {
 }
 #endif
 
-__kernel void fluid_segments(const uint n_ce4,
+// One CE4's segment (fluid_segments, and the fused fluid_step_group below).
+inline void segment_item(const uint e,
                              __global const uint4* restrict ce4_nodes,
                              __global const real2* restrict position,
                              __global const int2* restrict status,
@@ -135,15 +136,7 @@ __kernel void fluid_segments(const uint n_ce4,
 #if GAS
                              __global uchar* restrict seg_joined,
 #endif
-                             __global int* restrict too_wide,
-                             __global uint* restrict wet_count) {
-  const uint e = get_global_id(0);
-  if (e >= n_ce4) return;
-  if (e == 0) {
-    wet_count[0] = 0;  // fluid_vertices, next in the queue, lists the wet vertices anew
-    wet_count[1] = 0;  // and (ADAPTIVE) finds the network's largest rate anew
-    wet_count[2] = 0;  // (the gas) and its densest vertex
-  }
+                             __global int* restrict too_wide) {
 #if DAMAGED_SEGMENTS
   // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
   // (irreversible, so a segment never closes to the network again).
@@ -197,10 +190,52 @@ __kernel void fluid_segments(const uint n_ce4,
 #endif
 }
 
+// The counters fluid_vertices and the sub-steps fill anew each step.
+inline void reset_wet_count(__global uint* wet_count) {
+  wet_count[0] = 0;  // fluid_vertices lists the wet vertices anew
+  wet_count[1] = 0;  // and (ADAPTIVE) finds the network's largest rate anew
+  wet_count[2] = 0;  // (the gas) and its densest vertex
+}
+
+// One work-item per CE4: its segment's rooms, conductance and mean aperture (seg_geom);
+// work-item 0 resets the counters for fluid_vertices, next in the queue.
+__kernel void fluid_segments(const uint n_ce4,
+                             __global const uint4* restrict ce4_nodes,
+                             __global const real2* restrict position,
+                             __global const int2* restrict status,
+#if DAMAGED_SEGMENTS
+                             __global const real4* restrict gp_state,
+#endif
+                             __global const real* restrict seg_h,
+                             const real thickness,
+                             const real residual,
+                             const real max_aperture,
+                             const real viscosity,
+                             const int step,
+                             __global real4* restrict seg_geom,
+#if GAS
+                             __global uchar* restrict seg_joined,
+#endif
+                             __global int* restrict too_wide,
+                             __global uint* restrict wet_count) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  if (e == 0) reset_wet_count(wet_count);
+  segment_item(e, ce4_nodes, position, status,
+#if DAMAGED_SEGMENTS
+               gp_state,
+#endif
+               seg_h, thickness, residual, max_aperture, viscosity, step, seg_geom,
+#if GAS
+               seg_joined,
+#endif
+               too_wide);
+}
+
 // vertex_state: (V₀ [m³], V [m³], p [Pa], U [J]); vertex_energy: (injection work [J],
 // work of the pressure on the faces [J], injected V₀ [m³], viscous dissipation [J]),
 // cumulative.
-__kernel void fluid_vertices(const uint n_vertices,
+inline void vertex_item(const uint v,
                              __global const uint* restrict vertex_start,
                              __global const uint* restrict vertex_end,
                              __global const real4* restrict seg_geom,
@@ -218,8 +253,6 @@ __kernel void fluid_vertices(const uint n_vertices,
                              __global real2* restrict front,
                              __global uint* restrict wet_count,
                              __global uint* restrict wet) {
-  const uint v = get_global_id(0);
-  if (v >= n_vertices) return;
   real volume = 0;
 #if ADAPTIVE
   real conductance = 0;  // Σ c of its segments
@@ -319,6 +352,37 @@ __kernel void fluid_vertices(const uint n_vertices,
   vertex_state[v] = (real4)(s.x, volume, p, fluid_stored(bulk, volume, d));
 #endif
   front[v] = (real2)(s.x, p);  // what the first sub-step's neighbours read
+}
+
+// One work-item per network vertex (vertex_item).
+__kernel void fluid_vertices(const uint n_vertices,
+                             __global const uint* restrict vertex_start,
+                             __global const uint* restrict vertex_end,
+                             __global const real4* restrict seg_geom,
+                             const real bulk,
+                             __global const uchar* restrict source,
+#if LEAK_OFF
+                             __global const real* restrict seg_exposed,
+#endif
+#if GAS
+                             __global const uchar* restrict seg_joined,
+#endif
+                             __global real* restrict vertex_rate,
+                             __global real4* restrict vertex_state,
+                             __global real4* restrict vertex_energy,
+                             __global real2* restrict front,
+                             __global uint* restrict wet_count,
+                             __global uint* restrict wet) {
+  const uint v = get_global_id(0);
+  if (v >= n_vertices) return;
+  vertex_item(v, vertex_start, vertex_end, seg_geom, bulk, source,
+#if LEAK_OFF
+              seg_exposed,
+#endif
+#if GAS
+              seg_joined,
+#endif
+              vertex_rate, vertex_state, vertex_energy, front, wet_count, wet);
 }
 
 #if ADAPTIVE
@@ -550,8 +614,10 @@ __kernel void fluid_substep(__global uint* restrict wet_count,
 // dependent loads through the CSR lists and the copies: the small fluid rows' cost). The
 // same operations in the same order: the same bits.
 #define FLUID_LOCAL_DEGREE 12
-__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
-void fluid_substeps_group(const uint planned,
+// The body of fluid_substeps_group, shared with the fused fluid_step_group: its local
+// memory is the kernel's (OpenCL C 1.2 declares __local at a kernel's scope): hole_local
+// 3 reals (the gas), local_copy 2 × FLUID_GROUP, too_many one word.
+inline void substeps_in_group(const uint planned,
                           __global uint* restrict wet_count,
                           __global const uint* restrict wet,
                           __global const uint* restrict vertex_start,
@@ -576,14 +642,17 @@ void fluid_substeps_group(const uint planned,
 #endif
                           __global real4* restrict vertex_state,
                           __global real4* restrict vertex_energy,
-                          __global real2* back) {
+                          __global real2* back,
+                          __local real* hole_local,
+                          __local real2* local_copy,
+                          __local uint* too_many) {
   const uint n = wet_count[0];
 #if GAS
   // The hole's pressure and gas anew after each sub-step (work-item 0, the wall vertices'
   // intake in source order, the hole's volume of the step's start: the geometry does not
   // move during the sub-steps), so that a hole that empties fast is not drawn on at the
   // pressure of the step's start; each wall vertex takes at most its share of what is left.
-  __local real hole_local[3];  // (r, V₀ left, H_eff) of the last sub-step's fill
+  // hole_local: (r, V₀ left, H_eff) of the last sub-step's fill
   // The gas left in the hole as gas_hole_state sums it (source order), after this step's
   // fluid_vertices gave or took the wall vertices' changes of room.
   if (get_local_id(0) == 0) {
@@ -617,24 +686,22 @@ void fluid_substeps_group(const uint planned,
   if (get_local_id(0) == 0) wet_count[3] = n_sub;
 #endif
 #if FLUID_LOCAL && !GAS
-  __local real2 local_copy[2][FLUID_GROUP];
-  __local uint too_many;
   if (n <= FLUID_GROUP) {  // the same for every work-item
     const uint l = get_local_id(0);
-    if (l == 0) too_many = 0;
+    if (l == 0) *too_many = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     uint v = 0, start = 0, degree = 0;
     if (l < n) {
       v = wet[l];
       start = vertex_start[v];
       degree = vertex_start[v + 1] - start;
-      if (degree > FLUID_LOCAL_DEGREE) atomic_or(&too_many, 1u);
+      if (degree > FLUID_LOCAL_DEGREE) atomic_or(too_many, 1u);
       // The wet list's place of each wet vertex, in the `back` copy this path does not use
       // (both ends of an open segment are wet: fluid_vertices lists them).
       back[v].x = (real)l;
     }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    if (!too_many) {
+    if (!*too_many) {
       real4 s = (real4)(0), en = (real4)(0);
       bool src = false;
       real c[FLUID_LOCAL_DEGREE];
@@ -656,12 +723,12 @@ void fluid_substeps_group(const uint planned,
             if (end & 1u) odd |= 1u << d;
           }
         }
-        local_copy[0][l] = front[v];
+        local_copy[l] = front[v];
       }
       barrier(CLK_LOCAL_MEM_FENCE);
       for (uint k = 0; k < n_sub; ++k) {
-        __local real2* from = local_copy[k & 1u];
-        __local real2* to = local_copy[1u - (k & 1u)];
+        __local real2* from = local_copy + (k & 1u) * FLUID_GROUP;
+        __local real2* to = local_copy + (1u - (k & 1u)) * FLUID_GROUP;
         if (l < n) {
           real inflow = 0;
           for (uint d = 0; d < FLUID_LOCAL_DEGREE; ++d) {
@@ -744,6 +811,50 @@ void fluid_substeps_group(const uint planned,
 #endif
   }
 }
+
+// One work-group of FLUID_GROUP items: the step's sub-steps (substeps_in_group).
+__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
+void fluid_substeps_group(const uint planned,
+                          __global uint* restrict wet_count,
+                          __global const uint* restrict wet,
+                          __global const uint* restrict vertex_start,
+                          __global const uint* restrict vertex_end,
+                          __global const uint2* restrict seg_vertex,
+                          __global const real4* restrict seg_geom,
+                          __global real2* front,
+                          __global const uchar* restrict source,
+                          const real source_value,
+                          const real bulk,
+#if ADAPTIVE
+                          const real dt,
+                          const real safety,
+#else
+                          const real dt_sub,
+#endif
+#if GAS
+                          __global const real4* restrict gas_hole,
+                          const uint n_source,
+                          __global const uint* restrict source_vertices,
+                          const real hole_gas0,
+#endif
+                          __global real4* restrict vertex_state,
+                          __global real4* restrict vertex_energy,
+                          __global real2* back) {
+  __local real hole_local[3];
+  __local real2 local_copy[2 * FLUID_GROUP];
+  __local uint too_many;
+  substeps_in_group(planned, wet_count, wet, vertex_start, vertex_end, seg_vertex, seg_geom, front, source,
+                    source_value, bulk,
+#if ADAPTIVE
+                    dt, safety,
+#else
+                    dt_sub,
+#endif
+#if GAS
+                    gas_hole, n_source, source_vertices, hole_gas0,
+#endif
+                    vertex_state, vertex_energy, back, hole_local, local_copy, &too_many);
+}
 #endif
 
 #if GAS
@@ -777,7 +888,8 @@ __kernel void gas_hole_state(const uint n_polygon,
 }
 #endif
 
-__kernel void fluid_forces(const uint n_ce4,
+// One CE4's pressure forces into its four slots (fluid_forces, fluid_step_group).
+inline void forces_item(const uint e,
                            __global const uint4* restrict ce4_nodes,
                            __global const real2* restrict position,
                            __global const uint2* restrict seg_vertex,
@@ -790,8 +902,6 @@ __kernel void fluid_forces(const uint n_ce4,
 #endif
                            const real thickness,
                            __global real2* restrict fluid_slots) {
-  const uint e = get_global_id(0);
-  if (e >= n_ce4) return;
   // A segment that has never carried (its mean aperture w is at least w_r > 0 once it
   // does): its four slots still hold the zeros FluidFlow made them with.
   if (seg_geom[e].w == (real)0) return;
@@ -835,3 +945,102 @@ __kernel void fluid_forces(const uint n_ce4,
   fluid_slots[4 * e + 3] = fa;   // i'
 #endif
 }
+
+// One work-item per CE4 (forces_item).
+__kernel void fluid_forces(const uint n_ce4,
+                           __global const uint4* restrict ce4_nodes,
+                           __global const real2* restrict position,
+                           __global const uint2* restrict seg_vertex,
+                           __global const real4* restrict seg_geom,
+                           __global const real* restrict seg_h,
+                           __global const real4* restrict vertex_state,
+                           __global const real* restrict vertex_rate,
+#if GAS
+                           const real residual,
+#endif
+                           const real thickness,
+                           __global real2* restrict fluid_slots) {
+  const uint e = get_global_id(0);
+  if (e >= n_ce4) return;
+  forces_item(e, ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate,
+#if GAS
+              residual,
+#endif
+              thickness, fluid_slots);
+}
+
+#if FUSED && !GAS && !LEAK_OFF
+// The liquid's whole step in one launch of one work-group (FUSED: a small model on a GPU,
+// where each of the stage's four launches cost about as much as the small model's
+// mechanics, issue 32's fluid row): work-item l does the CE4s l, l + FLUID_GROUP, ... of
+// fluid_segments, the vertices of fluid_vertices likewise, the sub-steps of
+// fluid_substeps_group and the CE4s of fluid_forces, a barrier between the passes. Each
+// item's work is that kernel's, on the same operands: the same bits.
+__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
+void fluid_step_group(const uint n_ce4,
+                      const uint n_vertices,
+                      __global const uint4* restrict ce4_nodes,
+                      __global const real2* restrict position,
+                      __global const int2* restrict status,
+#if DAMAGED_SEGMENTS
+                      __global const real4* restrict gp_state,
+#endif
+                      __global const real* restrict seg_h,
+                      const real thickness,
+                      const real residual,
+                      const real max_aperture,
+                      const real viscosity,
+                      const int step,
+                      __global real4* seg_geom,
+                      __global int* too_wide,
+                      __global const uint* restrict vertex_start,
+                      __global const uint* restrict vertex_end,
+                      __global const uint2* restrict seg_vertex,
+                      const real bulk,
+                      __global const uchar* restrict source,
+                      const real source_value,
+                      const uint planned,
+#if ADAPTIVE
+                      const real dt,
+                      const real safety,
+#else
+                      const real dt_sub,
+#endif
+                      __global real* vertex_rate,
+                      __global real4* vertex_state,
+                      __global real4* vertex_energy,
+                      __global real2* front,
+                      __global real2* back,
+                      __global uint* wet_count,
+                      __global uint* wet,
+                      __global real2* fluid_slots) {
+  __local real hole_local[3];
+  __local real2 local_copy[2 * FLUID_GROUP];
+  __local uint too_many;
+  const uint l = get_local_id(0);
+  if (l == 0) reset_wet_count(wet_count);
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  for (uint e = l; e < n_ce4; e += FLUID_GROUP)
+    segment_item(e, ce4_nodes, position, status,
+#if DAMAGED_SEGMENTS
+                 gp_state,
+#endif
+                 seg_h, thickness, residual, max_aperture, viscosity, step, seg_geom, too_wide);
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  for (uint v = l; v < n_vertices; v += FLUID_GROUP)
+    vertex_item(v, vertex_start, vertex_end, seg_geom, bulk, source, vertex_rate, vertex_state, vertex_energy, front,
+                wet_count, wet);
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  substeps_in_group(planned, wet_count, wet, vertex_start, vertex_end, seg_vertex, seg_geom, front, source,
+                    source_value, bulk,
+#if ADAPTIVE
+                    dt, safety,
+#else
+                    dt_sub,
+#endif
+                    vertex_state, vertex_energy, back, hole_local, local_copy, &too_many);
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  for (uint e = l; e < n_ce4; e += FLUID_GROUP)
+    forces_item(e, ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate, thickness, fluid_slots);
+}
+#endif

@@ -594,10 +594,13 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
   }
 }
 
-TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, give the launches' bits (KGD rate, held pressure)") {
+TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and the whole step in one (fused), give "
+          "the launches' bits (KGD rate, held pressure)") {
   // FDEM_FLUID_GROUP=0 keeps one launch a sub-step; =1 takes the group whatever the size.
   // FDEM_FLUID_LOCAL=0 keeps the group on its global path; by default a small wet network
   // (at most 256 wet vertices of at most 12 CE4 ends) takes the local one.
+  // FDEM_FLUID_FUSED=1 takes the whole step in one work-group (a GPU's default for small
+  // models), =0 the stage's four launches.
   struct Run {
     std::string path;
     std::vector<std::string> sets;
@@ -612,25 +615,30 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, giv
     ~Unset() {
       unsetenv("FDEM_FLUID_GROUP");
       unsetenv("FDEM_FLUID_LOCAL");
+      unsetenv("FDEM_FLUID_FUSED");
     }
   } unset;
   for (const auto& r : runs) {
     CAPTURE(r.path);
     const PreparedCase p = prepare_case(r.path, r.sets);
-    // The local path's limits hold, so the third run takes it.
+    // The local path's limits hold, so the third and fifth runs take it.
     uint32_t degree = 0;
     for (size_t v = 0; v < p.model.fluid.vertices; ++v)
       degree = std::max(degree, p.model.fluid.vertex_start[v + 1] - p.model.fluid.vertex_start[v]);
     CHECK(degree <= 12);
-    std::vector<real2> x[3];
-    std::vector<real4> state[3];
-    const char* group[3] = {"0", "1", "1"};
-    const char* local[3] = {"1", "0", "1"};
-    for (int way = 0; way < 3; ++way) {
+    constexpr int kWays = 5;
+    std::vector<real2> x[kWays];
+    std::vector<real4> state[kWays];
+    const char* group[kWays] = {"0", "1", "1", "1", "1"};
+    const char* local[kWays] = {"1", "0", "1", "0", "1"};
+    const char* fused[kWays] = {"0", "0", "0", "1", "1"};
+    for (int way = 0; way < kWays; ++way) {
       setenv("FDEM_FLUID_GROUP", group[way], 1);
       setenv("FDEM_FLUID_LOCAL", local[way], 1);
+      setenv("FDEM_FLUID_FUSED", fused[way], 1);
       Solver solver(test::context(), p.model, p.dt);
       CHECK(solver.fluid()->one_group() == (way > 0));
+      CHECK(solver.fluid()->fused() == (way > 2));
       for (long k = 0; k < r.steps; ++k) solver.step(false);
       x[way] = solver.positions();
       state[way] = solver.fluid()->vertex_state();
@@ -639,7 +647,7 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, giv
     for (size_t v = 0; v < state[0].size(); ++v) wet += state[0][v].x > 0;
     CHECK(wet > 4);  // the fluid moved
     CHECK(wet <= 256);
-    for (int way = 1; way < 3; ++way) {
+    for (int way = 1; way < kWays; ++way) {
       CAPTURE(way);
       REQUIRE(x[0].size() == x[way].size());
       size_t differ = 0;

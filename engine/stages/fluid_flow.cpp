@@ -122,6 +122,32 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   fluid_group_ = (fluid_.gas && cl.info().is_gpu) ? std::min<size_t>(kFluidGroupWide, cl.device().max_work_group_size())
                                                   : kFluidGroup;
   if (const size_t size = cl.group_size_from_env("FDEM_FLUID_GROUP_SIZE", 64)) fluid_group_ = size;
+  // All sub-steps in one launch of one work-group when the source's value is the same in
+  // every sub-step (a constant rate or pressure, or the gas's hole), no leak-off (its
+  // exposure times are per sub-step) and, on a CPU device, a network of at most
+  // kFluidGroupUpTo vertices (one work-group is one core there: a large wet network would
+  // wait on it). On a GPU whatever the network's size: the group visits only the wet
+  // vertices, while each launch of the other path costs some 4 µs and covers the whole
+  // network (the kgd:2 bench row, 37,409 vertices, 88 sub-steps: +983% with launches on
+  // an H100, docs/performance-notes.md "Session 21"). The same bits as the launches
+  // (tests/test_fluid.cpp); FDEM_FLUID_GROUP=0 keeps the launches, =1 takes the group
+  // whatever the device and the network's size.
+  const char* group_env = std::getenv("FDEM_FLUID_GROUP");
+  const std::string group_choice = group_env ? group_env : "";
+  one_group_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) && group_choice != "0" &&
+               (group_choice == "1" || cl.info().is_gpu || vertices_ <= kFluidGroupUpTo);
+  // The gas always: its group follows the hole's gas from one sub-step to the next.
+  if (fluid_.gas) one_group_ = true;
+  // The liquid's whole step in one launch of one work-group (fluid_step_group) on a GPU
+  // for a model of at most kFluidFusedUpTo CE4s: there each of the stage's four launches
+  // cost about what a small model's mechanics costs (issue 32's fluid rows), while one
+  // work-group's passes over its CE4s and vertices take a few µs. The same bits as the four
+  // launches (tests/test_fluid.cpp); FDEM_FLUID_FUSED=0 keeps the launches, =1 takes the
+  // fused step whatever the device and the model's size (where the group applies).
+  const char* fused_env = std::getenv("FDEM_FLUID_FUSED");
+  const std::string fused_choice = fused_env ? fused_env : "";
+  fused_ = one_group_ && !fluid_.gas && fused_choice != "0" &&
+           (fused_choice == "1" || (cl.info().is_gpu && ce4_ <= kFluidFusedUpTo));
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
@@ -129,6 +155,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
                                              {"GAS", fluid_.gas ? "1" : "0"},
                                              {"FLUID_GROUP", std::to_string(fluid_group_)},
                                              {"FLUID_LOCAL", local_choice ? "1" : "0"},
+                                             {"FUSED", fused_ ? "1" : "0"},
                                              {"ADAPTIVE", adaptive_ ? "1" : "0"}};
   {
     char text[64];
@@ -196,22 +223,6 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", copy == 0 ? back_ : front_).done();
   }
 
-  // All sub-steps in one launch of one work-group when the source's value is the same in
-  // every sub-step (a constant rate or pressure, or the gas's hole), no leak-off (its
-  // exposure times are per sub-step) and, on a CPU device, a network of at most
-  // kFluidGroupUpTo vertices (one work-group is one core there: a large wet network would
-  // wait on it). On a GPU whatever the network's size: the group visits only the wet
-  // vertices, while each launch of the other path costs some 4 µs and covers the whole
-  // network (the kgd:2 bench row, 37,409 vertices, 88 sub-steps: +983% with launches on
-  // an H100, docs/performance-notes.md "Session 21"). The same bits as the launches
-  // (tests/test_fluid.cpp); FDEM_FLUID_GROUP=0 keeps the launches, =1 takes the group
-  // whatever the device and the network's size.
-  const char* group_env = std::getenv("FDEM_FLUID_GROUP");
-  const std::string group_choice = group_env ? group_env : "";
-  one_group_ = !leak && (fluid_.gas || fluid_.history.times.size() == 1) && group_choice != "0" &&
-               (group_choice == "1" || cl.info().is_gpu || vertices_ <= kFluidGroupUpTo);
-  // The gas always: its group follows the hole's gas from one sub-step to the next.
-  if (fluid_.gas) one_group_ = true;
   if (one_group_) {
     const double value = fluid_.gas ? 0.0 : fluid_source_value(fluid_.history, 0.0);
     group_kernel_ = compute::kernel(program, "fluid_substeps_group");
@@ -228,6 +239,29 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
       b("gas_hole", gas_hole_)("n_source", cl_uint(fluid_.source_vertices.size()))("source_vertices", hole_sources_)(
           "hole_gas0", real(fluid_.hole_volume));
     b("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("back", back_).done();
+  }
+
+  if (fused_) {
+    const double value = fluid_source_value(fluid_.history, 0.0);
+    fused_kernel_ = compute::kernel(program, "fluid_step_group");
+    KernelArgs f(fused_kernel_);
+    f("n_ce4", cl_uint(ce4_))("n_vertices", cl_uint(vertices_))("ce4_nodes", nodes_)("position", position)(
+        "status", status);
+    if (fluid_.damaged_segments) f("gp_state", gauss_state);
+    f("seg_h", seg_h_)("thickness", thickness)("residual", real(fluid_.residual_aperture))(
+        "max_aperture", real(fluid_.max_aperture))("viscosity", real(fluid_.viscosity));
+    fused_step_ = f.later("step", cl_int(0));
+    f("seg_geom", seg_geom_)("too_wide", too_wide_)("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
+        "seg_vertex", seg_vertex_)("bulk", bulk)("source", source_)(
+        "source_value", static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_))(
+        "planned", cl_uint(substeps_));
+    if (adaptive_)
+      f("dt", real(dt))("safety", real(fluid_.safety));
+    else
+      f("dt_sub", dt_sub);
+    f("vertex_rate", vertex_rate_)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)(
+        "back", back_)("wet_count", wet_count_)("wet", wet_)("fluid_slots", slots_)
+        .done();
   }
 
   forces_ = compute::kernel(program, "fluid_forces");
@@ -255,6 +289,11 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 }
 
 void FluidFlow::enqueue(double time, long step) {
+  if (fused_) {  // the liquid's whole step in one work-group (a small model on a GPU)
+    fused_step_.set(static_cast<cl_int>(step));
+    cl_.enqueue(fused_kernel_, fluid_group_, fluid_group_);
+    return;
+  }
   step_.set(static_cast<cl_int>(step));
   cl_.enqueue(segments_, ce4_);
   cl_.enqueue(vertices_kernel_, vertices_);

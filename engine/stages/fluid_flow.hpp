@@ -57,6 +57,7 @@ class FluidFlow {
   const FluidModel& network() const { return fluid_; }
   long substeps() const { return substeps_; }
   bool one_group() const { return one_group_; }  // the sub-steps in one work-group's launch
+  bool fused() const { return fused_; }          // the whole step in one work-group's launch
   bool adaptive() const { return adaptive_; }     // as many sub-steps as the network's rate asks
 
   void save_state(StateWriter& out) const;
@@ -80,6 +81,11 @@ class FluidFlow {
   compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])
   // fluid_substeps_group: every sub-step of a step in one work-group of kFluidGroup items.
   static constexpr size_t kFluidGroup = 256, kFluidGroupWide = 1024, kFluidGroupUpTo = 16384;
+  // fluid_step_group (FUSED): the liquid's whole step in one work-group, on a GPU up to this many CE4s.
+  static constexpr size_t kFluidFusedUpTo = 65536;
+  bool fused_ = false;
+  compute::kernel fused_kernel_;
+  KernelArg<cl_int> fused_step_;
   size_t fluid_group_ = kFluidGroup;  // its work-items (the program's FLUID_GROUP)
   bool one_group_ = false;
   bool adaptive_ = false;  // sub-steps from the network's rate (ADAPTIVE in fluid_flow.cl)
