@@ -230,6 +230,10 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global const real* restrict excavation_time, const real dt,
                               __global real2* restrict excavation_energy
 #endif
+#ifdef FLUID_CARRIERS
+                              , __global uint* restrict fluid_carriers,
+                              __global uint* restrict fluid_carrier_count
+#endif
                               ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -324,6 +328,9 @@ __kernel void cohesive_forces(const uint n_ce4,
     real slid = 0;       // largest |s| over the points [m]
     real4 slip_f = gp_slip[e];
     real sf[3] = {slip_f.x, slip_f.y, slip_f.z};
+#ifdef FLUID_CARRIERS
+    bool softened_before = false, softened = false;  // some point past its peak (D_max > 0), before and after
+#endif
 
     for (int g = 0; g < 3; ++g) {
       const real4 gs_before = gp_state[3 * e + g];
@@ -344,6 +351,10 @@ __kernel void cohesive_forces(const uint n_ce4,
         gs.z = fmax(gs.z, sa);
         if (coh_differ4(gs, gs_before)) gp_state[3 * e + g] = gs;
       }
+#ifdef FLUID_CARRIERS
+      softened_before = softened_before || gs_before.x > (real)0;
+      softened = softened || gs.x > (real)0;
+#endif
       if (gs.x >= (real)1) {
         share_sum += gs.w;
         ++at_one;
@@ -447,6 +458,19 @@ __kernel void cohesive_forces(const uint n_ce4,
       held = 0;
     }
     if (st.x != status[e].x) status[e] = st;
+#ifdef FLUID_CARRIERS
+    // [fluid]: an intact CE4 that starts to carry fluid in this step (it broke, or with
+    // FLUID_CARRIERS 2 one of its points softened: fluid_flow.cl's `carries`) joins the
+    // fluid stage's list, once (carrying is irreversible; a closed CE4 carries already).
+    if (!closed) {
+#if FLUID_CARRIERS == 2
+      const bool carried = softened_before, carries = st.x >= 1 || softened;
+#else
+      const bool carried = false, carries = st.x >= 1;
+#endif
+      if (carries && !carried) fluid_carriers[atomic_inc(fluid_carrier_count)] = e;
+    }
+#endif
 #ifdef EXCAVATION
     // The ramp: the energy that leaves with the factor (trapezoid in time, Π unscaled),
     // then the forces and the stored energy scaled by k.

@@ -118,6 +118,23 @@ inline real gas_enthalpy(const real p) {
 }
 #endif
 
+// Whether CE4 e carries fluid: broken (status >= 1), or with DAMAGED_SEGMENTS softened at
+// one of its three points (D_max > 0: past the peak of its law). Irreversible, so a
+// segment never closes to the network again (cohesive_forces.cl keeps the same rule for
+// the list of carriers, FLUID_CARRIERS).
+inline bool segment_carries(const uint e, __global const int2* restrict status
+#if DAMAGED_SEGMENTS
+                            , __global const real4* restrict gp_state
+#endif
+                            ) {
+#if DAMAGED_SEGMENTS
+  return status[e].x >= 1 || gp_state[3 * e].x > (real)0 || gp_state[3 * e + 1].x > (real)0 ||
+         gp_state[3 * e + 2].x > (real)0;
+#else
+  return status[e].x >= 1;
+#endif
+}
+
 // One CE4's segment (fluid_segments, and the fused fluid_step_group below).
 inline void segment_item(const uint e,
                              __global const uint4* restrict ce4_nodes,
@@ -138,12 +155,9 @@ inline void segment_item(const uint e,
 #endif
                              __global int* restrict too_wide) {
 #if DAMAGED_SEGMENTS
-  // An intact CE4 carries fluid once softened: D_max > 0 at one of its three points
-  // (irreversible, so a segment never closes to the network again).
-  const bool carries = status[e].x >= 1 || gp_state[3 * e].x > (real)0 || gp_state[3 * e + 1].x > (real)0 ||
-                       gp_state[3 * e + 2].x > (real)0;
+  const bool carries = segment_carries(e, status, gp_state);
 #else
-  const bool carries = status[e].x >= 1;
+  const bool carries = segment_carries(e, status);
 #endif
   // A CE4 that does not carry now never has (carrying is irreversible: a closed or released
   // CE4 stays so, D_max only grows), so its seg_geom (and seg_joined) still hold the zeros
@@ -970,15 +984,70 @@ __kernel void fluid_forces(const uint n_ce4,
 }
 
 #if FUSED && !GAS && !LEAK_OFF
-// The liquid's whole step in one launch of one work-group (FUSED: a small model on a GPU,
-// where each of the stage's four launches cost about as much as the small model's
-// mechanics, issue 32's fluid row): work-item l does the CE4s l, l + FLUID_GROUP, ... of
-// fluid_segments, the vertices of fluid_vertices likewise, the sub-steps of
-// fluid_substeps_group and the CE4s of fluid_forces, a barrier between the passes. Each
-// item's work is that kernel's, on the same operands: the same bits.
+// The network's lists for the fused step: the carrying CE4s (cohesive_forces appends each
+// in the step it starts to carry: engine/stages/fluid_carriers.hpp) and the network's
+// vertices (the source's and the carriers' ends: a vertex with no carrying segment holds
+// no fluid, and its fluid_vertices pass writes back the zeros it has). Both only grow;
+// their order depends on the atomics, their content does not, and no result depends on
+// the order (each CE4 and each vertex is one item's, as in the four launches).
+inline void join_network(const uint v, __global uint* in_net, __global uint* net_vertices, __global uint* net_count) {
+  if (atomic_xchg(&in_net[v], 1u) == 0u) net_vertices[atomic_inc(&net_count[0])] = v;
+}
+
+// One work-item per vertex: empties both lists (FluidFlow rebuilds them when it starts
+// and when it restores a checkpoint: fluid_network_scan, next in the queue).
+__kernel void fluid_network_clear(const uint n_vertices,
+                                  __global uint* restrict in_net,
+                                  __global uint* restrict net_count,
+                                  __global uint* restrict carrier_count) {
+  const uint v = get_global_id(0);
+  if (v == 0) {
+    net_count[0] = 0;  // vertices in the network
+    net_count[1] = 0;  // carriers whose ends have joined it
+    carrier_count[0] = 0;
+  }
+  if (v < n_vertices) in_net[v] = 0;
+}
+
+// One work-item per CE4 and per vertex (the larger count): the CE4s that carry now into
+// the carriers' list, the source's vertices into the network's (the carriers' ends join
+// it in fluid_step_group).
+__kernel void fluid_network_scan(const uint n_ce4,
+                                 const uint n_vertices,
+                                 __global const int2* restrict status,
+#if DAMAGED_SEGMENTS
+                                 __global const real4* restrict gp_state,
+#endif
+                                 __global const uchar* restrict source,
+                                 __global uint* restrict carriers,
+                                 __global uint* restrict carrier_count,
+                                 __global uint* restrict in_net,
+                                 __global uint* restrict net_vertices,
+                                 __global uint* restrict net_count) {
+  const uint i = get_global_id(0);
+#if DAMAGED_SEGMENTS
+  if (i < n_ce4 && segment_carries(i, status, gp_state)) carriers[atomic_inc(carrier_count)] = i;
+#else
+  if (i < n_ce4 && segment_carries(i, status)) carriers[atomic_inc(carrier_count)] = i;
+#endif
+  if (i < n_vertices && source[i]) join_network(i, in_net, net_vertices, net_count);
+}
+
+// The liquid's whole step in one launch of one work-group (FUSED: each of the stage's four
+// launches cost about what a small model's mechanics costs on a GPU, issue 32's fluid
+// rows): the new carriers' ends join the network, then work-item l does the carriers l,
+// l + FLUID_GROUP, ... of fluid_segments, the network's vertices likewise of
+// fluid_vertices, the sub-steps of fluid_substeps_group and the carriers of fluid_forces,
+// a barrier between the passes. A CE4 that does not carry and a vertex outside the
+// network do nothing in those kernels, and each item's work is theirs on the same
+// operands: the same bits as the four launches, at a cost that follows the network, not
+// the model.
 __kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
-void fluid_step_group(const uint n_ce4,
-                      const uint n_vertices,
+void fluid_step_group(__global const uint* restrict carriers,
+                      __global const uint* restrict carrier_count,
+                      __global uint* in_net,
+                      __global uint* net_vertices,
+                      __global uint* net_count,
                       __global const uint4* restrict ce4_nodes,
                       __global const real2* restrict position,
                       __global const int2* restrict status,
@@ -1018,18 +1087,26 @@ void fluid_step_group(const uint n_ce4,
   __local real2 local_copy[2 * FLUID_GROUP];
   __local uint too_many;
   const uint l = get_local_id(0);
+  const uint n_carriers = carrier_count[0], joined = net_count[1];
+  for (uint i = joined + l; i < n_carriers; i += FLUID_GROUP) {
+    const uint2 ab = seg_vertex[carriers[i]];
+    join_network(ab.x, in_net, net_vertices, net_count);
+    join_network(ab.y, in_net, net_vertices, net_count);
+  }
   if (l == 0) reset_wet_count(wet_count);
   barrier(CLK_GLOBAL_MEM_FENCE);
-  for (uint e = l; e < n_ce4; e += FLUID_GROUP)
-    segment_item(e, ce4_nodes, position, status,
+  if (l == 0) net_count[1] = n_carriers;  // (every item read the old value above)
+  const uint n_network = net_count[0];
+  for (uint i = l; i < n_carriers; i += FLUID_GROUP)
+    segment_item(carriers[i], ce4_nodes, position, status,
 #if DAMAGED_SEGMENTS
                  gp_state,
 #endif
                  seg_h, thickness, residual, max_aperture, viscosity, step, seg_geom, too_wide);
   barrier(CLK_GLOBAL_MEM_FENCE);
-  for (uint v = l; v < n_vertices; v += FLUID_GROUP)
-    vertex_item(v, vertex_start, vertex_end, seg_geom, bulk, source, vertex_rate, vertex_state, vertex_energy, front,
-                wet_count, wet);
+  for (uint i = l; i < n_network; i += FLUID_GROUP)
+    vertex_item(net_vertices[i], vertex_start, vertex_end, seg_geom, bulk, source, vertex_rate, vertex_state,
+                vertex_energy, front, wet_count, wet);
   barrier(CLK_GLOBAL_MEM_FENCE);
   substeps_in_group(planned, wet_count, wet, vertex_start, vertex_end, seg_vertex, seg_geom, front, source,
                     source_value, bulk,
@@ -1040,7 +1117,8 @@ void fluid_step_group(const uint n_ce4,
 #endif
                     vertex_state, vertex_energy, back, hole_local, local_copy, &too_many);
   barrier(CLK_GLOBAL_MEM_FENCE);
-  for (uint e = l; e < n_ce4; e += FLUID_GROUP)
-    forces_item(e, ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate, thickness, fluid_slots);
+  for (uint i = l; i < n_carriers; i += FLUID_GROUP)
+    forces_item(carriers[i], ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate, thickness,
+                fluid_slots);
 }
 #endif

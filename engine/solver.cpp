@@ -57,6 +57,7 @@ CohesiveModel cohesive_model(const Model& model) {
       for (const auto& x : model.excavations) m.excavation_times.push_back({x.start, x.duration});
     }
   }
+  if (model.fluid.enabled) m.fluid_carriers = model.fluid.damaged_segments ? 2 : 1;
   if (model.contact.enabled && !model.node_origin.empty()) {
     m.vertices.reserve(model.ce4.size());
     for (const auto& e : model.ce4) m.vertices.push_back({model.node_origin[e[0]], model.node_origin[e[1]]});
@@ -122,7 +123,7 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   if (p.ce4)
     plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0,
                                   cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled, p.extrinsic,
-                                  cohesive_model(model).excavation_of.empty() ? 0 : model.excavations.size()));
+                                  cohesive_model(model).excavation_of.empty() ? 0 : model.excavations.size(), p.fluid));
   if (p.extrinsic) plan.add(Extrinsic::plan(model));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
@@ -228,7 +229,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                         })),
       fluid_(build_if(parts_.fluid,
                       [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(),
-                                                               cohesive_->gauss_state(), dt); })),
+                                                               cohesive_->gauss_state(), dt, cohesive_->fluid_carriers()); })),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
                        triangle_excavation(model)),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,

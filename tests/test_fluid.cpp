@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -607,7 +608,7 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
     long steps;
   };
   const std::vector<Run> runs{
-      {test::source_path("cases/kgd/viscosity.toml"), {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_tg\""}, 400},
+      {test::source_path("cases/kgd/viscosity.toml"), {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_tg\""}, 1500},
       {test::source_path("cases/sneddon/case.toml"), {"mesh.size=0.2", "fluid.pressure=1e6", "output.dir=\"/tmp/fdem_tg\""}, 150}};
   // (The gas always takes the group's global path: it follows the hole's gas from
   // sub-step to sub-step.)
@@ -658,6 +659,39 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
       CHECK(differ == 0);
     }
   }
+}
+
+TEST_CASE("fluid: the cohesive stage's list of carrying CE4s holds each carrying CE4 once, as it grows") {
+  // The fused step (fluid_step_group) walks the CE4s that cohesive_forces appended in the
+  // step they started to carry (broken, or softened: D_max > 0 at a point), after
+  // fluid_network_scan listed those that carried at the start. At each check the list is
+  // the set the fluid's own rule gives from the CE4s' state, without repeats.
+  const PreparedCase p = prepare_case(test::source_path("cases/kgd/viscosity.toml"),
+                                      {"mesh.size=0.2", "fluid.rate=10", "output.dir=\"/tmp/fdem_tl\""});
+  REQUIRE(p.model.fluid.damaged_segments);
+  Solver solver(test::context(), p.model, p.dt);
+  REQUIRE(solver.fluid()->fused());
+  const FluidCarriers* carriers = solver.cohesive()->fluid_carriers();
+  REQUIRE(carriers != nullptr);
+  size_t first = 0, last = 0;
+  for (int check = 0; check < 8; ++check) {
+    for (long k = 0; k < 200; ++k) solver.step(false);
+    const auto broken = solver.cohesive()->broken();
+    const auto damage = solver.cohesive()->damage();
+    std::set<uint32_t> expected;
+    for (size_t e = 0; e < broken.size(); ++e)
+      if (broken[e] || damage[e] > 0) expected.insert(static_cast<uint32_t>(e));
+    const cl_uint count = download<cl_uint>(test::context(), carriers->count, 1)[0];
+    const auto list = download<cl_uint>(test::context(), carriers->list, count);
+    const std::set<uint32_t> listed(list.begin(), list.end());
+    CAPTURE(check);
+    CHECK(listed.size() == list.size());  // no CE4 twice
+    CHECK(listed == expected);
+    if (check == 0) first = count;
+    last = count;
+  }
+  CHECK(first > 0);
+  CHECK(last > first + 6);  // the crack grew during the run (14 to 24 carriers on PoCL): the list grew with it
 }
 
 TEST_CASE("fluid: two runs give the same bits") {

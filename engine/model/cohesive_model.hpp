@@ -59,6 +59,10 @@ struct CohesiveModel {
   std::vector<std::array<int, 2>> excavation_of;
   std::vector<std::array<double, 2>> excavation_times;
   double excavation_dt = 0;  // the run's time step [s]: the factor is taken at step × dt
+  // [fluid] on: the CE4s that start to carry fluid in a step are appended to a list the
+  // fluid stage reads (CohesiveForces::fluid_carriers): 1 where a broken CE4 carries, 2
+  // where a softened one does too (fluid.segments = "damaged"); 0 without [fluid].
+  int fluid_carriers = 0;
 };
 
 // The property sets the stage holds for `model`'s CE4s: one per set of `fracture`, plus

@@ -39,8 +39,11 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 }  // namespace
 
 MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ, bool extrinsic,
-                                 size_t excavations) {
+                                 size_t excavations, bool fluid) {
   MemoryPlan p;
+  // [fluid]: the list of the CE4s that carry fluid, and its length (fluid_carriers()).
+  if (fluid)
+    p.add("ce4_fluid_carriers", std::max<size_t>(1, ce4) * sizeof(cl_uint)).add("ce4_fluid_carrier_count", sizeof(cl_uint));
   // [[excavation]] with CE4s on excavated triangles: the ramp's indices, times and energy.
   if (excavations > 0)
     p.add("ce4_excavation_of", 2 * std::max<size_t>(1, ce4) * sizeof(cl_int))
@@ -179,8 +182,14 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   for (size_t e = 0; excavation_ && e < count_; ++e)
     if ((model.excavation_of[e][0] >= 0 || model.excavation_of[e][1] >= 0) && model.fracture[model.properties[e]].extrinsic)
       throw InputError("cohesive model: CE4 " + std::to_string(e) + " is extrinsic and on an excavated triangle");
-  const MemoryPlan arrays =
-      plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_, excavation_ ? model.excavation_times.size() : 0);
+  const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_,
+                                 excavation_ ? model.excavation_times.size() : 0, model.fluid_carriers != 0);
+  if (model.fluid_carriers != 0) {
+    carriers_.list = arrays.allocate(cl, "ce4_fluid_carriers");
+    carriers_.count = arrays.allocate(cl, "ce4_fluid_carrier_count");
+    carriers_.softened = model.fluid_carriers == 2;
+    upload(cl, carriers_.count, std::vector<cl_uint>(1, 0));  // the fluid stage scans the CE4s before its first step
+  }
   if (excavation_) {
     std::vector<cl_int> of(2 * std::max<size_t>(1, count_), -1);
     for (size_t e = 0; e < count_; ++e) {
@@ -284,6 +293,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (with_in_situ) defines["IN_SITU_GAPS"] = "1";
   if (extrinsic_) defines["EXTRINSIC"] = "1";
   if (excavation_) defines["EXCAVATION"] = "1";
+  if (model.fluid_carriers != 0) defines["FLUID_CARRIERS"] = std::to_string(model.fluid_carriers);
   // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
   // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
   // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
@@ -305,6 +315,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (excavation_)
     args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("dt", static_cast<real>(model.excavation_dt))(
         "excavation_energy", excavation_energy_);
+  if (model.fluid_carriers != 0) args("fluid_carriers", carriers_.list)("fluid_carrier_count", carriers_.count);
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(

@@ -11,6 +11,7 @@
 #include "engine/device/memory_plan.hpp"
 #include "engine/model/real.hpp"
 #include "engine/model/in_situ.hpp"
+#include "engine/stages/fluid_carriers.hpp"
 #include "io/events_writer.hpp"
 
 namespace fdem {
@@ -40,7 +41,7 @@ class CohesiveForces {
   // `excavations`: the number of [[excavation]] entries when some CE4 touches an excavated
   // triangle (CohesiveModel::excavation_of), else 0.
   static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false,
-                         bool extrinsic = false, size_t excavations = 0);
+                         bool extrinsic = false, size_t excavations = 0, bool fluid = false);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -53,6 +54,11 @@ class CohesiveForces {
   compute::buffer& status() { return status_; }
   // real4 per Gauss point, three per CE4: (D_max, o_max, max|s|, χ) (cohesive_forces.cl).
   compute::buffer& gauss_state() { return gp_state_; }
+  // [fluid] (CohesiveModel::fluid_carriers): the CE4s that started to carry fluid, appended
+  // by the kernel in the step they start (broke, or softened where `softened`), and their
+  // count; FluidFlow rebuilds the list from the status whenever it starts or restores.
+  // nullptr without [fluid].
+  const FluidCarriers* fluid_carriers() const { return carriers_.list.get() ? &carriers_ : nullptr; }
   // int per mesh node (CohesiveModel::vertex_bonded given): -1 fan not bonded, 0 every CE4
   // at it intact, 2 + n one of them broke at step n. Null without it.
   const compute::buffer* mesh_node_state() const { return fans_ ? &mesh_state_ : nullptr; }
@@ -146,6 +152,7 @@ class CohesiveForces {
   compute::program program_;  // for cohesive_output, built per output_column read
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
   compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_;
+  FluidCarriers carriers_;  // [fluid] only
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).

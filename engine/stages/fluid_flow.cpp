@@ -23,6 +23,9 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid front", v * sizeof(real2))
       .add("fluid wet", v * sizeof(cl_uint))
       .add("fluid wet_count", 4 * sizeof(cl_uint))
+      .add("fluid in_net", v * sizeof(cl_uint))
+      .add("fluid net_vertices", v * sizeof(cl_uint))
+      .add("fluid net_count", 2 * sizeof(cl_uint))
       .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
@@ -45,7 +48,7 @@ long FluidFlow::substeps(const FluidModel& f, double dt) {
 }
 
 FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status,
-                     compute::buffer& gauss_state, double dt)
+                     compute::buffer& gauss_state, double dt, const FluidCarriers* carriers)
     : cl_(cl),
       fluid_(model.fluid),
       ce4_(model.ce4.size()),
@@ -60,6 +63,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   seg_geom_ = make("fluid seg_geom");
   front_ = make("fluid front"), back_ = make("fluid back"), wet_ = make("fluid wet");
   wet_count_ = make("fluid wet_count");
+  in_net_ = make("fluid in_net"), net_vertices_ = make("fluid net_vertices"), net_count_ = make("fluid net_count");
   slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
@@ -138,16 +142,14 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
                (group_choice == "1" || cl.info().is_gpu || vertices_ <= kFluidGroupUpTo);
   // The gas always: its group follows the hole's gas from one sub-step to the next.
   if (fluid_.gas) one_group_ = true;
-  // The liquid's whole step in one launch of one work-group (fluid_step_group) on a GPU
-  // for a model of at most kFluidFusedUpTo CE4s: there each of the stage's four launches
-  // cost about what a small model's mechanics costs (issue 32's fluid rows), while one
-  // work-group's passes over its CE4s and vertices take a few µs. The same bits as the four
-  // launches (tests/test_fluid.cpp); FDEM_FLUID_FUSED=0 keeps the launches, =1 takes the
-  // fused step whatever the device and the model's size (where the group applies).
+  // The liquid's whole step in one launch of one work-group (fluid_step_group) wherever its
+  // sub-steps take one (above), given the cohesive stage's list of carrying CE4s: on a GPU
+  // each of the stage's four launches cost about what a small model's mechanics costs
+  // (issue 32's fluid rows), and the launches' passes over every CE4 and vertex follow
+  // the model, while the fused step's follow the network. The same bits as the four
+  // launches (tests/test_fluid.cpp); FDEM_FLUID_FUSED=0 keeps the launches.
   const char* fused_env = std::getenv("FDEM_FLUID_FUSED");
-  const std::string fused_choice = fused_env ? fused_env : "";
-  fused_ = one_group_ && !fluid_.gas && fused_choice != "0" &&
-           (fused_choice == "1" || (cl.info().is_gpu && ce4_ <= kFluidFusedUpTo));
+  fused_ = one_group_ && !fluid_.gas && carriers != nullptr && !(fused_env && std::string(fused_env) == "0");
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
@@ -243,10 +245,21 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 
   if (fused_) {
     const double value = fluid_source_value(fluid_.history, 0.0);
+    network_clear_ = compute::kernel(program, "fluid_network_clear");
+    bind_args(network_clear_)("n_vertices", cl_uint(vertices_))("in_net", in_net_)("net_count", net_count_)(
+        "carrier_count", carriers->count)
+        .done();
+    network_scan_ = compute::kernel(program, "fluid_network_scan");
+    KernelArgs n(network_scan_);
+    n("n_ce4", cl_uint(ce4_))("n_vertices", cl_uint(vertices_))("status", status);
+    if (fluid_.damaged_segments) n("gp_state", gauss_state);
+    n("source", source_)("carriers", carriers->list)("carrier_count", carriers->count)("in_net", in_net_)(
+        "net_vertices", net_vertices_)("net_count", net_count_)
+        .done();
     fused_kernel_ = compute::kernel(program, "fluid_step_group");
     KernelArgs f(fused_kernel_);
-    f("n_ce4", cl_uint(ce4_))("n_vertices", cl_uint(vertices_))("ce4_nodes", nodes_)("position", position)(
-        "status", status);
+    f("carriers", carriers->list)("carrier_count", carriers->count)("in_net", in_net_)("net_vertices", net_vertices_)(
+        "net_count", net_count_)("ce4_nodes", nodes_)("position", position)("status", status);
     if (fluid_.damaged_segments) f("gp_state", gauss_state);
     f("seg_h", seg_h_)("thickness", thickness)("residual", real(fluid_.residual_aperture))(
         "max_aperture", real(fluid_.max_aperture))("viscosity", real(fluid_.viscosity));
@@ -289,7 +302,12 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 }
 
 void FluidFlow::enqueue(double time, long step) {
-  if (fused_) {  // the liquid's whole step in one work-group (a small model on a GPU)
+  if (fused_) {  // the liquid's whole step in one work-group
+    if (rescan_) {  // the lists anew from the CE4s' state (the first step, or after a restore)
+      cl_.enqueue(network_clear_, vertices_);
+      cl_.enqueue(network_scan_, std::max(ce4_, vertices_));
+      rescan_ = false;
+    }
     fused_step_.set(static_cast<cl_int>(step));
     cl_.enqueue(fused_kernel_, fluid_group_, fluid_group_);
     return;
@@ -410,6 +428,7 @@ void FluidFlow::save_state(StateWriter& out) const {
 }
 
 void FluidFlow::load_state(StateReader& in) {
+  rescan_ = true;  // the CE4s' state is the checkpoint's: the fused step's lists anew
   in.buffer<real>("fluid_vertex_state", vertex_state_, vertices_, 4);
   in.buffer<real>("fluid_vertex_energy", vertex_energy_, vertices_, 4);
   in.buffer<real>("fluid_vertex_rate", vertex_rate_, vertices_, 1);

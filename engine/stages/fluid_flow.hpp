@@ -15,6 +15,7 @@
 #include "engine/energy/energy.hpp"
 #include "engine/model/fluid_model.hpp"
 #include "engine/model/model.hpp"
+#include "engine/stages/fluid_carriers.hpp"
 
 namespace fdem {
 
@@ -24,8 +25,10 @@ class FluidFlow {
   // the CE4s on the case's crack are set broken (closed, status 1) there, once: a
   // restart's checkpoint then overwrites it with its own. `gauss_state`:
   // CohesiveForces::gauss_state(), read when softened CE4s carry fluid (fluid.segments).
+  // `carriers` (CohesiveForces::fluid_carriers(), or none): the list of the carrying CE4s
+  // that the fused step (fluid_step_group) walks instead of every CE4.
   FluidFlow(ClContext& cl, const Model& model, compute::buffer& position, compute::buffer& status,
-            compute::buffer& gauss_state, double dt);
+            compute::buffer& gauss_state, double dt, const FluidCarriers* carriers = nullptr);
   static MemoryPlan plan(const Model& model);
   // Sub-steps of the flow per mechanical step of `dt`: ceil(dt / (safety × stable_dt)).
   static long substeps(const FluidModel& fluid, double dt);
@@ -81,11 +84,13 @@ class FluidFlow {
   compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])
   // fluid_substeps_group: every sub-step of a step in one work-group of kFluidGroup items.
   static constexpr size_t kFluidGroup = 256, kFluidGroupWide = 1024, kFluidGroupUpTo = 16384;
-  // fluid_step_group (FUSED): the liquid's whole step in one work-group, on a GPU up to this many CE4s.
-  static constexpr size_t kFluidFusedUpTo = 65536;
-  bool fused_ = false;
-  compute::kernel fused_kernel_;
+  // fluid_step_group (FUSED): the liquid's whole step in one work-group over the network's
+  // lists; fluid_network_clear and fluid_network_scan rebuild them (rescan_) before the
+  // first step and after a checkpoint is restored.
+  bool fused_ = false, rescan_ = true;
+  compute::kernel fused_kernel_, network_clear_, network_scan_;
   KernelArg<cl_int> fused_step_;
+  compute::buffer in_net_, net_vertices_, net_count_;  // per vertex: in the network; the list; (length, carriers joined)
   size_t fluid_group_ = kFluidGroup;  // its work-items (the program's FLUID_GROUP)
   bool one_group_ = false;
   bool adaptive_ = false;  // sub-steps from the network's rate (ADAPTIVE in fluid_flow.cl)
