@@ -172,9 +172,14 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     defines["GAS_GAMMA"] = text;
   }
   compute::program program = cl.build(kernel_source::fluid_flow, defines);
-  if (fluid_group_ > kFluidGroup &&
-      compute::kernel(program, "fluid_substeps_group").get_work_group_info<size_t>(cl.device(), CL_KERNEL_WORK_GROUP_SIZE) <
-          fluid_group_) {  // the compiled kernel cannot take that many items here: the usual size
+  // The largest work-group a compiled one-group kernel takes here (its registers decide).
+  auto group_limit = [&](const compute::program& built) {
+    size_t limit = compute::kernel(built, "fluid_substeps_group").get_work_group_info<size_t>(cl.device(), CL_KERNEL_WORK_GROUP_SIZE);
+    if (fused_)
+      limit = std::min(limit, compute::kernel(built, "fluid_step_group").get_work_group_info<size_t>(cl.device(), CL_KERNEL_WORK_GROUP_SIZE));
+    return limit;
+  };
+  if (fluid_group_ > kFluidGroup && group_limit(program) < fluid_group_) {  // too many items for it here: the usual size
     fluid_group_ = kFluidGroup;
     defines["FLUID_GROUP"] = std::to_string(fluid_group_);
     program = cl.build(kernel_source::fluid_flow, defines);
