@@ -187,7 +187,6 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (model.fluid_carriers != 0) {
     carriers_.list = arrays.allocate(cl, "ce4_fluid_carriers");
     carriers_.count = arrays.allocate(cl, "ce4_fluid_carrier_count");
-    carriers_.softened = model.fluid_carriers == 2;
     upload(cl, carriers_.count, std::vector<cl_uint>(1, 0));  // the fluid stage scans the CE4s before its first step
   }
   if (excavation_) {

@@ -55,7 +55,7 @@ class CohesiveForces {
   // real4 per Gauss point, three per CE4: (D_max, o_max, max|s|, χ) (cohesive_forces.cl).
   compute::buffer& gauss_state() { return gp_state_; }
   // [fluid] (CohesiveModel::fluid_carriers): the CE4s that started to carry fluid, appended
-  // by the kernel in the step they start (broke, or softened where `softened`), and their
+  // by the kernel in the step they start (broke, or softened: fluid_carriers 2), and their
   // count; FluidFlow rebuilds the list from the status whenever it starts or restores.
   // nullptr without [fluid].
   const FluidCarriers* fluid_carriers() const { return carriers_.list.get() ? &carriers_ : nullptr; }

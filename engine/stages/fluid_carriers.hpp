@@ -12,7 +12,6 @@ namespace fdem {
 struct FluidCarriers {
   compute::buffer list;   // uint per CE4 (capacity): the carrying CE4s' indices
   compute::buffer count;  // one uint: the list's length
-  bool softened = false;  // a softened CE4 carries too (fluid.segments = "damaged")
 };
 
 }  // namespace fdem
