@@ -171,7 +171,9 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     std::snprintf(text, sizeof text, "%.17g", fluid_.gamma);
     defines["GAS_GAMMA"] = text;
   }
-  compute::program program = cl.build(kernel_source::fluid_flow, defines);
+  // The state laws and the segments' geometry ahead of the stage (cl_kernels/fluid_laws.cl).
+  const std::vector<const KernelSource*> libraries{&kernel_source::fluid_laws};
+  compute::program program = cl.build(kernel_source::fluid_flow, defines, libraries);
   // The largest work-group a compiled one-group kernel takes here (its registers decide).
   auto group_limit = [&](const compute::program& built) {
     size_t limit = compute::kernel(built, "fluid_substeps_group").get_work_group_info<size_t>(cl.device(), CL_KERNEL_WORK_GROUP_SIZE);
@@ -182,7 +184,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   if (fluid_group_ > kFluidGroup && group_limit(program) < fluid_group_) {  // too many items for it here: the usual size
     fluid_group_ = kFluidGroup;
     defines["FLUID_GROUP"] = std::to_string(fluid_group_);
-    program = cl.build(kernel_source::fluid_flow, defines);
+    program = cl.build(kernel_source::fluid_flow, defines, libraries);
   }
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
