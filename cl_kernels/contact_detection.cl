@@ -239,6 +239,49 @@ inline bool shares_node(const uint i, const uint j, __global const uint* tri_nod
   return a0 == b0 || a0 == b1 || a0 == b2 || a1 == b0 || a1 == b1 || a1 == b2 || a2 == b0 || a2 == b1 || a2 == b2;
 }
 
+// Whether one edge line of triangles a and b has all three vertices of the other more
+// than `reach` outside it. The gap across an edge line is a lower bound on the distance
+// between the two triangles, so then no point of a comes within `reach` of b. A detection
+// lists a couple only when this is false for reach = the skin (both boxes' margins): a
+// point of a triangle moves at most as far as its farthest node, and the list is
+// replaced before any node has moved half the skin since the positions it was found on,
+// so two triangles further apart than the skin cannot touch while the list stands; their
+// boxes may still overlap (a triangle's box is up to twice its area's reach). Outside
+// distance × |edge| is the cross product, signed by the triangle's orientation; it is
+// compared squared (no square root), past a rounding allowance of 16 ε × the largest
+// coordinate. A degenerate edge owner (zero area) separates nothing.
+inline bool apart_beyond(const real2 a[3], const real2 b[3], const real reach) {
+  real extent = (real)0;
+  for (int m = 0; m < 3; ++m)
+    extent = fmax(extent, fmax(fmax(fabs(a[m].x), fabs(a[m].y)), fmax(fabs(b[m].x), fabs(b[m].y))));
+  const real allowed = reach + (real)16 * REAL_EPS * extent;
+  for (int dir = 0; dir < 2; ++dir) {
+    const real2 p0 = dir ? b[0] : a[0], p1 = dir ? b[1] : a[1], p2 = dir ? b[2] : a[2];
+    const real2 q0 = dir ? a[0] : b[0], q1 = dir ? a[1] : b[1], q2 = dir ? a[2] : b[2];
+    const real twice_area = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+    if (twice_area == (real)0) continue;
+    const real outward = twice_area > (real)0 ? (real)-1 : (real)1;
+    for (int m = 0; m < 3; ++m) {
+      const real2 from = m == 0 ? p0 : m == 1 ? p1 : p2;
+      const real2 to = m == 0 ? p1 : m == 1 ? p2 : p0;
+      const real2 edge = to - from;
+      const real g0 = outward * (edge.x * (q0.y - from.y) - edge.y * (q0.x - from.x));
+      const real g1 = outward * (edge.x * (q1.y - from.y) - edge.y * (q1.x - from.x));
+      const real g2 = outward * (edge.x * (q2.y - from.y) - edge.y * (q2.x - from.x));
+      const real gap = fmin(fmin(g0, g1), g2);  // the nearest vertex's outside distance × |edge|
+      if (gap > (real)0 && gap * gap > allowed * allowed * dot(edge, edge)) return true;
+    }
+  }
+  return false;
+}
+
+inline void triangle_corners(const uint t, __global const uint* tri_nodes, __global const real2* position,
+                             real2 x[3]) {
+  x[0] = position[tri_nodes[3 * t]];
+  x[1] = position[tri_nodes[3 * t + 1]];
+  x[2] = position[tri_nodes[3 * t + 2]];
+}
+
 // The couples of triangle i, in one of two modes:
 // - a detection (covered = 0xffffffff): the couples (i, j) with j > i that are
 //   candidates (i and j both active, or with BONDED_PAIRS, activation "fractured", j one
@@ -251,7 +294,9 @@ inline bool shares_node(const uint i, const uint j, __global const uint* tri_nod
 //   value, the join's stamp, above `covered`), its couples with every other candidate j,
 //   except its bonded partners (in the list from the start) and, when j joined after
 //   `covered` too, those with j < i (j lists them); keys (lower << 32 | higher).
-// In both, j's box overlaps i's and j shares no node with i. i looks through the cells
+// In both, j's box overlaps i's, j shares no node with i, and the two are not apart by
+// more than the skin (apart_beyond, on `position`: the positions the boxes were taken
+// from, which an extension is given again). i looks through the cells
 // around its entries (3x3 around a small triangle's, the covered ones and a ring around
 // them for a large one): a small j is there once, at its centre's cell; a large j may be
 // in several of them, and counts in the first (row-major) cell of the two ranges' overlap.
@@ -273,6 +318,8 @@ inline uint triangle_couples(const uint i,
                              __global const uint* cell_start,
                              __global const uint* sorted_tri,
                              const uint n_entries,
+                             __global const real2* position,
+                             const real reach,
 #ifdef BONDED_PAIRS
                              __global const uint* bond_partners,
 #endif
@@ -308,10 +355,14 @@ inline uint triangle_couples(const uint i,
       if (part != 0) return 0;
       const real4 box = boxes[i];
       const uint partner[3] = {p0, p1, p2};
+      real2 xi[3], xj[3];
+      triangle_corners(i, tri_nodes, position, xi);
       uint found = 0;
       for (int k = 0; k < 3; ++k) {
         const uint j = partner[k];
         if (j == NO_PARTNER || j <= i || !boxes_overlap(box, boxes[j]) || shares_node(i, j, tri_nodes)) continue;
+        triangle_corners(j, tri_nodes, position, xj);
+        if (apart_beyond(xi, xj, reach)) continue;
         if (keys) keys[atomic_inc(cursor)] = ((ulong)i << 32) | (ulong)j;
         ++found;
       }
@@ -322,6 +373,8 @@ inline uint triangle_couples(const uint i,
   const real4 g = grid[0];
   const real4 box = boxes[i];
   const int4 mine = entry_cells(box, g, d);
+  real2 xi[3], xj[3];
+  triangle_corners(i, tri_nodes, position, xi);
   const int x_lo = max(mine.x - 1, 0), x_hi = min(mine.z + 1, (int)d.x - 1);
   const int y_lo = max(mine.y - 1, 0), y_hi = min(mine.w + 1, (int)d.y - 1);
   uint found = 0;
@@ -352,6 +405,8 @@ inline uint triangle_couples(const uint i,
           if (cy != max(y_lo, theirs.y) || cx != max(x_lo, theirs.x)) continue;
         }
         if (shares_node(i, j, tri_nodes)) continue;
+        triangle_corners(j, tri_nodes, position, xj);
+        if (apart_beyond(xi, xj, reach)) continue;
         if (keys) keys[atomic_inc(cursor)] = i < j ? ((ulong)i << 32) | (ulong)j : ((ulong)j << 32) | (ulong)i;
         ++found;
       }
@@ -392,12 +447,15 @@ __kernel void couple_count(const uint n_triangles,
                            __global const uint* restrict cell_start,
                            __global const uint* restrict sorted_tri,
                            const uint n_entries,
+                           __global const real2* restrict position,
+                           const real reach,
                            __global uint* restrict couple_offset BOND_PARAM OWNED_PARAM) {
   const uint id = get_global_id(0);
   if (id >= n_triangles * parts) return;
   const uint i = id % n_triangles, part = id / n_triangles;
   const uint found = triangle_couples(i, part, parts, covered, tri_nodes, boxes, active, grid, dims, cell_start,
-                                      sorted_tri, n_entries BOND_ARG OWNED_ARG, (__global ulong*)0, (__global uint*)0);
+                                      sorted_tri, n_entries, position, reach BOND_ARG OWNED_ARG, (__global ulong*)0,
+                                      (__global uint*)0);
   if (found) atomic_add(&couple_offset[i], found);
 }
 
@@ -419,14 +477,16 @@ __kernel void couple_write(const uint n_triangles,
                            __global const uint* restrict cell_start,
                            __global const uint* restrict sorted_tri,
                            const uint n_entries,
+                           __global const real2* restrict position,
+                           const real reach,
                            __global uint* restrict couple_offset,
                            const uint listed,
                            __global ulong* restrict keys BOND_PARAM OWNED_PARAM) {
   const uint id = get_global_id(0);
   if (id >= n_triangles * parts) return;
   const uint i = id % n_triangles, part = id / n_triangles;
-  triangle_couples(i, part, parts, covered, tri_nodes, boxes, active, grid, dims, cell_start, sorted_tri, n_entries
-                   BOND_ARG OWNED_ARG, keys + listed, &couple_offset[i]);
+  triangle_couples(i, part, parts, covered, tri_nodes, boxes, active, grid, dims, cell_start, sorted_tri, n_entries,
+                   position, reach BOND_ARG OWNED_ARG, keys + listed, &couple_offset[i]);
 }
 
 // One work-item per triangle i: sorts its segment of couple_write's keys ascending

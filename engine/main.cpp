@@ -545,7 +545,7 @@ int check_command(const Arguments& a) {
       const auto grid = detection.grid();
       std::cout << "contact   grid " << grid.nx << " x " << grid.ny << " cells of " << grid.cell_size
                 << " m, " << couples << " initial candidate couples (boxes overlapping"
-                << (m.contact.skin > 0 ? " with skin" : "") << ", no shared node)\n";
+                << (m.contact.skin > 0 ? " with skin" : "") << ", not apart by more than the skin, no shared node)\n";
       std::cout << "          detection "
                 << (m.contact.rebuild_skin ? "when a node may have moved half the skin, skin " : "every step, skin ")
                 << m.contact.skin << " m"

@@ -157,6 +157,8 @@ ContactDetection::ContactDetection(ClContext& cl, DeviceArrays& a, double skin, 
         "cell_start", cell_start_);
     bound.entries = args.later("sorted_tri", sorted_tri_);
     bound.n_entries = args.later("n_entries", static_cast<cl_uint>(std::min<size_t>(entries_capacity_, 0xffffffffu)));
+    bound.position = args.later("position", a.position);
+    bound.reach = args.later("reach", static_cast<real>(skin));
     args("couple_offset", offsets_);
     if (write) {
       bound.listed = args.later("listed", cl_uint(0));
@@ -270,22 +272,35 @@ void ContactDetection::write_couples(cl_uint covered, size_t listed) {
   cl_.enqueue(sort_kernel_, count_);
 }
 
+void ContactDetection::bind_positions(const compute::buffer& positions) {
+  box_positions_.set(positions);
+  for (Couples* bound : {&count_args_, &write_args_}) bound->position.set(positions);
+}
+
 void ContactDetection::rebuild_grid(const compute::buffer& positions_at_run) {
   if (count_ == 0) return;
-  box_positions_.set(positions_at_run);
+  bind_positions(positions_at_run);
   try {
     bin_and_count(true, kDetection);  // the couples' count is not used: the list is restored
   } catch (const compute::opencl_error& e) {
-    box_positions_.set(positions_);
+    bind_positions(positions_);
     throw DeviceError(std::string("contact detection: rebuilding the grid failed: ") + e.what());
   }
-  box_positions_.set(positions_);
+  bind_positions(positions_);
   can_extend_ = !split_ && stamp_loaded_;
 }
 
-size_t ContactDetection::extend_joined(size_t listed, size_t limit, cl_uint covered_to) {
+size_t ContactDetection::extend_joined(size_t listed, size_t limit, cl_uint covered_to,
+                                       const compute::buffer& positions_at_run) {
   if (!can_extend_ || count_ == 0) return 0;
   size_t added = 0;
+  // The couple kernels test the gaps on the positions the boxes came from (the boxes'
+  // kernel does not run in an extension).
+  for (Couples* bound : {&count_args_, &write_args_}) bound->position.set(positions_at_run);
+  struct Rebind {
+    ContactDetection& stage;
+    ~Rebind() { stage.bind_positions(stage.positions_); }
+  } rebind{*this};
   try {
     count_couples(covered_);
     cl_uint total = 0;
@@ -306,7 +321,10 @@ size_t ContactDetection::extend_joined(size_t listed, size_t limit, cl_uint cove
   return last_count_;
 }
 
-void ContactDetection::set_skin(double skin) { half_skin_.set(static_cast<real>(0.5 * skin)); }
+void ContactDetection::set_skin(double skin) {
+  half_skin_.set(static_cast<real>(0.5 * skin));
+  for (Couples* bound : {&count_args_, &write_args_}) bound->reach.set(static_cast<real>(skin));
+}
 
 size_t ContactDetection::run() {
   last_count_ = 0;

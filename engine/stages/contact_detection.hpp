@@ -44,7 +44,9 @@ class ContactDetection {
   static size_t first_entries(size_t triangles) { return 2 * std::max<size_t>(triangles, 1); }
   static MemoryPlan cell_entries(size_t capacity);
   // Finds every couple of triangles (i < j) whose bounding boxes, each grown by skin/2 on
-  // every side, overlap, and that share no node. Writes them to couple_keys() as
+  // every side, overlap, that share no node, and that no edge line of either sets apart
+  // by more than the skin (the kernel's apart_beyond: such a couple cannot touch before
+  // some node has moved half the skin). Writes them to couple_keys() as
   // cl_ulong keys (ulong(i) << 32 | j), sorted ascending, unique; returns their count.
   // Waits once, for the count (the list grows to it before the keys are written: never
   // drops a couple); the writing of the keys is enqueued after that read.
@@ -61,7 +63,9 @@ class ContactDetection {
   // due). Appended after the others, each joining triangle's couples sorted; no couple
   // twice. Returns the new count, or 0 when there is nothing to extend from (no run yet,
   // a split run, or `limit` couples would be exceeded: then run() instead). Waits once (the count).
-  size_t extend_joined(size_t listed, size_t limit, cl_uint covered_to);
+  // positions_at_run: the node positions of the last run() (ContactSkin::position_at_build),
+  // on which the couples' gaps are measured as the run measured them.
+  size_t extend_joined(size_t listed, size_t limit, cl_uint covered_to, const compute::buffer& positions_at_run);
   // Join stamps up to this are in the list (run() at step s covers join_stamp(s); an
   // extension covers what it is given).
   cl_uint covered_stamp() const { return covered_; }
@@ -104,6 +108,9 @@ class ContactDetection {
   // returns the couples' total.
   size_t bin_and_count(bool boxes, cl_uint covered);
   void write_couples(cl_uint covered, size_t listed);
+  // The positions the boxes and the couples' gaps are taken from (positions_ but while a
+  // grid is rebuilt or a list extended).
+  void bind_positions(const compute::buffer& positions);
 
   ClContext& cl_;
   size_t count_;        // triangles
@@ -136,7 +143,8 @@ class ContactDetection {
   KernelArg<cl_uint> scatter_capacity_;
   struct Couples {
     KernelArg<cl_uint> parts, covered, listed, n_entries;
-    KernelArg<compute::buffer> entries, keys;
+    KernelArg<compute::buffer> entries, keys, position;
+    KernelArg<real> reach;
   } count_args_, write_args_;
 };
 
