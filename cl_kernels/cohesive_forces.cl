@@ -194,6 +194,9 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // fracture dissipation including this step). The capacity is the number of CE4s and a
 // CE4 breaks once, so no record can be lost; the slot order within a step depends on the
 // scheduling, so the host sorts what it reads by (time, CE4).
+// status_step[0]: step + 1 of the last step in which some CE4's status changed (every
+// work-item that changes one writes the same value), for contact_classify, which wakes
+// the couples a bond carries only then.
 
 __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint4* restrict ce4_nodes,
@@ -213,7 +216,8 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
-                              __global real4* restrict break_records
+                              __global real4* restrict break_records,
+                              __global int* restrict status_step
 #ifdef CORNER_FANS
                               , __global const uint2* restrict ce4_mesh_nodes,
                               __global int* restrict mesh_node_state
@@ -457,7 +461,10 @@ __kernel void cohesive_forces(const uint n_ce4,
       f_i = f_j = f_m = (real2)(0, 0);
       held = 0;
     }
-    if (st.x != status[e].x) status[e] = st;
+    if (st.x != status[e].x) {
+      status[e] = st;
+      status_step[0] = step + 1;
+    }
 #ifdef FLUID_CARRIERS
     // [fluid]: an intact CE4 that starts to carry fluid in this step (it broke, or with
     // FLUID_CARRIERS 2 one of its points softened: fluid_flow.cl's `carries`) joins the

@@ -229,11 +229,21 @@ inline int bond_word_state(const uint word, __global const int2* ce4_status
 // contact_classify's own: the per-couple words and whether this list's are written yet.
 #define CLASSIFY_BOND_ARGS , __global uint *restrict bond_word, const uint bond_words_known
 #define CLASSIFY_BOND_PASS , bond_word, bond_words_known
+#ifdef SLEEPERS
+// Whether no bond carries the couple (for the awake list of a full classification).
+#define AWAKE_ARGS , bool *unbonded
+#define AWAKE_PASS , &unbonded
+#else
+#define AWAKE_ARGS
+#define AWAKE_PASS
+#endif
 #else
 #define BOND_ARGS
 #define BOND_PASS
 #define CLASSIFY_BOND_ARGS
 #define CLASSIFY_BOND_PASS
+#define AWAKE_ARGS
+#define AWAKE_PASS
 #endif
 
 #ifdef EXCAVATION
@@ -279,7 +289,7 @@ __attribute__((always_inline)) inline bool classify_couple(const uint c, __globa
                             __global real* history, __global const uint* tri_nodes, __global const real2* position,
                             const real energy_scale, __global long* energy, const uint same_list,
                             const uint new_from, __global uchar* live, __global uint* slot,
-                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS EXCAV_ARGS) {
+                            __global const uint* carry_of BOND_ARGS CLASSIFY_BOND_ARGS PRELIST_ARGS EXCAV_ARGS AWAKE_ARGS) {
   // A new list, or couples appended to this one from `new_from` on (triangles that joined
   // the candidates, ContactDetection::extend_joined): no pool row, no flag yet.
   const bool fresh = !same_list || c >= new_from;
@@ -322,6 +332,9 @@ __attribute__((always_inline)) inline bool classify_couple(const uint c, __globa
 #endif
   // A CE4 intact (0) or closed (1), or a whole fan (0; a fan's state is never 1).
   const bool carried_by_ce4 = bond == 0 || bond == 1;
+#ifdef SLEEPERS
+  *unbonded = !carried_by_ce4;
+#endif
 #else
   const bool carried_by_ce4 = false;
 #endif
@@ -374,6 +387,19 @@ __attribute__((always_inline)) inline bool classify_couple(const uint c, __globa
 // On GPUs the list grows by one global atomic per work-group (a local count first: one
 // global counter hit by every overlapping couple would serialise them); CPU devices
 // (CONTACT_SUM_PER_COUPLE) have few threads and take the plain counter, without barriers.
+// SLEEPERS (a model with CE4s, no excavation): a couple that a bond carries and that is
+// not live does nothing here, and stays so until some CE4's status changes (a bond
+// breaks or lets go: the only way a couple stops being carried). A full classification
+// visits every couple and lists those no bond carries in `awake`; a lean one visits only
+// those (work-item k takes couple awake[k]). Full when the host asks (`full_forced`: a
+// new or extended list, bond words not yet known), when cohesive_forces changed a status
+// in the step before (`ce4_status_step[0] == step`: it writes its step + 1), and when
+// the last full one found more awake couples than `awake_capacity`. awake_count holds
+// three counts that rotate with the launches (`rotation` = this launch's slot): a full
+// classification counts into its slot (zeroed by the launch before, or by the host when
+// it forces one), a lean one copies the previous slot's count into its own, and either
+// zeroes the next one, which no work-item of this launch reads. awake_count[3] counts the
+// lean launches.
 __kernel void contact_classify(const uint n_couples,
                                __global const ulong* restrict keys,
                                const uint n_previous,
@@ -398,34 +424,101 @@ __kernel void contact_classify(const uint n_couples,
                                , __global const uint* restrict pool_state, __global uint* restrict monitor,
                                const uint monitor_slot
 #endif
+#ifdef SLEEPERS
+                               , const uint full_forced, __global const int* restrict ce4_status_step, const int step,
+                               __global uint* restrict awake, __global uint* restrict awake_count,
+                               const uint rotation, const uint awake_capacity
+#endif
                                EXCAV_ARGS) {
-  const uint c = get_global_id(0);
-  if (c == 0) {
+  const uint k = get_global_id(0);
+#ifdef SLEEPERS
+  const uint awake_before = awake_count[(rotation + 2u) % 3u];
+  const bool full = full_forced != 0u || ce4_status_step[0] == step || awake_before > awake_capacity;
+  const uint c = full ? k : k < awake_before ? awake[k] : n_couples;
+#else
+  const uint c = k;
+#endif
+  if (k == 0) {
     counters[1u - list_counter] = 0;
 #ifdef POOL_MONITOR
     monitor[RING_WORDS * monitor_slot + RING_POOL] = pool_state[0];
 #endif
+#ifdef SLEEPERS
+    if (!full) {
+      awake_count[rotation] = awake_before;
+      awake_count[3] += 1u;  // lean launches so far (for tests and the profile)
+    }
+    awake_count[(rotation + 1u) % 3u] = 0;
+#endif
   }
-  if (c < n_nodes) {
-    contact_acc[2 * c] = 0;
-    contact_acc[2 * c + 1] = 0;
+  if (k < n_nodes) {
+    contact_acc[2 * k] = 0;
+    contact_acc[2 * k + 1] = 0;
   }
+#ifdef SLEEPERS
+  bool unbonded = false;
+#ifdef CONTACT_SUM_PER_COUPLE
+  __local uchar group_unbonded[GROUP_SIZE];
+#else
+  __local uint group_awake, group_awake_base;
+#endif
+#endif
 #ifdef CONTACT_SUM_PER_COUPLE
   if (c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history, tri_nodes,
-                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS))
+                                       position, energy_scale, energy, same_list, new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS AWAKE_PASS))
     overlap_list[atomic_inc(&counters[list_counter])] = c;
+#ifdef SLEEPERS
+  // The awake list of a full classification (where c = k): each work-item's flag in local
+  // memory, then the group's first work-item appends the group's couples with one global
+  // atomic (one per couple would keep the cores' caches fighting over the counter). Only
+  // local memory crosses the barrier: PoCL 3 has kept the group's last work-item's
+  // private value for all across barriers (docs/performance-notes.md, session 11).
+  // (The barrier is met in lean launches too: PoCL's work-group loops crashed on one
+  // inside a branch, although the branch is the same for the whole launch.)
+  group_unbonded[get_local_id(0)] = c < n_couples && unbonded ? 1 : 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (full) {
+    if (get_local_id(0) == 0) {
+      const uint size = get_local_size(0), first = get_group_id(0) * size;
+      uint found = 0;
+      for (uint l = 0; l < size; ++l) found += group_unbonded[l];
+      uint at = found ? atomic_add(&awake_count[rotation], found) : 0u;
+      for (uint l = 0; l < size && found; ++l)
+        if (group_unbonded[l] && at < awake_capacity) awake[at++] = first + l;
+    }
+  }
+#endif
 #else
   __local uint group_count, group_base;
-  if (get_local_id(0) == 0) group_count = 0;
+  // SLEEPERS: the awake list of a full classification grows the same way, in the same
+  // barriers (met by every work-item whether the launch is full or lean).
+  if (get_local_id(0) == 0) {
+    group_count = 0;
+#ifdef SLEEPERS
+    group_awake = 0;
+#endif
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
   const bool listed = c < n_couples && classify_couple(c, keys, n_previous, previous_keys, previous_history, history,
                                                        tri_nodes, position, energy_scale, energy, same_list,
-                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS);
+                                                       new_from, live, slot, carry_of BOND_PASS CLASSIFY_BOND_PASS PRELIST_PASS EXCAV_PASS AWAKE_PASS);
   const uint position_in_group = listed ? atomic_inc(&group_count) : 0u;
+#ifdef SLEEPERS
+  const bool append = full && c < n_couples && unbonded;
+  const uint awake_in_group = append ? atomic_inc(&group_awake) : 0u;
+#endif
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (get_local_id(0) == 0) group_base = atomic_add(&counters[list_counter], group_count);
+  if (get_local_id(0) == 0) {
+    group_base = atomic_add(&counters[list_counter], group_count);
+#ifdef SLEEPERS
+    group_awake_base = group_awake ? atomic_add(&awake_count[rotation], group_awake) : 0u;
+#endif
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (listed) overlap_list[group_base + position_in_group] = c;
+#ifdef SLEEPERS
+  if (append && group_awake_base + awake_in_group < awake_capacity) awake[group_awake_base + awake_in_group] = c;
+#endif
 #endif
 }
 

@@ -225,7 +225,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                           return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
                                                                  cohesive_ ? &cohesive_->status() : nullptr,
                                                                  cohesive_ ? cohesive_->mesh_node_state() : nullptr,
-                                                                 parts_.skin ? ring_.get() : nullptr, true);
+                                                                 parts_.skin ? ring_.get() : nullptr, true,
+                                                                 cohesive_ ? &cohesive_->status_step() : nullptr);
                         })),
       fluid_(build_if(parts_.fluid,
                       [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(),

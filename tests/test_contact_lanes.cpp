@@ -79,9 +79,54 @@ long compare_kernels(const PreparedCase& p, int steps) {
   return touching;
 }
 
+// Steps a solver with sleeping couples (the default) and one that classifies every couple
+// every step (FDEM_CONTACT_SLEEPERS=0) `steps` steps; compares positions, velocities and
+// the energy terms every 10 steps. Returns the sleeping solver's lean classifications.
+long compare_sleepers(const PreparedCase& p, int steps) {
+  std::unique_ptr<Solver> all, sleeping;
+  {
+    ScopedEnv off("FDEM_CONTACT_SLEEPERS", "0");
+    all = std::make_unique<Solver>(test::context(), p.model, p.dt);
+  }
+  {
+    ScopedEnv on("FDEM_CONTACT_SLEEPERS", nullptr);
+    sleeping = std::make_unique<Solver>(test::context(), p.model, p.dt);
+  }
+  for (int s = 1; s <= steps; ++s) {
+    all->step(s % 10 == 0);
+    sleeping->step(s % 10 == 0);
+    if (s % 10 != 0) continue;
+    CAPTURE(s);
+    const auto x = all->positions(), v = all->velocities();
+    REQUIRE(std::memcmp(x.data(), sleeping->positions().data(), x.size() * sizeof(real2)) == 0);
+    REQUIRE(std::memcmp(v.data(), sleeping->velocities().data(), v.size() * sizeof(real2)) == 0);
+    const EnergyTotals a = all->energy(), b = sleeping->energy();
+    CHECK(a.kinetic == b.kinetic);
+    CHECK(a.friction == b.friction);
+    CHECK(a.contact_damping == b.contact_damping);
+    CHECK(a.dissipated() == b.dissipated());
+    CHECK(all->contact()->touching() == sleeping->contact()->touching());
+  }
+  CHECK(all->contact()->lean_classifications() == 0);
+  return sleeping->contact()->lean_classifications();
+}
+
 }  // namespace
 
 TEST_SUITE("contact") {
+
+TEST_CASE("sleeping couples change no bit: a blast that breaks, joins and slides") {
+  // The coarse blasting case: intact for its first 50 steps (every step lean), then CE4s
+  // break in most steps (full classifications) and in some not (lean ones, with pieces
+  // touching and the couples of released CE4s awake).
+  test::TempDir dir;
+  const PreparedCase p = prepare_case(test::source_path("cases/blasting/case.toml"),
+                                      {"mesh.size=0.04", "output.dir=\"" + dir.str() + "\""});
+  const long lean = compare_sleepers(p, 400);
+  MESSAGE("blasting, coarse: " << lean << " lean classifications in 400 steps");
+  CHECK(lean > 50);
+  CHECK(lean < 400);
+}
 
 TEST_CASE("contact_forces_lanes gives contact_forces' bits: a breaking blast with friction and joins") {
   // The coarse blasting case (about 4,300 TRI3, activation "fractured"): CE4s break from

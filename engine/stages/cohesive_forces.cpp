@@ -75,6 +75,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       .add("ce4_energy", ce4 * sizeof(real4))
       .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
       .add("ce4_break_count", sizeof(cl_uint))
+      .add("ce4_status_step", sizeof(cl_int))
       .add("ce4_break_ids", 2 * ce4 * sizeof(cl_int))
       .add("ce4_break_records", ce4 * sizeof(real4));
 }
@@ -248,6 +249,8 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   energy_ = arrays.allocate(cl, "ce4_energy");
   partial_ = arrays.allocate(cl, "ce4_energy_partials");
   break_count_ = arrays.allocate(cl, "ce4_break_count");
+  status_step_ = arrays.allocate(cl, "ce4_status_step");
+  upload(cl, status_step_, std::vector<cl_int>(1, 0));
   break_ids_ = arrays.allocate(cl, "ce4_break_ids");
   break_records_ = arrays.allocate(cl, "ce4_break_records");
   upload(cl, break_count_, std::vector<cl_uint>(1, 0));
@@ -307,7 +310,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   step_ = args.later("step", cl_int(0));
   args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("slots", slots_)(
       "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
-      "break_ids", break_ids_)("break_records", break_records_);
+      "break_ids", break_ids_)("break_records", break_records_)("status_step", status_step_);
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
   if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
   if (extrinsic_) args("inserted", inserted_)("insertion_gaps", insertion_gaps_);

@@ -52,6 +52,9 @@ class CohesiveForces {
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
   // released at step n (cl_kernels/cohesive_forces.cl).
   compute::buffer& status() { return status_; }
+  // One cl_int: 1 + the last step in which the kernel changed some CE4's status (0: none
+  // yet in this process), for the contact stage's sleeping couples.
+  compute::buffer& status_step() { return status_step_; }
   // real4 per Gauss point, three per CE4: (D_max, o_max, max|s|, χ) (cohesive_forces.cl).
   compute::buffer& gauss_state() { return gp_state_; }
   // [fluid] (CohesiveModel::fluid_carriers): the CE4s that started to carry fluid, appended
@@ -151,7 +154,7 @@ class CohesiveForces {
   KernelArg<cl_int> step_;
   compute::program program_;  // for cohesive_output, built per output_column read
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
-  compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_;
+  compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_, status_step_;
   FluidCarriers carriers_;  // [fluid] only
   compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per

@@ -34,7 +34,10 @@ MemoryPlan ContactForces::couple_arrays(size_t capacity, size_t group_size, bool
   return MemoryPlan()
       .add("contact history slots", capacity * sizeof(cl_uint))
       .add("contact carry rows", capacity * sizeof(cl_uint))
-      .add(bonds ? MemoryPlan().add("contact bond words", capacity * sizeof(cl_uint)) : MemoryPlan())
+      .add(bonds ? MemoryPlan()
+                       .add("contact bond words", capacity * sizeof(cl_uint))
+                       .add("contact awake couples", std::max<size_t>(1, awake_capacity(capacity)) * sizeof(cl_uint))
+                 : MemoryPlan())
       .add("contact overlap list", capacity * sizeof(cl_uint))
       .add("contact live flags", capacity * sizeof(cl_uchar))
       .add("contact stored slots", std::max<size_t>(1, groups_for(capacity, group_size)) * sizeof(real));
@@ -54,6 +57,7 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   p.add("contact energy account", layout::CONTACT_ENERGY_WORDS * sizeof(cl_long))
       .add("contact counters (overlap list, two alternating)", 2 * sizeof(cl_uint))
       .add("contact pool state", 2 * sizeof(cl_uint))
+      .add("contact awake counts", 4 * sizeof(cl_uint))
       .add(couple_arrays(first, group_size, !model.ce4_triangles.empty()))
       .add(shared_keys ? MemoryPlan() : key_list(first))
       .add(pool_arrays(monitored ? pool_first(model.num_triangles()) : first))
@@ -87,7 +91,7 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
                              const compute::buffer* ce4_status, const compute::buffer* mesh_node_state,
-                             MonitorRing* ring, bool shared_keys)
+                             MonitorRing* ring, bool shared_keys, const compute::buffer* ce4_status_step)
     : cl_(cl),
       arrays_(a),
       triangles_(a.num_triangles),
@@ -156,6 +160,15 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (prelisted_) defines["PRELISTED"] = "1";
   excavation_ = !model.triangle_excavation.empty();
   if (excavation_) defines["EXCAVATION"] = "1";
+  // An excavated couple stops acting at a time, not at a status change: none sleeps.
+  // FDEM_CONTACT_SLEEPERS=0 classifies every couple every step (tests compare the two).
+  sleepers_ = bonds && ce4_status_step != nullptr && !excavation_;
+  if (const char* env = std::getenv("FDEM_CONTACT_SLEEPERS"); env && *env) {
+    if (std::string(env) != "0" && std::string(env) != "1")
+      throw DeviceError(std::string("FDEM_CONTACT_SLEEPERS=") + env + " is neither 0 nor 1");
+    sleepers_ = sleepers_ && *env == '1';
+  }
+  if (sleepers_) defines["SLEEPERS"] = "1";
   std::vector<const KernelSource*> libraries{&kernel_source::couple_geometry};
   if (excavation_) libraries.push_back(&kernel_source::excavation);
   const auto program = cl.build(kernel_source::contact_forces, defines, libraries);
@@ -167,6 +180,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   energy_ = arrays.allocate(cl, "contact energy account");
   counters_ = arrays.allocate(cl, "contact counters (overlap list, two alternating)");
   pool_state_ = arrays.allocate(cl, "contact pool state");
+  awake_count_ = arrays.allocate(cl, "contact awake counts");
+  upload(cl, awake_count_, std::vector<cl_uint>{0, 0, 0, 0});
   upload(cl, energy_, std::vector<cl_long>{0, 0});
   upload(cl, counters_, std::vector<cl_uint>{0, 0});
   reset_pool();
@@ -263,6 +278,15 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (monitored_) {
     c("pool_state", pool_state_)("monitor", ring->buffer());
     classify_monitor_slot_ = c.later("monitor_slot", cl_uint(0));
+  }
+  if (sleepers_) {
+    classify_full_forced_ = c.later("full_forced", cl_uint(1));
+    c("ce4_status_step", *ce4_status_step);
+    classify_step_ = c.later("step", cl_int(0));
+    classify_awake_ = c.later("awake", awake_);
+    c("awake_count", awake_count_);
+    classify_rotation_ = c.later("rotation", cl_uint(0));
+    classify_awake_capacity_ = c.later("awake_capacity", static_cast<cl_uint>(awake_capacity(list_capacity_)));
   }
   if (excavation_) {
     c("excavation_of", excavation_of_)("excavation_time", excavation_time_);
@@ -431,6 +455,21 @@ void ContactForces::enqueue(const compute::buffer& keys, size_t count, bool new_
   // zeroed, the pool's rows to the ring): over the nodes as well as the couples.
   classify_list_counter_.set(list_counter_);
   forces_list_counter_.set(list_counter_);
+  if (sleepers_) {
+    // A new or extended list, or bond words not yet known: every couple is classified
+    // (the kernel may decide so itself as well), counting into a zeroed slot.
+    const bool full = !bond_words_known_ || new_from < count;
+    classify_full_forced_.set(full ? 1u : 0u);
+    if (full) {
+      const cl_uint zero = 0;
+      cl_.queue().enqueue_fill_buffer(awake_count_, &zero, sizeof(zero), 0, 3 * sizeof(cl_uint));  // not the lean count
+    }
+    classify_step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
+    classify_awake_.set(awake_);
+    classify_awake_capacity_.set(static_cast<cl_uint>(awake_capacity(list_capacity_)));
+    classify_rotation_.set(rotation_);
+    rotation_ = (rotation_ + 1) % 3;
+  }
   if (excavation_) {
     classify_excavation_dt_.set(static_cast<real>(dt));
     classify_excavation_step_.set(static_cast<cl_int>(std::min<long>(step, std::numeric_limits<cl_int>::max() - 2)));
@@ -566,13 +605,20 @@ std::function<ContactForces::RowTerms()> ContactForces::queue_row(RowReads& read
 
 double ContactForces::stored_energy() { return sum_group_slots(cl_, stored_slots_, stored_groups_, 1)[0]; }
 
+long ContactForces::lean_classifications() {
+  return sleepers_ ? static_cast<long>(download<cl_uint>(cl_, awake_count_, 4)[3]) : 0;
+}
+
 void ContactForces::allocate_list(const MemoryPlan& arrays) {
   overlap_list_ = arrays.allocate(cl_, "contact overlap list");
   live_ = arrays.allocate(cl_, "contact live flags");
   slot_ = arrays.allocate(cl_, "contact history slots");
   carry_of_ = arrays.allocate(cl_, "contact carry rows");
   stored_slots_ = arrays.allocate(cl_, "contact stored slots");
-  if (bonds_) bond_word_ = arrays.allocate(cl_, "contact bond words");
+  if (bonds_) {
+    bond_word_ = arrays.allocate(cl_, "contact bond words");
+    awake_ = arrays.allocate(cl_, "contact awake couples");
+  }
   bond_words_known_ = false;
 }
 double ContactForces::friction_dissipation() { return static_cast<double>(energy_account()[layout::ENERGY_FRICTION]) / energy_scale_; }

@@ -31,9 +31,14 @@ class ContactForces {
   // `shared_keys`: the stage keeps no copy of the couple list; it uses the buffer of the
   // last new list's enqueue, which the caller leaves alone until it calls
   // carry_before_detection() and makes the next list (the Solver: the detection's own).
+  // `ce4_status_step` (CohesiveForces::status_step(), with `ce4_status`): the step + 1 in
+  // which a CE4's status last changed. Given (and without [[excavation]]), the couples a
+  // bond carries sleep between such changes: most steps classify only the others
+  // (contact_classify's SLEEPERS).
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
                 const compute::buffer* ce4_status = nullptr, const compute::buffer* mesh_node_state = nullptr,
-                MonitorRing* ring = nullptr, bool shared_keys = false);
+                MonitorRing* ring = nullptr, bool shared_keys = false,
+                const compute::buffer* ce4_status_step = nullptr);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
   // `count` couples does not fit: an eighth more (the lists are the largest arrays,
@@ -52,8 +57,14 @@ class ContactForces {
   // The per-couple arrays at `capacity` couples (the constructor's, and what a list that
   // grows allocates again): pool slots, overlap list, live flags, stored-energy sums.
   // The per-couple arrays of a list of `capacity` couples (`bonds`: the model has CE4s,
-  // and the list keeps a bond word per couple).
+  // and the list keeps a bond word per couple, and a list of the couples no bond carries
+  // for a quarter of the capacity: sleepers(), below).
   static MemoryPlan couple_arrays(size_t capacity, size_t group_size, bool bonds);
+  // Room in the list of couples no bond carries: beyond it every step classifies all.
+  static size_t awake_capacity(size_t capacity) { return capacity / 4; }
+  // Classifications that visited only the couples no bond carries, so far (0 without
+  // sleeping couples). Waits.
+  long lean_classifications();
   // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
   // couple takes a row at its first history write (a touching couple, or one that waits)
   // and keeps it until the next detection, which carries the histories over (ContactCarry)
@@ -216,6 +227,14 @@ class ContactForces {
   // classification of a list's first step (bond_words_known_ false until then).
   compute::buffer bond_word_;
   bool bonds_ = false, bond_words_known_ = false;
+  // Sleeping couples (see the constructor): the couples no bond carries, their counts
+  // (three, rotating: contact_classify), the next launch's slot.
+  bool sleepers_ = false;
+  compute::buffer awake_, awake_count_;
+  cl_uint rotation_ = 0;
+  KernelArg<cl_uint> classify_full_forced_, classify_rotation_, classify_awake_capacity_;
+  KernelArg<cl_int> classify_step_;
+  KernelArg<compute::buffer> classify_awake_;
   bool prelisted_ = false;  // Model::ContactModel::list_ahead (PRELISTED in the kernels)
   size_t extended_from_ = static_cast<size_t>(-1);  // enqueue_extended: the couples before the extension
   KernelArg<compute::buffer> classify_bond_word_;
