@@ -149,10 +149,10 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
 size_t Solver::expected_couples(const Model& model) {
   if (!model.contact.enabled) return 0;
   // Listed ahead of joins ("fractured" with a skin), a list holds every triangle's couples.
-  if (model.contact_active.empty() || model.contact.list_ahead) return 8 * model.num_triangles();
+  if (model.contact_active.empty() || model.contact.list_ahead) return 7 * model.num_triangles();
   const size_t active = static_cast<size_t>(std::count_if(model.contact_active.begin(), model.contact_active.end(),
                                                           [](uint32_t a) { return a != 0; }));
-  return 8 * active + model.ce4.size();
+  return 7 * active + model.ce4.size();
 }
 
 size_t Solver::expected_touching(const Model& model) {

@@ -72,13 +72,15 @@ class Solver {
   // first capacity, and the contact history pool at expected_touching couples. The
   // too-little-memory refusal uses it.
   static size_t bytes_needed(const Model& model, size_t group_size, bool account = true);
-  // The couples a contact run typically holds: 8 per candidate triangle (7 measured on
-  // the UCS mesh and on fdem bench's models with activation "all"), plus one per CE4
-  // (its two triangles are a couple from the start) under "fractured". 0 without contact.
+  // The couples a contact run typically holds: 7 per candidate triangle (5.9 measured on
+  // fdem bench's models with activation "all" and 6.1 on the blasting case at 400 µs,
+  // since a detection drops couples further apart than the skin; 7 before that), plus
+  // one per CE4 (its two triangles are a couple from the start) under "fractured". 0
+  // without contact.
   static size_t expected_couples(const Model& model);
   // The couples that hold a contact history (touching, or waiting) at a time, for the
-  // history pool's plan: a quarter of expected_couples / 8 per candidate triangle, i.e.
-  // 0.25 per TRI3 with activation "all" (fdem bench's 60k model: 0.21 after 320 steps).
+  // history pool's plan: expected_couples / 32 (0.22 per TRI3 with activation "all";
+  // fdem bench's 60k model: 0.21 after 320 steps).
   static size_t expected_touching(const Model& model);
 
   // Enqueues one step (t → t + Δt). Never waits, but for the very first step, whose

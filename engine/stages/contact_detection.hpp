@@ -14,7 +14,7 @@ namespace fdem {
 class ContactDetection {
  public:
   // skin: margin [m] added around every triangle's bounding box (0 = touching boxes only).
-  // initial_capacity: couples the output can hold before growing (0 = 8 per triangle).
+  // initial_capacity: couples the output can hold before growing (0 = 7 per triangle).
   // bonds: pairs of triangles (each joined by a CE4) that are candidates whatever the
   // active mask says (activation "fractured"; see find_couples in the kernel file). A
   // triangle has at most three (one per edge).
@@ -27,10 +27,12 @@ class ContactDetection {
                    const std::vector<std::array<int, 2>>& bonds = {}, const std::vector<char>& owned_first = {},
                    bool list_inactive = false);
   static constexpr cl_uint kNoPartner = 0xffffffffu;  // an empty bond_partners entry
-  // The couples the output holds at first (initial_capacity 0: 8 per triangle), and the
+  // The couples the output holds at first (initial_capacity 0: 7 per triangle: a mesh's
+  // neighbours across its CE4s and fans are about 6 couples per triangle, the couples a
+  // detection lists in an intact mesh since it drops those further apart than the skin), and the
   // capacity it grows to when a scan finds `needed` couples (×1.5).
   static size_t first_capacity(size_t triangles, size_t initial_capacity = 0) {
-    return initial_capacity ? initial_capacity : std::max<size_t>(8 * triangles, 1);
+    return initial_capacity ? initial_capacity : std::max<size_t>(7 * triangles, 1);
   }
   static size_t grown(size_t needed) { return needed + (needed + 1) / 2; }
   // The arrays the constructor allocates (`group_size`: ClContext::group_size(); `bonds`:
