@@ -807,6 +807,9 @@ int run_command(const Arguments& a) {
                 << " calls " << std::fixed << std::setprecision(3) << std::setw(10) << 1e3 * t.seconds << " ms "
                 << std::setw(10) << 1e6 * t.seconds / s.steps << " us/step\n" << std::defaultfloat;
     print_contact_list_profile(cl, s.steps - s.first_step, std::cout);
+    if (s.lean_classifications >= 0)
+      std::cout << "  lean contact classifications (only the couples no bond carries): " << s.lean_classifications
+                << " of " << s.steps << " steps\n";
   }
   return 0;
 }

@@ -137,6 +137,8 @@ RunSummary run_case(const PreparedCase& p, ClContext& cl, std::ostream& log, boo
   summary.checkpoint = outputs.checkpoint_path();
   summary.checkpoint_seconds = totals.checkpoint_seconds;
   summary.breaks = totals.breaks, summary.events = totals.events;
+  if (solver.contact() && solver.contact()->sleepers())
+    summary.lean_classifications = solver.contact()->lean_classifications();
   return summary;
 }
 

@@ -30,6 +30,10 @@ struct RunSummary {
   std::string checkpoint;    // the last checkpoint written
   double checkpoint_seconds = 0;  // wall time the last checkpoint took (device read, file, sync)
   size_t breaks = 0, events = 0;  // CE4s broken so far and the events they form (events file)
+  // Contact classifications that visited only the couples no bond carries (ContactForces::
+  // lean_classifications; this process's, since the run or the restart began). -1: none
+  // could sleep (no contact, no CE4s, [[excavation]], or FDEM_CONTACT_SLEEPERS=0).
+  long lean_classifications = -1;
 };
 
 struct RunOptions {

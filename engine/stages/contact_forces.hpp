@@ -65,6 +65,7 @@ class ContactForces {
   // Classifications that visited only the couples no bond carries, so far (0 without
   // sleeping couples). Waits.
   long lean_classifications();
+  bool sleepers() const { return sleepers_; }
   // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
   // couple takes a row at its first history write (a touching couple, or one that waits)
   // and keeps it until the next detection, which carries the histories over (ContactCarry)
