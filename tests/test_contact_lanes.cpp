@@ -49,6 +49,20 @@ std::unique_ptr<Solver> solver_with_lanes(const PreparedCase& p, const char* lan
   return std::make_unique<Solver>(test::context(), p.model, p.dt);
 }
 
+// The same positions and velocities bit for bit, and the same energy terms.
+void require_same_state(Solver& reference, Solver& other) {
+  const auto x = reference.positions(), v = reference.velocities();
+  REQUIRE(std::memcmp(x.data(), other.positions().data(), x.size() * sizeof(real2)) == 0);
+  REQUIRE(std::memcmp(v.data(), other.velocities().data(), v.size() * sizeof(real2)) == 0);
+  const EnergyTotals a = reference.energy(), b = other.energy();
+  CHECK(a.kinetic == b.kinetic);
+  CHECK(a.contact_stored == b.contact_stored);
+  CHECK(a.friction == b.friction);
+  CHECK(a.contact_damping == b.contact_damping);
+  CHECK(a.stored() == b.stored());
+  CHECK(a.dissipated() == b.dissipated());
+}
+
 // Steps three solvers `steps` steps (an energy row every 10th): contact_forces, the lanes
 // kernel with eight work-items a couple, and the lanes kernel above its threshold (one
 // work-item a couple); compares them every 10 steps. Returns the number of touching
@@ -61,19 +75,7 @@ long compare_kernels(const PreparedCase& p, int steps) {
     for (Solver* solver : {one.get(), lanes.get(), above.get()}) solver->step(s % 10 == 0);
     if (s % 10 != 0) continue;
     CAPTURE(s);
-    const auto x = one->positions(), v = one->velocities();
-    const EnergyTotals a = one->energy();
-    for (Solver* other : {lanes.get(), above.get()}) {
-      REQUIRE(std::memcmp(x.data(), other->positions().data(), x.size() * sizeof(real2)) == 0);
-      REQUIRE(std::memcmp(v.data(), other->velocities().data(), v.size() * sizeof(real2)) == 0);
-      const EnergyTotals b = other->energy();
-      CHECK(a.kinetic == b.kinetic);
-      CHECK(a.contact_stored == b.contact_stored);
-      CHECK(a.friction == b.friction);
-      CHECK(a.contact_damping == b.contact_damping);
-      CHECK(a.stored() == b.stored());
-      CHECK(a.dissipated() == b.dissipated());
-    }
+    for (Solver* other : {lanes.get(), above.get()}) require_same_state(*one, *other);
     touching += static_cast<long>(one->contact()->touching());
   }
   return touching;
@@ -97,14 +99,7 @@ long compare_sleepers(const PreparedCase& p, int steps) {
     sleeping->step(s % 10 == 0);
     if (s % 10 != 0) continue;
     CAPTURE(s);
-    const auto x = all->positions(), v = all->velocities();
-    REQUIRE(std::memcmp(x.data(), sleeping->positions().data(), x.size() * sizeof(real2)) == 0);
-    REQUIRE(std::memcmp(v.data(), sleeping->velocities().data(), v.size() * sizeof(real2)) == 0);
-    const EnergyTotals a = all->energy(), b = sleeping->energy();
-    CHECK(a.kinetic == b.kinetic);
-    CHECK(a.friction == b.friction);
-    CHECK(a.contact_damping == b.contact_damping);
-    CHECK(a.dissipated() == b.dissipated());
+    require_same_state(*all, *sleeping);
     CHECK(all->contact()->touching() == sleeping->contact()->touching());
   }
   CHECK(all->contact()->lean_classifications() == 0);
