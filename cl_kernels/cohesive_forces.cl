@@ -180,14 +180,16 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], opening share χ of Eq. 9
 // at the step its D reached 1). gp_slip: real4 per CE4, the slip s_f [m] of the friction
 // element at each of the three points, and in w the time the CE4 broke [s] (-1 while
-// intact). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). last_gap: real4 per CE4, the
-// end gaps (x_i' - x_i, x_j' - x_j) [m] at the last step; last_chord: real2 per CE4, the
-// chord c at the last step [m] (every CE4, released ones too: cohesive_output reads them
-// for the frames' mean opening and slip). Each array is stored only where a value
-// changed (the same bits as storing it every step, less traffic).
+// intact). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). Each array is stored only
+// where a value changed (the same bits as storing it every step, less traffic).
 // energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
 // energy it holds now, 0) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
+// The work term's displacements since the last step are the nodes' velocities × dt: the
+// integration moved every node by v Δt (cl_kernels/integrate.cl; the halo exchange and
+// the extrinsic copies keep x and v together), so the CE4 keeps no copy of its last end
+// gaps and chord (48 B a CE4 held, 96 read and written a step). Step 0 moves nothing: the
+// positions are where the set-up found them.
 // Break catalogue (an append buffer, read by the host with the history rows): a CE4 that
 // breaks in this step takes slot k = atomic_inc(break_count) and writes break_ids[k] =
 // (e, mode) and break_records[k] = (time, midpoint x, midpoint y of its four nodes, its
@@ -204,6 +206,8 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global const uint* restrict property,
                               __global const real* restrict property_rows,
                               __global const real2* restrict position,
+                              __global const real2* restrict velocity,
+                              const real dt,
                               const real thickness,
                               const real time,
                               const int step,
@@ -211,8 +215,6 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict gp_slip,
                               __global int2* restrict status,
                               __global real2* restrict slots,
-                              __global real4* restrict last_gap,
-                              __global real2* restrict last_chord,
                               __global real4* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
@@ -231,7 +233,7 @@ __kernel void cohesive_forces(const uint n_ce4,
 #endif
 #ifdef EXCAVATION
                               , __global const int2* restrict excavation_of,
-                              __global const real* restrict excavation_time, const real dt,
+                              __global const real* restrict excavation_time,
                               __global real2* restrict excavation_energy
 #endif
 #ifdef FLUID_CARRIERS
@@ -280,8 +282,6 @@ __kernel void cohesive_forces(const uint n_ce4,
   // one), then the law at o + o₀, s + s₀ (the offsets that carry the traction it took
   // over; 0 for intrinsic CE4s). [in_situ] with extrinsic CE4s is refused by the host.
   if (inserted[e] == 0) {
-    last_gap[e] = (real4)(gap_i, gap_j);
-    last_chord[e] = chord;
     slots[4 * e] = slots[4 * e + 1] = slots[4 * e + 2] = slots[4 * e + 3] = (real2)(0, 0);
     return;
   }
@@ -498,14 +498,16 @@ __kernel void cohesive_forces(const uint n_ce4,
 
     // Work of this step on the CE4 (trapezoid): with slot_i = A + m, slot_i' = -A + m,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
-    const real4 before = last_gap[e];
-    const real2 chord_before = last_chord[e];
+    // The displacements since the last step: v Δt (header), none in step 0.
+    const real moved_dt = step > 0 ? dt : (real)0;
+    const real2 vi = velocity[nd.x], vj = velocity[nd.y], vj2 = velocity[nd.z], vi2 = velocity[nd.w];
+    const real2 d_gap_i = (vi2 - vi) * moved_dt, d_gap_j = (vj2 - vj) * moved_dt;
+    const real2 d_chord = ((vj - vi) + (vj2 - vi2)) * moved_dt;
     const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);
     real4 account = energy[e];
-    account.x += (real)0.5 * (dot(a_before + f_i, gap_i - before.xy) + dot(b_before + f_j, gap_j - before.zw) +
-                              dot(m_before + f_m, chord - chord_before));
+    account.x += (real)0.5 * (dot(a_before + f_i, d_gap_i) + dot(b_before + f_j, d_gap_j) + dot(m_before + f_m, d_chord));
     account.z = held * scale;
 #ifdef EXTRINSIC
     // An inserted CE4's stored energy counts from its insertion state (what its law held at
@@ -544,9 +546,6 @@ __kernel void cohesive_forces(const uint n_ce4,
       }
     }
   }
-  last_gap[e] = (real4)(gap_i, gap_j);
-  last_chord[e] = chord;
-
   slots[4 * e] = f_i + f_m;
   slots[4 * e + 1] = f_j - f_m;
   slots[4 * e + 2] = -f_j - f_m;
@@ -554,14 +553,14 @@ __kernel void cohesive_forces(const uint n_ce4,
 }
 
 // One work-item per CE4, for output only (between steps): column 0 the largest D_max over
-// its Gauss points, 1 its mean opening [m], 2 its mean slip [m], as of the last step (from
-// the end gaps and chord cohesive_forces kept, by the same coh_kinematics), into `out`
-// (one real per CE4, an output array).
+// its Gauss points, 1 its mean opening [m], 2 its mean slip [m] at the nodes' present
+// positions (the frame's: by the same coh_kinematics as cohesive_forces), into `out` (one
+// real per CE4, an output array).
 __kernel void cohesive_output(const uint n_ce4,
                               const int column,
                               __global const real4* restrict gp_state,
-                              __global const real4* restrict last_gap,
-                              __global const real2* restrict last_chord,
+                              __global const uint4* restrict ce4_nodes,
+                              __global const real2* restrict position,
                               __global real* restrict out) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -571,11 +570,12 @@ __kernel void cohesive_output(const uint n_ce4,
     out[e] = damage;
     return;
   }
-  const real4 gap = last_gap[e];
+  const uint4 nd = ce4_nodes[e];
+  const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
   real o[3], s[3];
   real2 t, n;
   real chord_length, mean_o, mean_s;
-  coh_kinematics(gap.xy, gap.zw, last_chord[e], o, s, &t, &n, &chord_length, &mean_o, &mean_s);
+  coh_kinematics(xi2 - xi, xj2 - xj, (xj - xi) + (xj2 - xi2), o, s, &t, &n, &chord_length, &mean_o, &mean_s);
   out[e] = column == 1 ? mean_o : mean_s;
 }
 

@@ -199,8 +199,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       cohesive_(build_if(parts_.ce4,
                          [&] {
                            CohesiveModel m = cohesive_model(model);
-                           m.excavation_dt = dt;
-                           return std::make_unique<CohesiveForces>(cl, m, arrays_.position,
+                           m.dt = dt;
+                           return std::make_unique<CohesiveForces>(cl, m, arrays_.position, arrays_.velocity,
                                                                    DeviceArrays::reference_positions(model),
                                                                    in_situ_ce4_gaps(model));
                          })),

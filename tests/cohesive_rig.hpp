@@ -45,15 +45,20 @@ struct Rig {
   ClContext& cl = test::context();
   CohesiveModel model;
   std::vector<real2> ref;
-  compute::buffer position, ref_position;
+  compute::buffer position, velocity, ref_position;
   std::unique_ptr<CohesiveForces> stage;
-  long steps = 0;  // steps taken (the stage records the step a CE4 is released)
+  // Steps taken (the stage records the step a CE4 is released). The first is step 1: the
+  // stage books no displacement in step 0, where a run's nodes are at their reference
+  // positions, and a test may place them elsewhere before its first step.
+  long steps = 1;
+  std::vector<real2> x_before;  // the positions of the last step (at first the reference)
   std::vector<rc::Law> laws;
 
   // One CE4 per (reference i, reference j, properties).
   Rig(const std::vector<std::pair<Vec, Vec>>& edges, const std::vector<FractureProperties>& props, double thickness) {
     model.thickness = thickness;
     model.fracture = props;
+    model.dt = 1.0;  // the rig's velocities are the displacements per step
     for (size_t e = 0; e < edges.size(); ++e) {
       const int b = static_cast<int>(4 * e);
       model.ce4.push_back({b, b + 1, b + 2, b + 3});
@@ -66,15 +71,23 @@ struct Rig {
       laws.push_back(rc::make_law(props[e % props.size()], h));
     }
     position = cl.allocate(ref.size() * sizeof(real2), "test_position");
+    velocity = cl.allocate(ref.size() * sizeof(real2), "test_velocity");
     ref_position = cl.allocate(ref.size() * sizeof(real2), "test_ref_position");
     upload(cl, position, ref);
+    upload(cl, velocity, std::vector<real2>(ref.size(), real2{0, 0}));
     upload(cl, ref_position, ref);
-    stage = std::make_unique<CohesiveForces>(cl, model, position, ref_position);
+    x_before = ref;
+    stage = std::make_unique<CohesiveForces>(cl, model, position, velocity, ref_position);
   }
 
-  // Sets the positions (stored as real), runs one step and returns the slot forces.
+  // Sets the positions (stored as real) and the velocities that moved the nodes there
+  // from the last step's (dt = 1), runs one step and returns the slot forces.
   std::vector<real2> step(std::vector<real2>& x, double time) {
+    std::vector<real2> v(x.size());
+    for (size_t k = 0; k < x.size(); ++k) v[k] = real2{x[k].x - x_before[k].x, x[k].y - x_before[k].y};
     upload(cl, position, x);
+    upload(cl, velocity, v);
+    x_before = x;
     stage->enqueue(time, steps++);
     return download<real2>(cl, stage->slots(), 4 * stage->size());
   }

@@ -51,7 +51,7 @@ bool may_change(const std::string& key) {
 }
 
 // The version of what a checkpoint holds; a change of its contents changes it.
-constexpr const char* kCheckpointFormat = "8";
+constexpr const char* kCheckpointFormat = "9";
 
 }  // namespace
 

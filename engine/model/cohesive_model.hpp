@@ -58,7 +58,9 @@ struct CohesiveModel {
   // either one ramps with the smaller factor (cl_kernels/cohesive_forces.cl, EXCAVATION).
   std::vector<std::array<int, 2>> excavation_of;
   std::vector<std::array<double, 2>> excavation_times;
-  double excavation_dt = 0;  // the run's time step [s]: the factor is taken at step × dt
+  // The run's time step [s]: the work term's displacements are velocity × dt, and the
+  // excavation factors are taken at step × dt.
+  double dt = 0;
   // [fluid] on: the CE4s that start to carry fluid in a step are appended to a list the
   // fluid stage reads (CohesiveForces::fluid_carriers): 1 where a broken CE4 carries, 2
   // where a softened one does too (fluid.segments = "damaged"); 0 without [fluid].

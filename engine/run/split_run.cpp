@@ -189,9 +189,7 @@ const std::map<std::string, ItemArray>& checkpoint_items() {
       {"ce4_gauss_state", {ItemKind::Ce4, 3}},
       {"ce4_status", {ItemKind::Ce4, 1}},
       {"ce4_force", {ItemKind::Ce4, 4}},
-      {"ce4_last_gap", {ItemKind::Ce4, 1}},
       {"ce4_friction_slip", {ItemKind::Ce4, 1}},
-      {"ce4_last_chord", {ItemKind::Ce4, 1}},
       {"ce4_energy", {ItemKind::Ce4, 1}},
       {"ce4_excavation_energy", {ItemKind::Ce4, 1}},
       {"ce4_inserted", {ItemKind::Ce4, 1}},  // extrinsic CE4s (ce4_inserted_count: whole_count_array)

@@ -70,8 +70,6 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       // from the state by cohesive_output when one is read (output_column).
       .add("ce4_output", std::max<size_t>(1, ce4) * sizeof(real), MemoryPlan::Lifetime::Output)
       .add("ce4_force", 4 * ce4 * sizeof(real2))
-      .add("ce4_last_gap", ce4 * sizeof(real4))
-      .add("ce4_last_chord", ce4 * sizeof(real2))
       .add("ce4_energy", ce4 * sizeof(real4))
       .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
       .add("ce4_break_count", sizeof(cl_uint))
@@ -81,8 +79,11 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
 }
 
 CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
-                               const std::vector<real2>& ref, const std::vector<InSituGaps>& in_situ)
-    : cl_(cl), count_(model.ce4.size()), partials_(energy_partials(count_)) {
+                               compute::buffer& velocity, const std::vector<real2>& ref,
+                               const std::vector<InSituGaps>& in_situ)
+    : cl_(cl), count_(model.ce4.size()), partials_(energy_partials(count_)), position_(position) {
+  if (!(model.dt > 0.0) || !std::isfinite(model.dt))
+    throw InputError("cohesive model: the time step must be positive and finite (got " + std::to_string(model.dt) + ")");
   const bool with_in_situ = !in_situ.empty();
   if (with_in_situ && in_situ.size() != count_)
     throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(in_situ.size()) +
@@ -121,8 +122,6 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
 
   const size_t num_nodes = ref.size();
   std::vector<cl_uint> nodes(4 * count_);
-  std::vector<real4> gaps(count_);   // end gaps at the start (zero for CE4s from a split mesh)
-  std::vector<real2> chords(count_); // chords (x_j - x_i) + (x_j' - x_i') at the start
   params_.assign(layout::COH_STRIDE * count_, real(0));
   std::vector<cl_uint> property(count_);
   const double deg = std::acos(-1.0) / 180.0;
@@ -141,9 +140,6 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     const real2 a = ref[model.ce4[e][0]], b = ref[model.ce4[e][1]];
     const double h = std::hypot(double(b.x) - double(a.x), double(b.y) - double(a.y));
     if (!(h > 0.0)) throw InputError("CE4 " + std::to_string(e) + " has a zero-length edge");
-    const real2 ip = ref[model.ce4[e][3]], jp = ref[model.ce4[e][2]];
-    gaps[e] = real4{ip.x - a.x, ip.y - a.y, jp.x - b.x, jp.y - b.y};
-    chords[e] = real2{(b.x - a.x) + (jp.x - ip.x), (b.y - a.y) + (jp.y - ip.y)};
     real* row = &params_[layout::COH_STRIDE * e];
     row[layout::COH_OP] = real(2.0 * h * f.tensile_strength / f.penalty_opening);
     row[layout::COH_SP] = real(2.0 * h * f.cohesion / f.penalty_sliding);
@@ -244,8 +240,6 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   status_ = arrays.allocate(cl, "ce4_status");
   output_bytes_ = arrays.bytes("ce4_output");  // allocated by each output_column only
   slots_ = arrays.allocate(cl, "ce4_force");
-  last_gap_ = arrays.allocate(cl, "ce4_last_gap");
-  last_chord_ = arrays.allocate(cl, "ce4_last_chord");
   energy_ = arrays.allocate(cl, "ce4_energy");
   partial_ = arrays.allocate(cl, "ce4_energy_partials");
   break_count_ = arrays.allocate(cl, "ce4_break_count");
@@ -286,8 +280,6 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, gp_slip_, slips);
   upload(cl, status_, status);
   upload(cl, slots_, std::vector<real2>(4 * count_));
-  upload(cl, last_gap_, gaps);
-  upload(cl, last_chord_, chords);
   upload(cl, energy_, std::vector<real4>(count_));
 
   std::map<std::string, std::string> defines;
@@ -305,18 +297,16 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   kernel_ = compute::kernel(program, "cohesive_forces");
   KernelArgs args(kernel_);
   args("n_ce4", static_cast<cl_uint>(count_))("ce4_nodes", nodes_)("ce4_length", length_)("property", property_)("property_rows", property_rows_)("position", position)(
-      "thickness", static_cast<real>(model.thickness));
+      "velocity", velocity)("dt", static_cast<real>(model.dt))("thickness", static_cast<real>(model.thickness));
   time_ = args.later("time", real(0));
   step_ = args.later("step", cl_int(0));
-  args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("slots", slots_)(
-      "last_gap", last_gap_)("last_chord", last_chord_)("energy", energy_)("break_count", break_count_)(
+  args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("slots", slots_)("energy", energy_)("break_count", break_count_)(
       "break_ids", break_ids_)("break_records", break_records_)("status_step", status_step_);
   if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
   if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
   if (extrinsic_) args("inserted", inserted_)("insertion_gaps", insertion_gaps_);
   if (excavation_)
-    args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("dt", static_cast<real>(model.excavation_dt))(
-        "excavation_energy", excavation_energy_);
+    args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("excavation_energy", excavation_energy_);
   if (model.fluid_carriers != 0) args("fluid_carriers", carriers_.list)("fluid_carrier_count", carriers_.count);
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
@@ -345,8 +335,8 @@ std::vector<real> CohesiveForces::output_column(int k) {
   // An output array for this read only (MemoryPlan::Lifetime::Output).
   compute::buffer out = cl_.allocate(output_bytes_, "ce4_output");
   compute::kernel kernel(program_, "cohesive_output");
-  bind_args(kernel)("n_ce4", static_cast<cl_uint>(count_))("column", cl_int(k))("gp_state", gp_state_)(
-      "last_gap", last_gap_)("last_chord", last_chord_)("out", out)
+  bind_args(kernel)("n_ce4", static_cast<cl_uint>(count_))("column", cl_int(k))("gp_state", gp_state_)("ce4_nodes", nodes_)(
+      "position", position_)("out", out)
       .done();
   cl_.enqueue(kernel, count_);
   column = download<real>(cl_, out, count_);
@@ -396,9 +386,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
   out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
-  out.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
-  out.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   out.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (excavation_) out.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);
@@ -427,9 +415,7 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
   in.buffer<cl_int>("ce4_status", status_, count_, 2);
   in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
-  in.buffer<real>("ce4_last_gap", last_gap_, count_, 4);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
-  in.buffer<real>("ce4_last_chord", last_chord_, count_, 2);
   in.buffer<real>("ce4_energy", energy_, count_, 4);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (excavation_) in.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);

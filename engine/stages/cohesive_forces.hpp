@@ -26,13 +26,16 @@ class CohesiveForces {
   // for none: then the kernel has no such argument and the stage no such array.
   // `ref_position`: the reference positions, one real2 per node as the device holds them
   // (DeviceArrays::reference_positions; the device keeps none without gravity).
-  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
+  // `velocity`: the nodes' velocities, which moved them by velocity × model.dt in the
+  // step before (the work term's displacements: cl_kernels/cohesive_forces.cl); the
+  // positions in step 0 must be the reference positions.
+  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position, compute::buffer& velocity,
                  const std::vector<real2>& ref_position, const std::vector<InSituGaps>& in_situ = {});
   // The same with the reference positions read from a device array.
-  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position,
+  CohesiveForces(ClContext& cl, const CohesiveModel& model, compute::buffer& position, compute::buffer& velocity,
                  compute::buffer& ref_position, const std::vector<InSituGaps>& in_situ = {})
-      : CohesiveForces(cl, model, position, download<real2>(cl, ref_position, ref_position.size() / sizeof(real2)),
-                       in_situ) {}
+      : CohesiveForces(cl, model, position, velocity,
+                       download<real2>(cl, ref_position, ref_position.size() / sizeof(real2)), in_situ) {}
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
   // bonded fans' state: CohesiveModel::vertex_bonded; with `in_situ` the initial gaps).
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
@@ -156,7 +159,8 @@ class CohesiveForces {
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
   compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_, status_step_;
   FluidCarriers carriers_;  // [fluid] only
-  compute::buffer last_gap_, last_chord_, energy_, partial_;  // real4, real2, real4 per CE4; real2 per partial
+  compute::buffer energy_, partial_;  // real4 per CE4; real2 per partial
+  compute::buffer position_;          // the nodes' positions (bound to the step; cohesive_output reads them)
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).
   compute::buffer break_count_, break_ids_, break_records_;
