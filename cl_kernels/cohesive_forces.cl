@@ -143,8 +143,10 @@ inline real coh_parabola_energy(real x, real xp, real peak) {
 // agree exactly as their bits do).
 #ifdef FDEM_DOUBLE
 inline bool coh_differ4(real4 a, real4 b) { return any(as_long4(a) != as_long4(b)); }
+inline bool coh_differ3(real3 a, real3 b) { return any(as_long3(a) != as_long3(b)); }
 #else
 inline bool coh_differ4(real4 a, real4 b) { return any(as_int4(a) != as_int4(b)); }
+inline bool coh_differ3(real3 a, real3 b) { return any(as_int3(a) != as_int3(b)); }
 #endif
 
 // The CE4's frame and its openings and slips at the three Gauss points from its end gaps
@@ -177,8 +179,9 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 
 // One work-item per CE4: kinematics, law and nodal forces of CE4 `e`; updates its three
 // Gauss-point states, its status (broken, mode), its output row and its energy account.
-// gp_state: real4 per Gauss point (D_max, o_max [m], max|s| [m], opening share χ of Eq. 9
-// at the step its D reached 1). gp_slip: real4 per CE4, the slip s_f [m] of the friction
+// gp_state: three reals per Gauss point (D_max, o_max [m], max|s| [m]); once D reaches 1
+// the first holds 1 + χ, χ the opening share of Eq. 9 at that step (D_max = min(it, 1)):
+// D_max stays 1 from then on, so the share needs no word of its own (8 B a point). gp_slip: real4 per CE4, the slip s_f [m] of the friction
 // element at each of the three points, and in w the time the CE4 broke [s] (-1 while
 // intact). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). Each array is stored only
 // where a value changed (the same bits as storing it every step, less traffic).
@@ -211,7 +214,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               const real thickness,
                               const real time,
                               const int step,
-                              __global real4* restrict gp_state,
+                              __global real* restrict gp_state,
                               __global real4* restrict gp_slip,
                               __global int2* restrict status,
                               __global real2* restrict slots,
@@ -337,8 +340,8 @@ __kernel void cohesive_forces(const uint n_ce4,
 #endif
 
     for (int g = 0; g < 3; ++g) {
-      const real4 gs_before = gp_state[3 * e + g];
-      real4 gs = gs_before;
+      const real3 gs_before = vload3(3 * e + g, gp_state);
+      real3 gs = gs_before;
       const real og = lo[g], sa = fabs(ls[g]);
       const real over_o = fmax(og - op, (real)0), over_s = fmax(sa - sp, (real)0);
       real D = 0, share = 0;
@@ -349,24 +352,25 @@ __kernel void cohesive_forces(const uint n_ce4,
         share = a * a / d2;
       }
       if (!closed) {  // a closed CE4's state is frozen: it has no strength left to lose
-        if (D >= (real)1 && gs.x < (real)1) gs.w = share;
-        gs.x = fmax(gs.x, D);
+        // D ≤ 1, so a point at 1 + χ keeps it.
+        gs.x = D >= (real)1 && gs.x < (real)1 ? (real)1 + share : fmax(gs.x, D);
         gs.y = fmax(gs.y, og);
         gs.z = fmax(gs.z, sa);
-        if (coh_differ4(gs, gs_before)) gp_state[3 * e + g] = gs;
+        if (coh_differ3(gs, gs_before)) vstore3(gs, 3 * e + g, gp_state);
       }
+      const real d_max = fmin(gs.x, (real)1);
 #ifdef FLUID_CARRIERS
       softened_before = softened_before || gs_before.x > (real)0;
       softened = softened || gs.x > (real)0;
 #endif
       if (gs.x >= (real)1) {
-        share_sum += gs.w;
+        share_sum += gs.x - (real)1;
         ++at_one;
       }
       opened = opened && og >= (real)0;
       slid = fmax(slid, fabs(s[g]));
 
-      const real f = closed ? (real)0 : coh_softening(gs.x, A, B, C);
+      const real f = closed ? (real)0 : coh_softening(d_max, A, B, C);
       real sigma, held_n;
       if (og < (real)0) {
         sigma = (real)2 * og * Ts / oov;
@@ -558,7 +562,7 @@ __kernel void cohesive_forces(const uint n_ce4,
 // real per CE4, an output array).
 __kernel void cohesive_output(const uint n_ce4,
                               const int column,
-                              __global const real4* restrict gp_state,
+                              __global const real* restrict gp_state,
                               __global const uint4* restrict ce4_nodes,
                               __global const real2* restrict position,
                               __global real* restrict out) {
@@ -566,7 +570,7 @@ __kernel void cohesive_output(const uint n_ce4,
   if (e >= n_ce4) return;
   if (column == 0) {
     real damage = 0;
-    for (int g = 0; g < 3; ++g) damage = fmax(damage, gp_state[3 * e + g].x);
+    for (int g = 0; g < 3; ++g) damage = fmax(damage, fmin(gp_state[9 * e + 3 * g], (real)1));  // 1 + χ: 1
     out[e] = damage;
     return;
   }

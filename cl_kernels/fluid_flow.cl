@@ -57,12 +57,12 @@
 // the list of carriers, FLUID_CARRIERS).
 inline bool segment_carries(const uint e, __global const int2* restrict status
 #if DAMAGED_SEGMENTS
-                            , __global const real4* restrict gp_state
+                            , __global const real* restrict gp_state
 #endif
                             ) {
 #if DAMAGED_SEGMENTS
-  return status[e].x >= 1 || gp_state[3 * e].x > (real)0 || gp_state[3 * e + 1].x > (real)0 ||
-         gp_state[3 * e + 2].x > (real)0;
+  return status[e].x >= 1 || gp_state[9 * e] > (real)0 || gp_state[9 * e + 3] > (real)0 ||
+         gp_state[9 * e + 6] > (real)0;
 #else
   return status[e].x >= 1;
 #endif
@@ -74,7 +74,7 @@ inline void segment_item(const uint e,
                              __global const real2* restrict position,
                              __global const int2* restrict status,
 #if DAMAGED_SEGMENTS
-                             __global const real4* restrict gp_state,
+                             __global const real* restrict gp_state,
 #endif
                              __global const real* restrict seg_h,
                              const real thickness,
@@ -151,7 +151,7 @@ __kernel void fluid_segments(const uint n_ce4,
                              __global const real2* restrict position,
                              __global const int2* restrict status,
 #if DAMAGED_SEGMENTS
-                             __global const real4* restrict gp_state,
+                             __global const real* restrict gp_state,
 #endif
                              __global const real* restrict seg_h,
                              const real thickness,
@@ -949,7 +949,7 @@ __kernel void fluid_network_scan(const uint n_ce4,
                                  const uint n_vertices,
                                  __global const int2* restrict status,
 #if DAMAGED_SEGMENTS
-                                 __global const real4* restrict gp_state,
+                                 __global const real* restrict gp_state,
 #endif
                                  __global const uchar* restrict source,
                                  __global uint* restrict carriers,
@@ -985,7 +985,7 @@ void fluid_step_group(__global const uint* restrict carriers,
                       __global const real2* restrict position,
                       __global const int2* restrict status,
 #if DAMAGED_SEGMENTS
-                      __global const real4* restrict gp_state,
+                      __global const real* restrict gp_state,
 #endif
                       __global const real* restrict seg_h,
                       const real thickness,

@@ -400,12 +400,12 @@ TEST_CASE("fluid: segments = \"damaged\" lets the fluid into softened intact CE4
     std::vector<int> broken, mode;
     solver.cohesive()->flags(broken, mode);
     const size_t n = p.model.ce4.size();
-    const auto gauss = download<real4>(test::context(), solver.cohesive()->gauss_state(), 3 * n);
+    const auto gauss = download<real>(test::context(), solver.cohesive()->gauss_state(), 9 * n);
     std::vector<real> pressure, aperture;
     solver.fluid()->segment_fields(pressure, aperture);
     size_t carrying = 0, softened_carrying = 0, broken_count = 0, wet_softened = 0;
     for (size_t e = 0; e < n; ++e) {
-      const bool softened = gauss[3 * e].x > 0 || gauss[3 * e + 1].x > 0 || gauss[3 * e + 2].x > 0;
+      const bool softened = gauss[9 * e] > 0 || gauss[9 * e + 3] > 0 || gauss[9 * e + 6] > 0;
       broken_count += broken[e] != 0;
       if (aperture[e] <= 0) {
         CHECK_MESSAGE(!broken[e], "a broken CE4 carries no fluid: " << e);
@@ -516,7 +516,7 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
     std::vector<int> carries(n_ce4, 0);
     for (uint32_t e : m.fluid.crack_ce4) carries[e] = 1;
     std::vector<cl_int2> status(n_ce4, cl_int2{{0, 0}});
-    std::vector<real4> gauss(3 * n_ce4);
+    std::vector<real> gauss(9 * n_ce4);  // three reals per Gauss point (CohesiveForces::gauss_state)
     // Softened: the CE4s that share a vertex with the seed but are not on it; broken and
     // dry: the CE4 farthest from the well.
     std::vector<char> seed_vertex(m.fluid.vertices, 0);
@@ -529,7 +529,7 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
       if (r > far_r) far_r = r, far = e;
       if (carries[e]) continue;
       if (seed_vertex[m.fluid.segment_vertex[2 * e]] || seed_vertex[m.fluid.segment_vertex[2 * e + 1]]) {
-        gauss[3 * e + 1].x = real(0.3);
+        gauss[9 * e + 3] = real(0.3);  // D_max of the second point
         carries[e] = 1;
         ++softened;
       }
@@ -539,7 +539,7 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
     REQUIRE(softened > 0);
     compute::buffer position(cl.context(), m.num_nodes() * sizeof(real2));
     compute::buffer status_buffer(cl.context(), n_ce4 * sizeof(cl_int2));
-    compute::buffer gauss_buffer(cl.context(), 3 * n_ce4 * sizeof(real4));
+    compute::buffer gauss_buffer(cl.context(), 9 * n_ce4 * sizeof(real));
     upload(cl, status_buffer, status);
     upload(cl, gauss_buffer, gauss);
     FluidFlow stage(cl, m, position, status_buffer, gauss_buffer, p.dt);

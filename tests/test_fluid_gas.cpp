@@ -161,10 +161,10 @@ TEST_CASE("fluid gas: the faces' forces are the gradient of the gas's p V, also 
   auto& cl = test::context();
   const size_t n_ce4 = m.ce4.size();
   std::vector<cl_int2> status(n_ce4, cl_int2{{1, 1}});
-  std::vector<real4> gauss(3 * n_ce4);
+  std::vector<real> gauss(9 * n_ce4);  // three reals per Gauss point (CohesiveForces::gauss_state)
   compute::buffer position(cl.context(), m.num_nodes() * sizeof(real2));
   compute::buffer status_buffer(cl.context(), n_ce4 * sizeof(cl_int2));
-  compute::buffer gauss_buffer(cl.context(), 3 * n_ce4 * sizeof(real4));
+  compute::buffer gauss_buffer(cl.context(), 9 * n_ce4 * sizeof(real));
   upload(cl, status_buffer, status);
   upload(cl, gauss_buffer, gauss);
   {  // the mesh's positions first, as the solver has them when it makes the stage (its hole's gas)

@@ -63,7 +63,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       // h only: o_p, s_p, o_overlap follow from it and the property row (layouts.hpp).
       .add("ce4_length", ce4 * sizeof(real))
       .add("ce4_property", ce4 * sizeof(cl_uint))
-      .add("ce4_gauss_state", 3 * ce4 * sizeof(real4))
+      .add("ce4_gauss_state", 9 * ce4 * sizeof(real))
       .add("ce4_friction_slip", ce4 * sizeof(real4))
       .add("ce4_status", 2 * ce4 * sizeof(cl_int))
       // One column of the frames' CE4 values (damage, mean opening or slip), computed
@@ -256,7 +256,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   }
   upload(cl, property_, property);
   upload(cl, property_rows_, property_rows);
-  upload(cl, gp_state_, std::vector<real4>(3 * count_));
+  upload(cl, gp_state_, std::vector<real>(9 * count_));
   std::vector<real4> slips(count_, real4{0, 0, 0, real(-1)});  // w: break time, -1 intact
   if (with_in_situ) {
     // The friction elements start where the field's shear has put them (InSituGaps).
@@ -383,7 +383,7 @@ std::vector<io::BreakRecord> CohesiveForces::drain_breaks() {
 }
 
 void CohesiveForces::save_state(StateWriter& out) const {
-  out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
+  out.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 3);
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
   out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
@@ -412,7 +412,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
 }
 
 void CohesiveForces::load_state(StateReader& in) {
-  in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 4);
+  in.buffer<real>("ce4_gauss_state", gp_state_, 3 * count_, 3);
   in.buffer<cl_int>("ce4_status", status_, count_, 2);
   in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);

@@ -58,7 +58,8 @@ class CohesiveForces {
   // One cl_int: 1 + the last step in which the kernel changed some CE4's status (0: none
   // yet in this process), for the contact stage's sleeping couples.
   compute::buffer& status_step() { return status_step_; }
-  // real4 per Gauss point, three per CE4: (D_max, o_max, max|s|, χ) (cohesive_forces.cl).
+  // Three reals per Gauss point, three points per CE4: (D_max, o_max, max|s|), the first
+  // 1 + χ once D_max is 1 (cohesive_forces.cl).
   compute::buffer& gauss_state() { return gp_state_; }
   // [fluid] (CohesiveModel::fluid_carriers): the CE4s that started to carry fluid, appended
   // by the kernel in the step they start (broke, or softened: fluid_carriers 2), and their
