@@ -185,8 +185,8 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // element at each of the three points, and in w the time the CE4 broke [s] (-1 while
 // intact). status: int2 per CE4 (broken 0/1, mode 0/1/2/3). Each array is stored only
 // where a value changed (the same bits as storing it every step, less traffic).
-// energy: real4 per CE4 (work done on it so far, fracture dissipation so far, elastic
-// energy it holds now, 0) [J].
+// energy: three reals per CE4 (work done on it so far, fracture dissipation so far,
+// elastic energy it holds now) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
 // The work term's displacements since the last step are the nodes' velocities × dt: the
 // integration moved every node by v Δt (cl_kernels/integrate.cl; the halo exchange and
@@ -218,7 +218,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict gp_slip,
                               __global int2* restrict status,
                               __global real2* restrict slots,
-                              __global real4* restrict energy,
+                              __global real* restrict energy,
                               __global uint* restrict break_count,
                               __global int2* restrict break_ids,
                               __global real4* restrict break_records,
@@ -510,7 +510,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);
-    real4 account = energy[e];
+    real3 account = vload3(e, energy);
     account.x += (real)0.5 * (dot(a_before + f_i, d_gap_i) + dot(b_before + f_j, d_gap_j) + dot(m_before + f_m, d_chord));
     account.z = held * scale;
 #ifdef EXTRINSIC
@@ -531,7 +531,7 @@ __kernel void cohesive_forces(const uint n_ce4,
 #else
     account.y = fmax(account.y, account.x - account.z);
 #endif
-    energy[e] = account;
+    vstore3(account, e, energy);
 #ifdef CORNER_FANS
     // The fans of its two mesh nodes are no longer whole: from the next step contact takes
     // their corner couples (every CE4 breaking at a node in one step writes the same value).
@@ -589,11 +589,11 @@ __kernel void cohesive_output(const uint n_ce4,
 // same on every run.
 __kernel void cohesive_energy_partials(const uint n_ce4,
                                        const uint n_partials,
-                                       __global const real4* restrict energy,
+                                       __global const real* restrict energy,
                                        __global real2* restrict partial) {
   const uint k = get_global_id(0);
   if (k >= n_partials) return;
   real2 sum = (real2)(0, 0);
-  for (uint e = k; e < n_ce4; e += n_partials) sum += energy[e].yz;
+  for (uint e = k; e < n_ce4; e += n_partials) sum += (real2)(energy[3 * e + 1], energy[3 * e + 2]);
   partial[k] = sum;
 }

@@ -399,7 +399,7 @@ std::function<EnergyTotals()> Solver::queue_energy() {
   parts.push_back(boundary_loads_.queue_energy(sums));
   if (cohesive_) {
     // (fracture dissipation, stored energy): columns 1 and 2 of each CE4's energy row.
-    PendingSums pending = sums(cl_, cohesive_->energy_rows(), ce4_count_, 4, 1, 2, ItemKind::Ce4);
+    PendingSums pending = sums(cl_, cohesive_->energy_rows(), ce4_count_, 3, 1, 2, ItemKind::Ce4);
     parts.push_back([pending](EnergyTotals& e) {
       const auto sum = pending();
       e.fracture += sum[0];

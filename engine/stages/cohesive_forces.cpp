@@ -70,7 +70,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
       // from the state by cohesive_output when one is read (output_column).
       .add("ce4_output", std::max<size_t>(1, ce4) * sizeof(real), MemoryPlan::Lifetime::Output)
       .add("ce4_force", 4 * ce4 * sizeof(real2))
-      .add("ce4_energy", ce4 * sizeof(real4))
+      .add("ce4_energy", 3 * ce4 * sizeof(real))
       .add("ce4_energy_partials", energy_partials(ce4) * sizeof(real2))
       .add("ce4_break_count", sizeof(cl_uint))
       .add("ce4_status_step", sizeof(cl_int))
@@ -280,7 +280,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   upload(cl, gp_slip_, slips);
   upload(cl, status_, status);
   upload(cl, slots_, std::vector<real2>(4 * count_));
-  upload(cl, energy_, std::vector<real4>(count_));
+  upload(cl, energy_, std::vector<real>(3 * count_));
 
   std::map<std::string, std::string> defines;
   if (fans_) defines["CORNER_FANS"] = "1";
@@ -387,7 +387,7 @@ void CohesiveForces::save_state(StateWriter& out) const {
   out.buffer<cl_int>("ce4_status", status_, count_, 2);
   out.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   out.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
-  out.buffer<real>("ce4_energy", energy_, count_, 4);
+  out.buffer<real>("ce4_energy", energy_, count_, 3);
   if (fans_) out.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (excavation_) out.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);
   if (extrinsic_) {
@@ -416,7 +416,7 @@ void CohesiveForces::load_state(StateReader& in) {
   in.buffer<cl_int>("ce4_status", status_, count_, 2);
   in.buffer<real>("ce4_force", slots_, 4 * count_, 2);
   in.buffer<real>("ce4_friction_slip", gp_slip_, count_, 4);
-  in.buffer<real>("ce4_energy", energy_, count_, 4);
+  in.buffer<real>("ce4_energy", energy_, count_, 3);
   if (fans_) in.buffer<cl_int>("mesh_node_state", mesh_state_, mesh_nodes_, 1);
   if (excavation_) in.buffer<real>("ce4_excavation_energy", excavation_energy_, count_, 2);
   if (extrinsic_) {
@@ -477,9 +477,9 @@ void CohesiveForces::flags(std::vector<int>& broken, std::vector<int>& mode) {
 }
 
 std::vector<real> CohesiveForces::energy_column(int k) {
-  const auto rows = download<real4>(cl_, energy_, count_);
+  const auto rows = download<real>(cl_, energy_, 3 * count_);
   std::vector<real> column(count_);
-  for (size_t e = 0; e < count_; ++e) column[e] = k == 0 ? rows[e].x : k == 1 ? rows[e].y : rows[e].z;
+  for (size_t e = 0; e < count_; ++e) column[e] = rows[3 * e + k];
   return column;
 }
 

@@ -101,7 +101,7 @@ class CohesiveForces {
   std::vector<real> work();         // work done on each CE4 so far [J]
   std::vector<real> dissipated();   // fracture dissipation of each CE4 so far [J] (cl_kernels/cohesive_forces.cl)
   std::vector<real> stored();       // elastic energy each CE4 holds now [J]
-  const compute::buffer& energy_rows() const { return energy_; }  // real4: (work, dissipation, stored, -) per CE4
+  const compute::buffer& energy_rows() const { return energy_; }  // three reals per CE4: (work, dissipation, stored)
   // [[excavation]] (CohesiveModel::excavation_of given): real2 per CE4, (Π of the last
   // step unscaled, energy carried out by the ramp so far [J]); .y is the account's
   // `excavated` share of the CE4s. excavating() is false without (no such array).
@@ -160,7 +160,7 @@ class CohesiveForces {
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
   compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_, status_step_;
   FluidCarriers carriers_;  // [fluid] only
-  compute::buffer energy_, partial_;  // real4 per CE4; real2 per partial
+  compute::buffer energy_, partial_;  // three reals per CE4; real2 per partial
   compute::buffer position_;          // the nodes' positions (bound to the step; cohesive_output reads them)
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per
   // slot, one slot per CE4 (a CE4 breaks once, so it cannot overflow).
