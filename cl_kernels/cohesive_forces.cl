@@ -188,11 +188,12 @@ inline void coh_kinematics(const real2 gap_i, const real2 gap_j, const real2 cho
 // energy: three reals per CE4 (work done on it so far, fracture dissipation so far,
 // elastic energy it holds now) [J].
 // slots: read first (the forces of the last step, for the work), then overwritten.
-// The work term's displacements since the last step are the nodes' velocities × dt: the
-// integration moved every node by v Δt (cl_kernels/integrate.cl; the halo exchange and
-// the extrinsic copies keep x and v together), so the CE4 keeps no copy of its last end
-// gaps and chord (48 B a CE4 held, 96 read and written a step). Step 0 moves nothing: the
-// positions are where the set-up found them.
+// The work term needs the end gaps and chord of the last step: the integration moved every
+// node by v Δt (cl_kernels/integrate.cl; the halo exchange and the extrinsic copies keep x
+// and v together), so x - v Δt gives back the last step's positions (to the bit but where
+// the update's rounding was a tie), and the CE4 keeps no copy of them (48 B a CE4 held, 96
+// read and written a step). Step 0 moves nothing: the positions are where the set-up
+// found them.
 // Break catalogue (an append buffer, read by the host with the history rows): a CE4 that
 // breaks in this step takes slot k = atomic_inc(break_count) and writes break_ids[k] =
 // (e, mode) and break_records[k] = (time, midpoint x, midpoint y of its four nodes, its
@@ -502,11 +503,13 @@ __kernel void cohesive_forces(const uint n_ce4,
 
     // Work of this step on the CE4 (trapezoid): with slot_i = A + m, slot_i' = -A + m,
     // slot_j = B - m, slot_j' = -B - m it is ½(A₀+A₁)·Δgap_i + ½(B₀+B₁)·Δgap_j + ½(m₀+m₁)·Δc.
-    // The displacements since the last step: v Δt (header), none in step 0.
+    // The positions of the last step, x - v Δt (header; step 0: where they are), and from
+    // them its end gaps and chord by the step's own expressions.
     const real moved_dt = step > 0 ? dt : (real)0;
-    const real2 vi = velocity[nd.x], vj = velocity[nd.y], vj2 = velocity[nd.z], vi2 = velocity[nd.w];
-    const real2 d_gap_i = (vi2 - vi) * moved_dt, d_gap_j = (vj2 - vj) * moved_dt;
-    const real2 d_chord = ((vj - vi) + (vj2 - vi2)) * moved_dt;
+    const real2 bi = xi - velocity[nd.x] * moved_dt, bj = xj - velocity[nd.y] * moved_dt;
+    const real2 bj2 = xj2 - velocity[nd.z] * moved_dt, bi2 = xi2 - velocity[nd.w] * moved_dt;
+    const real2 d_gap_i = gap_i - (bi2 - bi), d_gap_j = gap_j - (bj2 - bj);
+    const real2 d_chord = chord - ((bj - bi) + (bj2 - bi2));
     const real2 s_i = slots[4 * e], s_j = slots[4 * e + 1], s_j2 = slots[4 * e + 2], s_i2 = slots[4 * e + 3];
     const real2 a_before = (real)0.5 * (s_i - s_i2), b_before = (real)0.5 * (s_j - s_j2);
     const real2 m_before = (real)0.5 * (s_i + s_i2);

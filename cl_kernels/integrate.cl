@@ -45,9 +45,14 @@
 // local memory and the first work-item of each block adds them in node order, so the
 // per-node array exists only where node_rows is 1 (a split run, whose energy() gathers the
 // values per node).
+// WORK_ROWS_BY_GROUP 1 (no local damping, so only nodes with a prescribed group do work):
+// node_work has a row only for each such node, and bc_group holds the group in its low
+// 8 bits and the node's row in the upper 24 (Integrate::work_rows); the other nodes' totals
+// are +0, what their rows held (a free node's terms are the same bits either way).
 // Defines from the host: GROUP_SIZE (the 1D work-group size, a power of two), SKIN_TEST,
 // GATHER_IN_STEP, MASS_SCALING, GRAVITY_POTENTIAL (1: the model has gravity, and
-// ref_position is the reference positions; 0: ref_position is a placeholder, not read).
+// ref_position is the reference positions; 0: ref_position is a placeholder, not read),
+// WORK_ROWS_BY_GROUP.
 __kernel void integrate(const uint n_nodes,
 #if GATHER_IN_STEP
                         GATHER_ARGS,
@@ -120,7 +125,11 @@ __kernel void integrate(const uint n_nodes,
     }
     v += fd / mass.y * dt;
 
+#if WORK_ROWS_BY_GROUP
+    const uint group_word = bc_group[i], group = group_word & 0xffu;
+#else
     const uint group = bc_group[i];
+#endif
     uint mask = 0u;
     if (group != 0) {
       const real4 bc = bc_table[group];
@@ -142,8 +151,18 @@ __kernel void integrate(const uint n_nodes,
       work.w = dot(pr, fwd);
       work.x = work.z + (step > 0 ? dot(pd, back) : (real)0);
       work.y = work.w + (step > 0 ? dot(pr, back) : (real)0);
+#if WORK_ROWS_BY_GROUP
+      if (group != 0) {
+        const uint work_row = group_word >> 8;
+        if (work.x != (real)0 || work.y != (real)0) node_work[work_row] += work.xy;
+        if (energy_row) work.xy = node_work[work_row];
+      } else if (energy_row) {
+        work.xy = (real2)(0, 0);  // a free node's total: +0, as a row of its own would hold
+      }
+#else
       if (work.x != (real)0 || work.y != (real)0) node_work[i] += work.xy;
       if (energy_row) work.xy = node_work[i];  // the totals so far, for this row's sums
+#endif
     }
     if (energy_row) {
       row.x = (real)0.5 * mass.y * dot(v_before, v);

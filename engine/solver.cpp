@@ -140,7 +140,8 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   plan.add(BoundaryLoads::plan(model.loaded_edges.size(), group_size));
   // A split rank (with contact: its node ownership; engine/parallel/partition.cpp) keeps the
   // energy rows' per-node values for energy()'s gather (set_scope → keep_energy_rows).
-  plan.add(Integrate::plan(nodes, group_size, p.account_work, !model.node_owned.empty()));
+  plan.add(Integrate::plan(nodes, group_size, p.account_work, !model.node_owned.empty(),
+                           Integrate::work_rows(model.node_group, model.groups.size(), model.local_damping).rows));
   plan.add(LumpedMass::plan(nodes, p.ce4));
   plan.add(OrderedSums::plan(ordered_items(model)));
   return plan;

@@ -1,5 +1,6 @@
 // End-to-end solver runs on small meshes: analytic answers, determinism, failures.
 #include <doctest/doctest.h>
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdint>
@@ -190,25 +191,53 @@ TEST_CASE("memory plan: node_mass, ref_position and the CE4 parameters hold what
 // Session 11 (issue 29, device memory): one rank's energy rows are summed in blocks by the
 // integrate and triangle kernels themselves (no per-node or per-triangle array), while a
 // split rank keeps the per-item values for energy()'s gather. (The CE4 force as three
-// terms and three energy reals were tried and undone: cohesive_forces took 0.63 instead
-// of 0.40 ms a step at 1.08M TRI3 on the H200; docs/performance-notes.md, session 11.)
+// terms was tried and undone: cohesive_forces took 0.63 instead of 0.40 ms a step at 1.08M
+// TRI3 on the H200; docs/performance-notes.md, session 11. The energy rows are three
+// reals since session 25.)
 TEST_CASE("memory plan: CE4 force slots, CE4 energies and the energy rows' node values") {
   const PreparedCase p = prepare_case(test::source_path("cases/wave-bar/ce4.toml"), {"mesh.size=0.05"});
   const MemoryPlan plan = Solver::plan(p.model, 64);
   const size_t ce4 = p.model.ce4.size(), nodes = p.model.num_nodes();
   REQUIRE(ce4 > 0);
   CHECK(plan.bytes("ce4_force") == 4 * ce4 * sizeof(real2));
-  CHECK(plan.bytes("ce4_energy") == ce4 * sizeof(real4));
+  CHECK(plan.bytes("ce4_energy") == 3 * ce4 * sizeof(real));
   bool listed = false;
   for (const auto& a : plan.arrays()) listed = listed || a.name == "integrate node_energy" || a.name == "triangle energy";
   CHECK_FALSE(listed);
-  CHECK(Integrate::plan(nodes, 64, true, true).bytes("integrate node_energy") == nodes * sizeof(real4));
+  CHECK(Integrate::plan(nodes, 64, true, true, nodes).bytes("integrate node_energy") == nodes * sizeof(real4));
   const size_t triangles = p.model.num_triangles();
   CHECK(TriangleForces::plan(triangles, 64, false, false, 0, true).bytes("triangle energy") == triangles * sizeof(real2));
   // The kernels' work-groups hold whole blocks of the ordered sums.
   CHECK(Integrate::group_size(64) % kOrderedBlock == 0);
   CHECK(TriangleForces::group_size(64) % kOrderedBlock == 0);
   CHECK(Integrate::group_size(1024) == 1024);
+}
+
+// Session 25 (issue 29, memory): without local damping only the nodes of a prescribed
+// group do work, so only they have a row of the accumulated work; the restart tests
+// (the Brazilian disc's platens) check that the rows go to and come from the checkpoint
+// per node, and the partition tests that a split run's ranks agree.
+TEST_CASE("memory plan: the accumulated work has a row per moving node, or per node with local damping") {
+  const PreparedCase p = prepare_case(test::source_path("cases/brazilian/case.toml"), {"mesh.size=0.004"});
+  const size_t nodes = p.model.num_nodes();
+  const size_t moving = static_cast<size_t>(
+      std::count_if(p.model.node_group.begin(), p.model.node_group.end(), [](uint32_t g) { return g != 0; }));
+  REQUIRE(moving > 0);
+  REQUIRE(moving < nodes / 4);
+  const auto rows = Integrate::work_rows(p.model.node_group, p.model.groups.size(), 0.0);
+  CHECK(rows.by_group);
+  CHECK(rows.rows == moving);
+  CHECK(Solver::plan(p.model, 64).bytes("integrate node_work") == moving * sizeof(real2));
+  const auto damped = Integrate::work_rows(p.model.node_group, p.model.groups.size(), 0.8);
+  CHECK_FALSE(damped.by_group);
+  CHECK(damped.rows == nodes);
+  // Past 255 groups the device's group word has no room for a row: one per node.
+  CHECK_FALSE(Integrate::work_rows(p.model.node_group, 257, 0.0).by_group);
+  CHECK(Integrate::work_rows(p.model.node_group, 256, 0.0).by_group);
+  // The run's reaction work is there (the platens push): the rows accumulate.
+  Solver solver(test::context(), p.model, p.dt);
+  for (int k = 0; k < 200; ++k) solver.step(k == 199);
+  CHECK(std::fabs(solver.energy().boundary_work) > 0);
 }
 
 // The contact history pool (ContactForces::pool_arrays) on the bench model: a pool that

@@ -1,19 +1,29 @@
 #include "engine/stages/integrate.hpp"
 
 #include "engine/stages/node_gather.hpp"
+#include "base/errors.hpp"
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace fdem {
 
-MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work, bool node_rows) {
+Integrate::WorkRows Integrate::work_rows(const std::vector<uint32_t>& node_group, size_t groups, double local_damping) {
+  WorkRows w{false, node_group.size()};
+  if (local_damping != 0 || groups > 256) return w;
+  const size_t moving = static_cast<size_t>(std::count_if(node_group.begin(), node_group.end(), [](uint32_t g) { return g != 0; }));
+  if (moving >= (size_t(1) << 24)) return w;
+  return WorkRows{true, moving};
+}
+
+MemoryPlan Integrate::plan(size_t nodes, size_t group_size, bool account_work, bool node_rows, size_t work_rows) {
   const size_t groups = std::max<size_t>(1, groups_for(nodes, Integrate::group_size(group_size)));
   MemoryPlan p;
   p.add("integrate group_work", groups * sizeof(real2))
       .add("integrate group_row", groups * sizeof(real4))
-      .add("integrate node_work", (account_work ? std::max<size_t>(1, nodes) : 1) * sizeof(real2));
+      .add("integrate node_work", (account_work ? std::max<size_t>(1, work_rows) : 1) * sizeof(real2));
   // The energy rows' per-node values: only a split run keeps them (keep_energy_rows, for
   // energy()'s gather); one rank's kernel sums them into the partials itself.
   if (node_rows) p.add("integrate node_energy", std::max<size_t>(1, nodes) * sizeof(real4));
@@ -35,6 +45,23 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   gathers_ = gather.has_value();
   defines["GATHER_IN_STEP"] = gather ? "1" : "0";
   defines["MASS_SCALING"] = a.mass_scaling ? "1" : "0";
+  // The work rows (work_rows): by group, the device's node_group words gain each moving
+  // node's row above the group's 8 bits.
+  {
+    const size_t group_count = a.group_table.size() / sizeof(real4);
+    auto node_group = download<cl_uint>(cl, a.node_group, count_);
+    work_rows_ = work_rows(std::vector<uint32_t>(node_group.begin(), node_group.end()), group_count, local_damping);
+    if (account_work_ && work_rows_.by_group) {
+      for (size_t n = 0; n < count_; ++n) {
+        if (node_group[n] == 0) continue;
+        // The group's bits (a word packed by an earlier stage on these arrays keeps them).
+        node_group[n] = (node_group[n] & 0xffu) | static_cast<cl_uint>(row_node_.size()) << 8;
+        row_node_.push_back(static_cast<cl_uint>(n));
+      }
+      upload(cl, a.node_group, node_group);
+    }
+    defines["WORK_ROWS_BY_GROUP"] = account_work_ && work_rows_.by_group ? "1" : "0";
+  }
   // The gravity potential of the energy rows reads the reference positions, which the
   // device holds only in a model with gravity (DeviceArrays); without, every node's term
   // is -m g·(x - X) = ±0 and the rows' ordered block sums (which start from +0) are +0
@@ -51,12 +78,12 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   // 1.08M TRI3: 0.159 → 0.139 ms a step (docs/performance-notes.md, session 7).
   const auto program = cl.build(kernel_source::integrate, defines, libraries, 64);
   kernel_ = compute::kernel(program, "integrate");
-  const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_, true);
+  const MemoryPlan arrays = plan(count_, cl.group_size(), account_work_, true, work_rows_.rows);
   group_work_ = arrays.allocate(cl, "integrate group_work");
   group_row_ = arrays.allocate(cl, "integrate group_row");
   upload(cl, group_work_, std::vector<real2>(std::max<size_t>(1, groups_)));
   upload(cl, group_row_, std::vector<real4>(std::max<size_t>(1, groups_)));
-  const size_t work_items = account_work_ ? std::max<size_t>(1, count_) : 1;
+  const size_t work_items = account_work_ ? std::max<size_t>(1, work_rows_.rows) : 1;
   node_work_ = arrays.allocate(cl, "integrate node_work");
   upload(cl, node_work_, std::vector<real2>(work_items));
   node_energy_bytes_ = arrays.bytes("integrate node_energy");  // allocated by keep_energy_rows only
@@ -88,6 +115,44 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   node_energy_arg_ = args.later("node_energy", placeholder_);
   args("energy_partials", partials_);
   args.done();
+}
+
+void Integrate::save_state(StateWriter& out) const {
+  out.group_slots("integrate_work", group_work_, groups_, 2);
+  if (!account_work_) return;
+  if (!work_rows_.by_group) {
+    out.buffer<real>("integrate_node_work", node_work_, count_, 2);
+    return;
+  }
+  const auto rows = download<real2>(cl_, node_work_, row_node_.size());
+  std::vector<real> per_node(2 * count_, real(0));
+  for (size_t r = 0; r < row_node_.size(); ++r) per_node[2 * row_node_[r]] = rows[r].x, per_node[2 * row_node_[r] + 1] = rows[r].y;
+  out.host<real>("integrate_node_work", per_node.data(), count_, 2);
+}
+
+void Integrate::load_state(StateReader& in) {
+  in.group_slots("integrate_work", group_work_, groups_, 2);
+  if (!account_work_) return;
+  if (!work_rows_.by_group) {
+    in.buffer<real>("integrate_node_work", node_work_, count_, 2);
+    return;
+  }
+  std::vector<real> per_node(2 * count_);
+  in.host<real>("integrate_node_work", per_node.data(), count_, 2);
+  std::vector<real2> rows(std::max<size_t>(1, row_node_.size()), real2{0, 0});
+  for (size_t r = 0; r < row_node_.size(); ++r) rows[r] = real2{per_node[2 * row_node_[r]], per_node[2 * row_node_[r] + 1]};
+  // A free node's total is +0 (no row): a file with another value there was not written
+  // by this model's run.
+  for (size_t n = 0, r = 0; n < count_; ++n) {
+    if (r < row_node_.size() && row_node_[r] == n) {
+      ++r;
+      continue;
+    }
+    if (per_node[2 * n] != real(0) || per_node[2 * n + 1] != real(0))
+      throw InputError("checkpoint: integrate_node_work has work at node " + std::to_string(n) +
+                       ", which has no prescribed motion and no local damping in this case");
+  }
+  upload(cl_, node_work_, rows);
 }
 
 void Integrate::keep_energy_rows() {

@@ -35,10 +35,19 @@ class Integrate {
   static bool accounts_work(bool prescribed, double local_damping, bool account) {
     return account && (prescribed || local_damping != 0);
   }
+  // The rows of the accumulated work (node_work): without local damping only nodes with a
+  // prescribed-motion group (node_group ≠ 0) do work, so each of them gets a row and the
+  // device's node_group word carries it (by_group; at most 255 groups and 2²⁴ such nodes);
+  // with local damping, or past those limits, every node has its row.
+  struct WorkRows {
+    bool by_group = false;
+    size_t rows = 0;
+  };
+  static WorkRows work_rows(const std::vector<uint32_t>& node_group, size_t groups, double local_damping);
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `account_work`: accounts_work(...); `node_rows`: a split run's rank, which keeps the
-  // energy rows' per-node values, keep_energy_rows()).
-  static MemoryPlan plan(size_t nodes, size_t group_size, bool account_work, bool node_rows = false);
+  // energy rows' per-node values, keep_energy_rows(); `work_rows`: work_rows(...).rows).
+  static MemoryPlan plan(size_t nodes, size_t group_size, bool account_work, bool node_rows, size_t work_rows);
   // The kernel's work-group size: the device's, at least kOrderedBlock (the energy rows'
   // block sums are taken within a work-group).
   static size_t group_size(size_t device_group) { return std::max(device_group, kOrderedBlock); }
@@ -61,14 +70,9 @@ class Integrate {
   void keep_energy_rows();
 
   // The cumulative energy sums, for checkpoints.
-  void save_state(StateWriter& out) const {
-    out.group_slots("integrate_work", group_work_, groups_, 2);
-    if (account_work_) out.buffer<real>("integrate_node_work", node_work_, count_, 2);
-  }
-  void load_state(StateReader& in) {
-    in.group_slots("integrate_work", group_work_, groups_, 2);
-    if (account_work_) in.buffer<real>("integrate_node_work", node_work_, count_, 2);
-  }
+  // The work totals are saved per node whatever their rows (the same file either way).
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
 
  private:
   ClContext& cl_;
@@ -79,7 +83,9 @@ class Integrate {
   KernelArg<cl_int> step_, energy_row_;
   KernelArg<cl_uint> slot_, next_slot_;
   compute::buffer group_work_, group_row_;  // real2, real4 per work-group (the last energy row's sums)
-  compute::buffer node_work_;  // real2 per node when accounted: (local damping work, reaction work) so far
+  compute::buffer node_work_;  // real2 per work row when accounted: (local damping work, reaction work) so far
+  WorkRows work_rows_;
+  std::vector<cl_uint> row_node_;  // by_group: the node of each work row
   // Energy rows: the kernel sums the nodes' (kinetic, gravity, damping, reaction work)
   // into partials_ (4 reals per kOrderedBlock nodes, in node order); a split run also keeps
   // them per node in node_energy_ (real4 per node, after keep_energy_rows; else a
