@@ -225,7 +225,7 @@ __kernel void cohesive_forces(const uint n_ce4,
                               __global real4* restrict break_records,
                               __global int* restrict status_step
 #ifdef CORNER_FANS
-                              , __global const uint2* restrict ce4_mesh_nodes,
+                              , __global const uint* restrict node_origin,
                               __global int* restrict mesh_node_state
 #endif
 #ifdef IN_SITU_GAPS
@@ -539,7 +539,7 @@ __kernel void cohesive_forces(const uint n_ce4,
     // The fans of its two mesh nodes are no longer whole: from the next step contact takes
     // their corner couples (every CE4 breaking at a node in one step writes the same value).
     if (broke_now) {
-      const uint2 v = ce4_mesh_nodes[e];
+      const uint2 v = (uint2)(node_origin[nd.x], node_origin[nd.y]);  // its mesh nodes
       if (mesh_node_state[v.x] == 0) mesh_node_state[v.x] = 2 + step;
       if (mesh_node_state[v.y] == 0) mesh_node_state[v.y] = 2 + step;
     }

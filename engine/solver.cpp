@@ -59,8 +59,7 @@ CohesiveModel cohesive_model(const Model& model) {
   }
   if (model.fluid.enabled) m.fluid_carriers = model.fluid.damaged_segments ? 2 : 1;
   if (model.contact.enabled && !model.node_origin.empty()) {
-    m.vertices.reserve(model.ce4.size());
-    for (const auto& e : model.ce4) m.vertices.push_back({model.node_origin[e[0]], model.node_origin[e[1]]});
+    m.node_origin = model.node_origin;
     m.vertex_bonded = model.vertex_bonded;
   }
   return m;
@@ -121,9 +120,10 @@ MemoryPlan Solver::plan(const Model& model, size_t group_size, bool account) {
   const size_t nodes = model.num_nodes(), triangles = model.num_triangles();
   MemoryPlan plan = DeviceArrays::plan(model);
   if (p.ce4)
-    plan.add(CohesiveForces::plan(model.ce4.size(), p.contact ? model.vertex_bonded.size() : 0,
+    plan.add(CohesiveForces::plan(model.ce4.size(), p.contact && !model.node_origin.empty() ? model.vertex_bonded.size() : 0,
                                   cohesive_property_sets(cohesive_model(model)), model.in_situ.enabled, p.extrinsic,
-                                  cohesive_model(model).excavation_of.empty() ? 0 : model.excavations.size(), p.fluid));
+                                  cohesive_model(model).excavation_of.empty() ? 0 : model.excavations.size(), p.fluid,
+                                  nodes));
   if (p.extrinsic) plan.add(Extrinsic::plan(model));
   if (p.ce4) plan.add(FragmentLabels::plan(triangles, nodes, model.ce4_triangles.size()));
   if (p.contact) {
@@ -226,6 +226,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                           return std::make_unique<ContactForces>(cl, arrays_, model, &detection_->active_mask(),
                                                                  cohesive_ ? &cohesive_->status() : nullptr,
                                                                  cohesive_ ? cohesive_->mesh_node_state() : nullptr,
+                                                                 cohesive_ ? cohesive_->node_origin() : nullptr,
                                                                  parts_.skin ? ring_.get() : nullptr, true,
                                                                  cohesive_ ? &cohesive_->status_step() : nullptr);
                         })),

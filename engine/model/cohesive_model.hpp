@@ -40,11 +40,12 @@ struct CohesiveModel {
   std::vector<int> properties;           // index into `fracture` per CE4
   std::vector<FractureProperties> fracture;
   double thickness = 1.0;                // out-of-plane thickness t [m]
-  // With contact (else empty): the mesh nodes (i, j) of each CE4 and, per mesh node, 1 when
-  // its fan is bonded (Model::vertex_bonded). The stage then keeps a state word per mesh
+  // With contact (else empty): per node the mesh node it copies (Model::node_origin; a
+  // CE4's mesh nodes are those of its i and j) and, per mesh node, 1 when its fan is
+  // bonded (Model::vertex_bonded). The stage then keeps a state word per mesh
   // node, 0 while every CE4 at a bonded node is intact, 2 + n from the step n one of them
   // broke, -1 for a node whose fan is not bonded (corner couples there are contact couples).
-  std::vector<std::array<int, 2>> vertices;
+  std::vector<int> node_origin;
   std::vector<int> vertex_bonded;
   // [material.heterogeneity] (else empty): per CE4 the factors on T_s and c of its set
   // (Model::ce4_strength_factor). A CE4 whose factors are not (1, 1) gets a property set of

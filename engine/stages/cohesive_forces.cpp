@@ -39,7 +39,7 @@ size_t energy_partials(size_t ce4) { return std::max<size_t>(1, std::min<size_t>
 }  // namespace
 
 MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_sets, bool in_situ, bool extrinsic,
-                                 size_t excavations, bool fluid) {
+                                 size_t excavations, bool fluid, size_t nodes) {
   MemoryPlan p;
   // [fluid]: the list of the CE4s that carry fluid, and its length (fluid_carriers()).
   if (fluid)
@@ -57,7 +57,7 @@ MemoryPlan CohesiveForces::plan(size_t ce4, size_t mesh_nodes, size_t property_s
   if (in_situ) p.add("ce4_in_situ_gaps", 6 * std::max<size_t>(1, ce4) * sizeof(real));
   p.add("ce4_property_rows", layout::COHP_STRIDE * std::max<size_t>(1, property_sets) * sizeof(real));
   if (mesh_nodes > 0)
-    p.add("ce4_mesh_nodes", 2 * ce4 * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
+    p.add("node origins", std::max<size_t>(1, nodes) * sizeof(cl_uint)).add("mesh_node_state", mesh_nodes * sizeof(cl_int));
   return p
       .add("ce4_nodes", 4 * ce4 * sizeof(cl_uint))
       // h only: o_p, s_p, o_overlap follow from it and the property row (layouts.hpp).
@@ -165,9 +165,9 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   }
 
   fans_ = !model.vertex_bonded.empty();
-  if (fans_ && model.vertices.size() != count_)
-    throw InputError("cohesive model: " + std::to_string(count_) + " CE4s but " + std::to_string(model.vertices.size()) +
-                     " mesh node pairs");
+  if (fans_ && model.node_origin.size() != ref.size())
+    throw InputError("cohesive model: " + std::to_string(ref.size()) + " nodes but " +
+                     std::to_string(model.node_origin.size()) + " mesh node origins");
   mesh_nodes_ = model.vertex_bonded.size();
   for (const auto& f : model.fracture) extrinsic_ = extrinsic_ || f.extrinsic;
   if (extrinsic_ && with_in_situ) throw InputError("cohesive model: extrinsic CE4s with [in_situ] are not supported yet");
@@ -180,7 +180,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     if ((model.excavation_of[e][0] >= 0 || model.excavation_of[e][1] >= 0) && model.fracture[model.properties[e]].extrinsic)
       throw InputError("cohesive model: CE4 " + std::to_string(e) + " is extrinsic and on an excavated triangle");
   const MemoryPlan arrays = plan(count_, mesh_nodes_, sets.size(), with_in_situ, extrinsic_,
-                                 excavation_ ? model.excavation_times.size() : 0, model.fluid_carriers != 0);
+                                 excavation_ ? model.excavation_times.size() : 0, model.fluid_carriers != 0, ref.size());
   if (model.fluid_carriers != 0) {
     carriers_.list = arrays.allocate(cl, "ce4_fluid_carriers");
     carriers_.count = arrays.allocate(cl, "ce4_fluid_carrier_count");
@@ -216,19 +216,18 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
     upload(cl, inserted_count_, std::vector<cl_uint>(1, 0));
   }
   if (fans_) {
-    std::vector<cl_uint> pairs(2 * count_);
-    for (size_t e = 0; e < count_; ++e)
-      for (int k = 0; k < 2; ++k) {
-        const int v = model.vertices[e][k];
-        if (v < 0 || size_t(v) >= mesh_nodes_)
-          throw InputError("CE4 " + std::to_string(e) + " names mesh node " + std::to_string(v) + ", out of range");
-        pairs[2 * e + k] = cl_uint(v);
-      }
+    std::vector<cl_uint> origin(std::max<size_t>(1, ref.size()), 0);
+    for (size_t n = 0; n < model.node_origin.size(); ++n) {
+      const int v = model.node_origin[n];
+      if (v < 0 || size_t(v) >= mesh_nodes_)
+        throw InputError("node " + std::to_string(n) + " copies mesh node " + std::to_string(v) + ", out of range");
+      origin[n] = cl_uint(v);
+    }
     std::vector<cl_int> state(mesh_nodes_);
     for (size_t v = 0; v < mesh_nodes_; ++v) state[v] = model.vertex_bonded[v] ? 0 : -1;
-    mesh_pairs_ = arrays.allocate(cl, "ce4_mesh_nodes");
+    node_origin_ = arrays.allocate(cl, "node origins");
     mesh_state_ = arrays.allocate(cl, "mesh_node_state");
-    upload(cl, mesh_pairs_, pairs);
+    upload(cl, node_origin_, origin);
     upload(cl, mesh_state_, state);
   }
   nodes_ = arrays.allocate(cl, "ce4_nodes");
@@ -302,7 +301,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   step_ = args.later("step", cl_int(0));
   args("gp_state", gp_state_)("gp_slip", gp_slip_)("status", status_)("slots", slots_)("energy", energy_)("break_count", break_count_)(
       "break_ids", break_ids_)("break_records", break_records_)("status_step", status_step_);
-  if (fans_) args("ce4_mesh_nodes", mesh_pairs_)("mesh_node_state", mesh_state_);
+  if (fans_) args("node_origin", node_origin_)("mesh_node_state", mesh_state_);
   if (with_in_situ) args("in_situ_gaps", in_situ_gaps_);
   if (extrinsic_) args("inserted", inserted_)("insertion_gaps", insertion_gaps_);
   if (excavation_)

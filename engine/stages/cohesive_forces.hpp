@@ -37,14 +37,15 @@ class CohesiveForces {
       : CohesiveForces(cl, model, position, velocity,
                        download<real2>(cl, ref_position, ref_position.size() / sizeof(real2)), in_situ) {}
   // The arrays the constructor allocates for `ce4` CE4s (and, with `mesh_nodes` > 0, the
-  // bonded fans' state: CohesiveModel::vertex_bonded; with `in_situ` the initial gaps).
+  // bonded fans' state, CohesiveModel::vertex_bonded, and the `nodes` nodes' mesh nodes,
+  // CohesiveModel::node_origin; with `in_situ` the initial gaps).
   // `property_sets`: the fracture property sets (CohesiveModel::fracture).
   // `extrinsic`: some CE4's set has fracture.model = "extrinsic" (FractureProperties): the
   // insertion flags, offsets and count (cl_kernels/extrinsic.cl).
   // `excavations`: the number of [[excavation]] entries when some CE4 touches an excavated
   // triangle (CohesiveModel::excavation_of), else 0.
   static MemoryPlan plan(size_t ce4, size_t mesh_nodes = 0, size_t property_sets = 1, bool in_situ = false,
-                         bool extrinsic = false, size_t excavations = 0, bool fluid = false);
+                         bool extrinsic = false, size_t excavations = 0, bool fluid = false, size_t nodes = 0);
 
   // Forces of every CE4 into its four slots (order i, j, j', i'), state update, breaking
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
@@ -69,6 +70,9 @@ class CohesiveForces {
   // int per mesh node (CohesiveModel::vertex_bonded given): -1 fan not bonded, 0 every CE4
   // at it intact, 2 + n one of them broke at step n. Null without it.
   const compute::buffer* mesh_node_state() const { return fans_ ? &mesh_state_ : nullptr; }
+  // With bonded fans: cl_uint per node, the mesh node it copies (CohesiveModel::node_origin;
+  // the contact stage's corner couples read it too).
+  const compute::buffer* node_origin() const { return fans_ ? &node_origin_ : nullptr; }
   size_t size() const { return count_; }
   // Extrinsic CE4s (the Extrinsic stage binds these): int per CE4, 0 while an extrinsic CE4
   // is not inserted (it then carries nothing), 1 once it is and for every intrinsic CE4;
@@ -151,7 +155,7 @@ class CohesiveForces {
   bool extrinsic_ = false;
   compute::buffer inserted_, insertion_gaps_, inserted_count_;
   size_t mesh_nodes_ = 0;
-  compute::buffer mesh_pairs_, mesh_state_;
+  compute::buffer node_origin_, mesh_state_;
   bool excavation_ = false;
   compute::buffer excavation_of_, excavation_time_, excavation_energy_;  // int2, real2 per excavation, real2 per CE4
   compute::buffer in_situ_gaps_;  // real ×6 per CE4 (o₀ at the 3 Gauss points, then s₀), [in_situ] only

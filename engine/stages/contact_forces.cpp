@@ -67,8 +67,6 @@ MemoryPlan ContactForces::plan(const Model& model, size_t group_size, bool own_m
   if (own_mask)
     p.add("contact candidate mask (all)", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_uint));
   if (!model.ce4_triangles.empty()) p.add("contact bond CE4s", 3 * model.num_triangles() * sizeof(cl_uint));
-  if (!model.ce4_triangles.empty() && !model.node_origin.empty())
-    p.add("contact node origins", model.num_nodes() * sizeof(cl_uint));
   // [[excavation]]: per triangle its excavation, per excavation (start, duration).
   if (!model.triangle_excavation.empty())
     p.add("contact excavation_of", std::max<size_t>(1, model.num_triangles()) * sizeof(cl_int))
@@ -91,7 +89,8 @@ std::vector<cl_uint> ContactForces::bond_ce4(const Model& model) {
 
 ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model, const compute::buffer* active,
                              const compute::buffer* ce4_status, const compute::buffer* mesh_node_state,
-                             MonitorRing* ring, bool shared_keys, const compute::buffer* ce4_status_step)
+                             const compute::buffer* node_origin, MonitorRing* ring, bool shared_keys,
+                             const compute::buffer* ce4_status_step)
     : cl_(cl),
       arrays_(a),
       triangles_(a.num_triangles),
@@ -99,7 +98,8 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
       monitored_(ring != nullptr),
       carry_(cl, a.num_triangles, first_capacity(a.num_triangles)) {
   const bool bonds = ce4_status != nullptr && !model.ce4_triangles.empty();
-  const bool fans = bonds && mesh_node_state != nullptr && model.node_origin.size() == model.num_nodes();
+  const bool fans = bonds && mesh_node_state != nullptr && node_origin != nullptr &&
+                    model.node_origin.size() == model.num_nodes();
   bonds_ = bonds;
   prelisted_ = model.contact.list_ahead && active != nullptr;
   // A bond word holds a CE4 index, or a mesh node's with the top bit set (contact_forces.cl).
@@ -224,10 +224,7 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
     upload(cl, excavation_of_, of);
     upload(cl, excavation_time_, times);
   }
-  if (fans) {
-    node_origin_ = arrays.allocate(cl, "contact node origins");
-    upload(cl, node_origin_, std::vector<cl_uint>(model.node_origin.begin(), model.node_origin.end()));
-  }
+  if (fans) node_origin_ = *node_origin;  // the cohesive stage's
   const cl_uint none = 0;
   KernelArgs f(forces_);
   forces_list_.bind_list(f, keys_, history_, history_);

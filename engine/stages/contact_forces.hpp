@@ -37,7 +37,7 @@ class ContactForces {
   // (contact_classify's SLEEPERS).
   ContactForces(ClContext& cl, DeviceArrays& arrays, const Model& model, const compute::buffer* active = nullptr,
                 const compute::buffer* ce4_status = nullptr, const compute::buffer* mesh_node_state = nullptr,
-                MonitorRing* ring = nullptr, bool shared_keys = false,
+                const compute::buffer* node_origin = nullptr, MonitorRing* ring = nullptr, bool shared_keys = false,
                 const compute::buffer* ce4_status_step = nullptr);
 
   // The couples the lists hold at first, and the capacity they grow to when a list of
@@ -222,7 +222,7 @@ class ContactForces {
   ContactCarry carry_;      // the histories a new list carries over (one history array, in place)
   compute::buffer active_;  // the candidate mask (the detection's, or ones_)
   compute::buffer bond_ce4_;  // 3 cl_uint per triangle: the CE4s on its edges (with CE4s only)
-  compute::buffer node_origin_;  // cl_uint per node: the mesh node it copies (with bonded fans only)
+  compute::buffer node_origin_;  // cl_uint per node: the mesh node it copies (with bonded fans only; CohesiveForces's)
   // cl_uint per couple of the list (with CE4s only): what carries it instead of contact,
   // the CE4 or the corner's mesh node (contact_forces.cl, couple_bond); written by the
   // classification of a list's first step (bond_words_known_ false until then).
