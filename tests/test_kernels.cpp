@@ -210,6 +210,25 @@ TEST_CASE("node gather sums every corner and edge slot, bitwise the same on ever
     CHECK((Vector2d(first[i].x, first[i].y) - expected[i]).norm() <= (kDoublePrecision ? 1e-12 : 1e-5) * 1e6 * spokes);
 }
 
+// The gather's one map (session 25: one start array instead of three): per node its
+// corner slots, then its edge slots, then its CE4 slots, tagged in the top two bits.
+TEST_CASE("node gather map: corners, then loaded edges, then CE4s per node, each tagged; a slot past 30 bits refused") {
+  const std::vector<std::array<int, 3>> triangles{{0, 1, 2}, {2, 1, 3}};
+  const std::vector<std::array<int, 2>> edges{{1, 3}};
+  const std::vector<std::array<int, 4>> ce4{{1, 2, 2, 1}};
+  const SlotMap corners = build_slot_map(4, triangles), edge_map = build_slot_map(4, edges), ce4_map = build_slot_map(4, ce4);
+  const SlotMap map = node_slot_map(corners, edge_map, ce4_map);
+  const uint32_t E = 1u << 30, C = 2u << 30;
+  CHECK(map.start == std::vector<uint32_t>{0, 1, 6, 10, 12});
+  CHECK(map.slot == std::vector<uint32_t>{0,                          // node 0: corner 0 of triangle 0
+                                          1, 4, E | 0, C | 0, C | 3,  // node 1: corners, its edge end, CE4 slots
+                                          2, 3, C | 1, C | 2,         // node 2
+                                          5, E | 1});                 // node 3
+  SlotMap big = corners;
+  big.slot[0] = 1u << 30;
+  CHECK_THROWS_AS(node_slot_map(big, edge_map, ce4_map), InputError);
+}
+
 TEST_CASE("the integration that gathers the forces itself gives the bits of the gather and the integration") {
   // The Solver's step fuses the gather into the integration on small models and CPU
   // devices (step_gather) and launches both on large GPU models: both paths must agree

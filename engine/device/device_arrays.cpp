@@ -36,6 +36,33 @@ std::vector<real2> DeviceArrays::reference_positions(const Model& model) {
   return pos;
 }
 
+SlotMap node_slot_map(const SlotMap& corners, const SlotMap& edges, const SlotMap& ce4) {
+  const size_t nodes = corners.start.size() - 1;
+  constexpr uint32_t kSlotBits = 30;
+  for (const SlotMap* m : {&corners, &edges, &ce4})
+    if (!m->slot.empty() && *std::max_element(m->slot.begin(), m->slot.end()) >= (uint32_t(1) << kSlotBits))
+      throw InputError("the model has more than 2^30 corner, loaded-edge or CE4 slots; the node gather's map indexes "
+                       "them with 30 bits");
+  const size_t total = corners.slot.size() + edges.slot.size() + ce4.slot.size();
+  if (total > UINT32_MAX)
+    throw InputError("the model has " + std::to_string(total) + " gather entries (3 per triangle, 2 per loaded edge, 4 per "
+                     "CE4); the node gather's map counts them with 32 bits");
+  SlotMap map;
+  map.start.assign(nodes + 1, 0);
+  map.slot.reserve(corners.slot.size() + edges.slot.size() + ce4.slot.size());
+  for (size_t i = 0; i < nodes; ++i) {
+    map.start[i] = static_cast<uint32_t>(map.slot.size());
+    uint32_t part = 0;
+    for (const SlotMap* m : {&corners, &edges, &ce4}) {
+      if (m->start.size() == nodes + 1)
+        for (uint32_t k = m->start[i]; k < m->start[i + 1]; ++k) map.slot.push_back(m->slot[k] | (part << kSlotBits));
+      ++part;
+    }
+  }
+  map.start[nodes] = static_cast<uint32_t>(map.slot.size());
+  return map;
+}
+
 MemoryPlan DeviceArrays::plan(const Model& model) {
   const size_t n = model.num_nodes(), t = model.num_triangles(), e = model.loaded_edges.size();
   const size_t u = sizeof(uint32_t);
@@ -57,18 +84,14 @@ MemoryPlan DeviceArrays::plan(const Model& model) {
       .add("materials", model.materials.size() * layout::MATERIAL_STRIDE * sizeof(real))
       .add("corner_force", 3 * t * sizeof(real2))
       .add("stress", t * sizeof(real4), MemoryPlan::Lifetime::Output)
-      .add("corner_start", (n + 1) * u)
-      .add("corner_slot", 3 * t * u)
+      .add("node_start", (n + 1) * u)
+      .add("node_slot", std::max<size_t>(1, 3 * t + 2 * e + 4 * model.ce4.size()) * u)
       .add("edge_nodes", 2 * e * u)
       .add("edge_ref_position", 2 * e * sizeof(real2))
       .add("edge_load", e * u)
       .add("load_table", std::max<size_t>(1, load_rows(model)) * sizeof(real4))
       .add("pressure_points", pressure_point_count(model) * sizeof(real2))
       .add("edge_force", 2 * e * sizeof(real2))
-      .add("edge_start", (n + 1) * u)
-      .add("edge_slot", 2 * e * u)
-      .add("ce4_start", (n + 1) * u)
-      .add("ce4_slot", std::max<size_t>(1, 4 * model.ce4.size()) * u)  // 4 slots per CE4
       .add("contact_acc", (model.contact.enabled ? n : 1) * 2 * sizeof(cl_long))
       .add("conditions", layout::CONDITION_WORDS * sizeof(int));
   // A varying E: one factor per triangle of the materials that vary it.
@@ -108,18 +131,14 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   materials = plan.allocate(cl, "materials");
   corner_force = plan.allocate(cl, "corner_force");
   stress_bytes_ = plan.bytes("stress");  // allocated for output steps only (output_stress)
-  corner_start = plan.allocate(cl, "corner_start");
-  corner_slot = plan.allocate(cl, "corner_slot");
+  node_start = plan.allocate(cl, "node_start");
+  node_slot = plan.allocate(cl, "node_slot");
   edge_nodes = plan.allocate(cl, "edge_nodes");
   edge_ref_position = plan.allocate(cl, "edge_ref_position");
   edge_load = plan.allocate(cl, "edge_load");
   load_table = plan.allocate(cl, "load_table");
   pressure_points = plan.allocate(cl, "pressure_points");
   edge_force = plan.allocate(cl, "edge_force");
-  edge_start = plan.allocate(cl, "edge_start");
-  edge_slot = plan.allocate(cl, "edge_slot");
-  ce4_start = plan.allocate(cl, "ce4_start");
-  ce4_slot = plan.allocate(cl, "ce4_slot");
   contact_acc = plan.allocate(cl, "contact_acc");
   conditions = plan.allocate(cl, "conditions");
   young_count = model.young_count();
@@ -131,8 +150,6 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
     upload(cl, young_factor, factor);
   }
   const SlotMap ce4 = build_slot_map(n, model.ce4);
-  upload(cl, ce4_start, ce4.start);
-  upload(cl, ce4_slot, ce4.slot);
 
   const std::vector<real2> pos = reference_positions(model);
   std::vector<real2> vel(n);
@@ -163,8 +180,6 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   for (double v : material_table(model.materials)) table.push_back(real(v));
   upload(cl, materials, table);
   const SlotMap corners = build_slot_map(n, model.triangles);
-  upload(cl, corner_start, corners.start);
-  upload(cl, corner_slot, corners.slot);
 
   std::vector<uint32_t> en(2 * e), el(e);
   std::vector<std::array<int, 2>> edge_items(e);
@@ -215,8 +230,12 @@ DeviceArrays::DeviceArrays(ClContext& cl, const Model& model)
   if (points.empty()) points.push_back({0, 0});
   upload(cl, pressure_points, points);
   const SlotMap edges = build_slot_map(n, edge_items);
-  upload(cl, edge_start, edges.start);
-  upload(cl, edge_slot, edges.slot);
+  {
+    SlotMap map = node_slot_map(corners, edges, ce4);
+    if (map.slot.empty()) map.slot.push_back(0);  // the plan's one entry
+    upload(cl, node_start, map.start);
+    upload(cl, node_slot, map.slot);
+  }
 
   upload(cl, contact_acc, std::vector<cl_long>((model.contact.enabled ? n : 1) * 2, 0));
   upload(cl, conditions, std::vector<int>(layout::CONDITION_WORDS, INT_MAX));

@@ -42,8 +42,11 @@ struct DeviceArrays {
   compute::buffer corner_force;  // real2 ×3 per triangle [N] (also the corner masses at set-up)
   compute::buffer stress;        // real4: σxx, σyy, σxy [Pa], J; output only: allocated by
                                  // output_stress(), null between output steps
-  compute::buffer corner_start;  // uint, num_nodes+1: node → corner-slot CSR offsets
-  compute::buffer corner_slot;   // uint, 3 per triangle: slot 3t+k of each node's corners
+  // The node → slot CSR map of the gather (cl_kernels/node_gather.cl): per node its
+  // corner slots (3t+k), then its loaded-edge-end slots (2e+k), then its CE4 slots (4c+k),
+  // each entry (part << 30) | slot, part 0, 1, 2 (node_slot_map).
+  compute::buffer node_start;    // uint, num_nodes+1
+  compute::buffer node_slot;     // uint, 3 per triangle + 2 per loaded edge + 4 per CE4
 
   // Loaded boundary edges
   compute::buffer edge_nodes;    // uint2 (a, b), body on the left
@@ -52,12 +55,7 @@ struct DeviceArrays {
   compute::buffer load_table;    // real4 per load: (kind, three parameters), see boundary_loads.cl
   compute::buffer pressure_points;  // real2 (time, pressure) of every pressure table, one after another
   compute::buffer edge_force;    // real2 ×2 per edge [N]
-  compute::buffer edge_start;    // uint, num_nodes+1: node → edge-end-slot CSR offsets
-  compute::buffer edge_slot;     // uint, 2 per edge
 
-  // Cohesive elements: node → CE4-slot CSR map (the slots belong to CohesiveForces)
-  compute::buffer ce4_start;     // uint, num_nodes+1
-  compute::buffer ce4_slot;      // uint, 4 per CE4
 
   // Contact
   compute::buffer contact_acc;   // long ×2 per node: contact force in fixed point (see ContactForces)
@@ -149,5 +147,10 @@ SlotMap build_slot_map(size_t num_nodes, const std::vector<std::array<int, N>>& 
     for (size_t k = 0; k < N; ++k) map.slot[fill[items[e][k]]++] = static_cast<uint32_t>(N * e + k);
   return map;
 }
+
+// The gather's one map (DeviceArrays::node_start, node_slot) from the three: per node its
+// corner entries, then its edge entries, then its CE4 entries, each tagged with its part
+// in the top two bits. InputError when a slot does not fit in 30 bits.
+SlotMap node_slot_map(const SlotMap& corners, const SlotMap& edges, const SlotMap& ce4);
 
 }  // namespace fdem

@@ -12,9 +12,9 @@ std::map<std::string, std::string> NodeGather::force_defines(const DeviceArrays&
 
 void NodeGather::bind_force_sources(KernelArgs& f, const DeviceArrays& a, const compute::buffer* ce4_slots,
                                     double contact_force_scale, const compute::buffer* fluid_slots) {
-  f("corner_start", a.corner_start)("corner_slot", a.corner_slot)("corner_value", a.corner_force);
-  if (a.num_loaded_edges > 0) f("edge_start", a.edge_start)("edge_slot", a.edge_slot)("edge_value", a.edge_force);
-  if (ce4_slots) f("ce4_start", a.ce4_start)("ce4_slot", a.ce4_slot)("ce4_value", *ce4_slots);
+  f("node_start", a.node_start)("node_slot", a.node_slot)("corner_value", a.corner_force);
+  if (a.num_loaded_edges > 0) f("edge_value", a.edge_force);
+  if (ce4_slots) f("ce4_value", *ce4_slots);
   if (ce4_slots && fluid_slots) f("fluid_value", *fluid_slots);
   if (contact_force_scale > 0)
     f("contact_acc", a.contact_acc)("contact_unit", static_cast<real>(1.0 / contact_force_scale));
@@ -34,7 +34,7 @@ NodeGather::NodeGather(ClContext& cl, DeviceArrays& a, const compute::buffer* ce
                                                                 {"GATHER_FLUID", "0"}};
   masses_ = compute::kernel(cl.build(kernel_source::node_gather, corners_only), "gather_node_sums");
   KernelArgs m(masses_);
-  m("n_nodes", static_cast<cl_uint>(count_))("corner_start", a.corner_start)("corner_slot", a.corner_slot)(
+  m("n_nodes", static_cast<cl_uint>(count_))("node_start", a.node_start)("node_slot", a.node_slot)(
        "corner_value", a.corner_force);
   mass_sums_ = m.later("node_sum", a.node_force);  // a placeholder until the call names its target
   m.done();
