@@ -44,6 +44,19 @@ inline int4 entry_cells(const real4 box, const real4 g, const uint4 d) {
                 cell_coordinate(box.z, g.x, g.z, d.x), cell_coordinate(box.w, g.y, g.z, d.y));
 }
 
+// The boxes are kept in float (16 B a triangle instead of 32 in double builds), each
+// rounded outward (its low corner down, its high one up: triangle_boxes), so a stored box
+// holds the exact one and the couples found are a superset of the exact boxes' (the gap
+// rule and the contact stage sort out the few more). Every kernel reads them through
+// load_box, and the grid is taken from the stored boxes, so all agree on them.
+inline real4 load_box(__global const float4* boxes, const uint t) {
+#ifdef FDEM_DOUBLE
+  return convert_double4(boxes[t]);
+#else
+  return boxes[t];
+#endif
+}
+
 inline bool boxes_overlap(real4 a, real4 b) {
   return a.x <= b.z && b.x <= a.z && a.y <= b.w && b.y <= a.w;
 }
@@ -52,14 +65,14 @@ inline bool boxes_overlap(real4 a, real4 b) {
 // side, and the work-group's share of the global reductions (lowest corner, highest
 // corner, largest and smallest box side).
 // Inputs: node positions [m], tri_nodes (3 per triangle), half_skin [m].
-// Outputs: boxes[t] [m]; per work-group g: partial_bounds[g] = (min x, min y, max x,
+// Outputs: boxes[t] [m] (float, rounded outward: load_box); per work-group g: partial_bounds[g] = (min x, min y, max x,
 // max y) of its boxes [m], partial_side[g] = (its largest box side, minus its smallest)
 // [m] (a box's side: the larger of its two).
 __kernel void triangle_boxes(const uint n_triangles,
                              __global const uint* restrict tri_nodes,
                              __global const real2* restrict position,
                              const real half_skin,
-                             __global real4* restrict boxes,
+                             __global float4* restrict boxes,
                              __global real4* restrict partial_bounds,
                              __global real2* restrict partial_side) {
   __local real4 scratch[GROUP_SIZE];
@@ -73,7 +86,14 @@ __kernel void triangle_boxes(const uint n_triangles,
     const real2 c = position[tri_nodes[3 * t + 2]];
     mine = (real4)(fmin(fmin(a.x, b.x), c.x) - half_skin, fmin(fmin(a.y, b.y), c.y) - half_skin,
                    fmax(fmax(a.x, b.x), c.x) + half_skin, fmax(fmax(a.y, b.y), c.y) + half_skin);
-    boxes[t] = mine;
+#ifdef FDEM_DOUBLE
+    const float4 stored = (float4)(convert_float_rtn(mine.x), convert_float_rtn(mine.y), convert_float_rtp(mine.z),
+                                   convert_float_rtp(mine.w));
+    mine = convert_double4(stored);  // the reductions below take the stored box
+#else
+    const float4 stored = mine;
+#endif
+    boxes[t] = stored;
     my_side = fmax(mine.z - mine.x, mine.w - mine.y);
   }
   // Lowest corner as the maximum of the negated one.
@@ -184,14 +204,14 @@ __kernel void scan_add(const uint n, __global uint* restrict data, __global cons
 // cell_start[cell + 1], which must be zero before. The prefix sum over the max_cells + 1
 // words then gives in cell_start[c + 1] the start of cell c's entries (cell_start[0] = 0).
 __kernel void cell_count(const uint n_triangles,
-                         __global const real4* restrict boxes,
+                         __global const float4* restrict boxes,
                          __global const real4* restrict grid,
                          __global const uint4* restrict dims,
                          volatile __global uint* cell_start) {
   const uint t = get_global_id(0);
   if (t >= n_triangles) return;
   const uint4 d = dims[0];
-  const int4 r = entry_cells(boxes[t], grid[0], d);
+  const int4 r = entry_cells(load_box(boxes, t), grid[0], d);
   for (int cy = r.y; cy <= r.w; ++cy)
     for (int cx = r.x; cx <= r.z; ++cx) atomic_inc(&cell_start[(uint)cy * d.x + (uint)cx + 1]);
 }
@@ -202,7 +222,7 @@ __kernel void cell_count(const uint n_triangles,
 // an order that depends on scheduling; the couples do not). Entries past `capacity` are
 // not written (the host reads the total, grows and scatters again).
 __kernel void cell_scatter(const uint n_triangles,
-                           __global const real4* restrict boxes,
+                           __global const float4* restrict boxes,
                            __global const real4* restrict grid,
                            __global const uint4* restrict dims,
                            volatile __global uint* cell_start,
@@ -211,7 +231,7 @@ __kernel void cell_scatter(const uint n_triangles,
   const uint t = get_global_id(0);
   if (t >= n_triangles) return;
   const uint4 d = dims[0];
-  const int4 r = entry_cells(boxes[t], grid[0], d);
+  const int4 r = entry_cells(load_box(boxes, t), grid[0], d);
   for (int cy = r.y; cy <= r.w; ++cy)
     for (int cx = r.x; cx <= r.z; ++cx) {
       const uint at = atomic_inc(&cell_start[(uint)cy * d.x + (uint)cx + 1]);
@@ -311,7 +331,7 @@ inline uint triangle_couples(const uint i,
                              const uint parts,
                              const uint covered,
                              __global const uint* tri_nodes,
-                             __global const real4* boxes,
+                             __global const float4* boxes,
                              __global const uint* active,
                              __global const real4* grid,
                              __global const uint4* dims,
@@ -353,14 +373,14 @@ inline uint triangle_couples(const uint i,
       // Not a candidate itself: only its bonded partners j > i, looked at directly (no
       // cells; in an intact fracture model that is nearly every triangle), by part 0.
       if (part != 0) return 0;
-      const real4 box = boxes[i];
+      const real4 box = load_box(boxes, i);
       const uint partner[3] = {p0, p1, p2};
       real2 xi[3], xj[3];
       triangle_corners(i, tri_nodes, position, xi);
       uint found = 0;
       for (int k = 0; k < 3; ++k) {
         const uint j = partner[k];
-        if (j == NO_PARTNER || j <= i || !boxes_overlap(box, boxes[j]) || shares_node(i, j, tri_nodes)) continue;
+        if (j == NO_PARTNER || j <= i || !boxes_overlap(box, load_box(boxes, j)) || shares_node(i, j, tri_nodes)) continue;
         triangle_corners(j, tri_nodes, position, xj);
         if (apart_beyond(xi, xj, reach)) continue;
         if (keys) keys[atomic_inc(cursor)] = ((ulong)i << 32) | (ulong)j;
@@ -371,7 +391,7 @@ inline uint triangle_couples(const uint i,
   }
   const uint4 d = dims[0];
   const real4 g = grid[0];
-  const real4 box = boxes[i];
+  const real4 box = load_box(boxes, i);
   const int4 mine = entry_cells(box, g, d);
   real2 xi[3], xj[3];
   triangle_corners(i, tri_nodes, position, xi);
@@ -398,7 +418,7 @@ inline uint triangle_couples(const uint i,
         } else {
           if (j <= i || !((stamp_i != 0 && stamp_j != 0) || bonded)) continue;
         }
-        const real4 other = boxes[j];
+        const real4 other = load_box(boxes, j);
         if (!boxes_overlap(box, other)) continue;
         const int4 theirs = entry_cells(other, g, d);
         if (theirs.x != theirs.z || theirs.y != theirs.w) {  // large j: only in the overlap's first cell
@@ -440,7 +460,7 @@ __kernel void couple_count(const uint n_triangles,
                            const uint parts,
                            const uint covered,
                            __global const uint* restrict tri_nodes,
-                           __global const real4* restrict boxes,
+                           __global const float4* restrict boxes,
                            __global const uint* restrict active,
                            __global const real4* restrict grid,
                            __global const uint4* restrict dims,
@@ -470,7 +490,7 @@ __kernel void couple_write(const uint n_triangles,
                            const uint parts,
                            const uint covered,
                            __global const uint* restrict tri_nodes,
-                           __global const real4* restrict boxes,
+                           __global const float4* restrict boxes,
                            __global const uint* restrict active,
                            __global const real4* restrict grid,
                            __global const uint4* restrict dims,

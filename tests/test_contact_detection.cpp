@@ -26,14 +26,28 @@ struct Box {
   real lo_x, lo_y, hi_x, hi_y;
 };
 
-// The same arithmetic as the kernel (min/max are exact; one rounding in ± half skin).
+// The kernel keeps its boxes in float, rounded outward (the low corner down, the high one
+// up: convert_float_rtn / _rtp).
+real float_down(real v) {
+  float f = static_cast<float>(v);
+  if (static_cast<real>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return static_cast<real>(f);
+}
+real float_up(real v) {
+  float f = static_cast<float>(v);
+  if (static_cast<real>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return static_cast<real>(f);
+}
+
+// The same arithmetic as the kernel (min/max are exact; one rounding in ± half skin, then
+// the outward rounding to float).
 std::vector<Box> host_boxes(const Model& m, const std::vector<real2>& pos, double skin) {
   const real h = static_cast<real>(0.5 * skin);
   std::vector<Box> boxes;
   for (const auto& t : m.triangles) {
     const real2 a = pos[t[0]], b = pos[t[1]], c = pos[t[2]];
-    boxes.push_back({std::min({a.x, b.x, c.x}) - h, std::min({a.y, b.y, c.y}) - h,
-                     std::max({a.x, b.x, c.x}) + h, std::max({a.y, b.y, c.y}) + h});
+    boxes.push_back({float_down(std::min({a.x, b.x, c.x}) - h), float_down(std::min({a.y, b.y, c.y}) - h),
+                     float_up(std::max({a.x, b.x, c.x}) + h), float_up(std::max({a.y, b.y, c.y}) + h)});
   }
   return boxes;
 }

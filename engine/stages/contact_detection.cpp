@@ -37,7 +37,7 @@ MemoryPlan ContactDetection::plan(size_t triangles, size_t group_size, size_t in
   // more than the cells), the cells' entries (one per small triangle, one per covered
   // cell of a large one: grows when a detection finds more, like the couples), and one
   // uint per triangle (+1) for the couples' segment starts.
-  p.add("contact boxes", n * sizeof(real4))
+  p.add("contact boxes", n * sizeof(cl_float4))  // float, rounded outward (load_box)
       .add("contact partial bounds", groups * sizeof(real4))
       .add("contact partial sides", groups * sizeof(real2))
       .add("contact grid", sizeof(real4))
