@@ -217,7 +217,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                      [&] { return std::make_unique<ContactSkin>(cl, arrays_, *ring_, model.contact.skin, dt, model.node_owned); })),
       activation_(build_if(parts_.activation,
                            [&] {
-                             return std::make_unique<ContactActivation>(cl, model.ce4_triangles, cohesive_->status(),
+                             return std::make_unique<ContactActivation>(cl, model.ce4_triangles.size(),
+                                                                        fragments_->ce4_triangles(), cohesive_->status(),
                                                                         detection_->active_mask(), *ring_,
                                                                         model.ce4_owned);
                            })),

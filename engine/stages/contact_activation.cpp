@@ -8,20 +8,16 @@ namespace fdem {
 
 MemoryPlan ContactActivation::plan(size_t ce4, bool owned) {
   MemoryPlan p;
-  p.add("ce4_triangles", std::max<size_t>(2 * ce4, 2) * sizeof(cl_uint));
+  (void)ce4;
   if (owned) p.add("activation ce4_owned", std::max<size_t>(ce4, 1) * sizeof(cl_uchar));
   return p;
 }
 
-ContactActivation::ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles,
+ContactActivation::ContactActivation(ClContext& cl, size_t ce4, const compute::buffer& ce4_triangles,
                                      compute::buffer& status, compute::buffer& active, MonitorRing& ring,
                                      const std::vector<char>& owned)
-    : cl_(cl), count_(ce4_triangles.size()) {
-  std::vector<cl_uint> pairs;
-  for (const auto& t : ce4_triangles) pairs.insert(pairs.end(), {cl_uint(t[0]), cl_uint(t[1])});
+    : cl_(cl), count_(ce4), triangles_(ce4_triangles) {
   const MemoryPlan arrays = plan(count_, !owned.empty());
-  triangles_ = arrays.allocate(cl, "ce4_triangles");
-  if (!pairs.empty()) upload(cl, triangles_, pairs);
   std::map<std::string, std::string> defines;
   if (!owned.empty()) {
     if (owned.size() != count_) throw DeviceError("contact activation: the owned-CE4 mask has the wrong size");

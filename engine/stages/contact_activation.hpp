@@ -18,9 +18,11 @@ class ContactActivation {
   // `owned` (a split run, one per CE4; empty: all): only these flag a join (the owner's
   // candidate mask is right for both triangles of its CE4s; a rank's mask of a triangle
   // it holds only for a CE4's sake may lag, and must not flag a join one rank never sees).
-  ContactActivation(ClContext& cl, const std::vector<std::array<int, 2>>& ce4_triangles, compute::buffer& status,
+  // `ce4_triangles`: the `ce4` CE4s' triangle pairs, uint2 each (FragmentLabels's copy,
+  // FragmentLabels::ce4_triangles(): one array for both stages).
+  ContactActivation(ClContext& cl, size_t ce4, const compute::buffer& ce4_triangles, compute::buffer& status,
                     compute::buffer& active, MonitorRing& ring, const std::vector<char>& owned = {});
-  // The arrays the constructor allocates for `ce4` CE4s (their triangle pairs).
+  // The arrays the constructor allocates for `ce4` CE4s (with `owned`, the owned flags).
   static MemoryPlan plan(size_t ce4, bool owned = false);
   // Marks the triangles of broken CE4s as candidates (mask value join_stamp(step)) and
   // flags a join in the ring's slot of `step`. Never waits.

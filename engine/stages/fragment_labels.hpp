@@ -21,6 +21,8 @@ class FragmentLabels {
   // The arrays: the CE4s' triangle pairs and the change flag (the constructor's), and one
   // label per triangle and node (an output array, allocated by each labels() call).
   static MemoryPlan plan(size_t triangles, size_t nodes, size_t ce4);
+  // uint2 per CE4: its two triangles (ContactActivation reads the same array).
+  const compute::buffer& ce4_triangles() const { return pairs_; }
 
   // Labels the pieces now: per triangle, the smallest triangle index of its piece.
   // Waits: a flag read per round on a CPU, every second round from the fourth on a GPU
