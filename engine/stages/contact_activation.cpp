@@ -8,7 +8,6 @@ namespace fdem {
 
 MemoryPlan ContactActivation::plan(size_t ce4, bool owned) {
   MemoryPlan p;
-  (void)ce4;
   if (owned) p.add("activation ce4_owned", std::max<size_t>(ce4, 1) * sizeof(cl_uchar));
   return p;
 }

@@ -46,12 +46,12 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   defines["GATHER_IN_STEP"] = gather ? "1" : "0";
   defines["MASS_SCALING"] = a.mass_scaling ? "1" : "0";
   // The work rows (work_rows): by group, the device's node_group words gain each moving
-  // node's row above the group's 8 bits.
-  {
+  // node's row above the group's 8 bits. (Only read when the work is accounted.)
+  if (account_work_) {
     const size_t group_count = a.group_table.size() / sizeof(real4);
     auto node_group = download<cl_uint>(cl, a.node_group, count_);
     work_rows_ = work_rows(std::vector<uint32_t>(node_group.begin(), node_group.end()), group_count, local_damping);
-    if (account_work_ && work_rows_.by_group) {
+    if (work_rows_.by_group) {
       for (size_t n = 0; n < count_; ++n) {
         if (node_group[n] == 0) continue;
         // The group's bits (a word packed by an earlier stage on these arrays keeps them).
@@ -60,8 +60,8 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
       }
       upload(cl, a.node_group, node_group);
     }
-    defines["WORK_ROWS_BY_GROUP"] = account_work_ && work_rows_.by_group ? "1" : "0";
   }
+  defines["WORK_ROWS_BY_GROUP"] = work_rows_.by_group ? "1" : "0";
   // The gravity potential of the energy rows reads the reference positions, which the
   // device holds only in a model with gravity (DeviceArrays); without, every node's term
   // is -m g·(x - X) = ±0 and the rows' ordered block sums (which start from +0) are +0
