@@ -23,7 +23,9 @@
 //   fluid_forces    one work-item per CE4: the pressures at the ends' mid-step rooms
 //                   (mid_step_volume) on the two faces into four slots
 //                   (i, j, j', i'), the same slots the CE4 stage has, which the node
-//                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl).
+//                   gather adds through the CE4 map (GATHER_FLUID in node_gather.cl)
+//                   at the nodes it flags in fluid_loaded_node (one byte a node: the
+//                   gather spares the dry nodes' reads of the fluid slots).
 // The fluid at a vertex is V₀, its volume at zero pressure; the state law is
 // p = K_f max(V₀/V - 1, 0) (a vertex with less fluid than room is at p = 0). Its stored
 // energy is U = K_f V ((1 + d) ln(1 + d) - d), d = V₀/V - 1 > 0 (∂U/∂V = -p), and fluid
@@ -848,11 +850,18 @@ inline void forces_item(const uint e,
                            const real residual,
 #endif
                            const real thickness,
-                           __global real2* restrict fluid_slots) {
+                           __global real2* restrict fluid_slots,
+                           __global uchar* restrict loaded_node) {
   // A segment that has never carried (its mean aperture w is at least w_r > 0 once it
   // does): its four slots still hold the zeros FluidFlow made them with.
   if (seg_geom[e].w == (real)0) return;
   const uint4 nd = ce4_nodes[e];
+  // Its four nodes' flags, before the gather reads the slots (node_gather.cl reads the
+  // fluid slots only at flagged nodes; every work-item that sets one stores the same 1).
+  if (loaded_node[nd.x] == 0) loaded_node[nd.x] = 1;
+  if (loaded_node[nd.y] == 0) loaded_node[nd.y] = 1;
+  if (loaded_node[nd.z] == 0) loaded_node[nd.z] = 1;
+  if (loaded_node[nd.w] == 0) loaded_node[nd.w] = 1;
   const real2 xi = position[nd.x], xj = position[nd.y], xj2 = position[nd.z], xi2 = position[nd.w];
   const uint2 ab = seg_vertex[e];
   const real4 sa = vertex_state[ab.x], sb = vertex_state[ab.y];
@@ -906,14 +915,15 @@ __kernel void fluid_forces(const uint n_ce4,
                            const real residual,
 #endif
                            const real thickness,
-                           __global real2* restrict fluid_slots) {
+                           __global real2* restrict fluid_slots,
+                           __global uchar* restrict fluid_loaded_node) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
   forces_item(e, ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate,
 #if GAS
               residual,
 #endif
-              thickness, fluid_slots);
+              thickness, fluid_slots, fluid_loaded_node);
 }
 
 #if FUSED && !GAS && !LEAK_OFF
@@ -1015,7 +1025,8 @@ void fluid_step_group(__global const uint* restrict carriers,
                       __global real2* back,
                       __global uint* wet_count,
                       __global uint* wet,
-                      __global real2* fluid_slots) {
+                      __global real2* fluid_slots,
+                      __global uchar* fluid_loaded_node) {
   __local real hole_local[3];
   __local real2 local_copy[2 * FLUID_GROUP];
   __local uint too_many;
@@ -1052,6 +1063,6 @@ void fluid_step_group(__global const uint* restrict carriers,
   barrier(CLK_GLOBAL_MEM_FENCE);
   for (uint i = l; i < n_carriers; i += FLUID_GROUP)
     forces_item(carriers[i], ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate, thickness,
-                fluid_slots);
+                fluid_slots, fluid_loaded_node);
 }
 #endif

@@ -10,8 +10,11 @@
 // Defines from the host (NodeGather, and Integrate when it gathers the forces itself),
 // each 0 or 1: GATHER_EDGES (loaded edges), GATHER_CE4 (cohesive elements),
 // GATHER_CONTACT (contact), GATHER_FLUID ([fluid]: the fluid stage's four slots per CE4,
-// read through the CE4 entries after the CE4's own); absent parts have no arguments, and
-// their entries are passed over.
+// read through the CE4 entries after the CE4's own, at the nodes whose flag in
+// fluid_loaded_node is set: a CE4 whose fluid forces were never written holds the +0s it
+// was made with, and a sum that starts at +0 is never -0, so adding them changes no bit;
+// the flag, set by the fluid stage's forces before the gather, spares a dry node's
+// reads); absent parts have no arguments, and their entries are passed over.
 
 #define GATHER_PART(entry) ((entry) >> 30)
 #define GATHER_SLOT(entry) ((entry) & 0x3fffffffu)
@@ -27,8 +30,10 @@
 #endif
 #if GATHER_CE4
 #if GATHER_FLUID
-#define GATHER_CE4_ARGS , __global const real2 *restrict ce4_value, __global const real2 *restrict fluid_value
-#define GATHER_CE4_PASS , ce4_value, fluid_value
+#define GATHER_CE4_ARGS                                                                            \
+  , __global const real2 *restrict ce4_value, __global const real2 *restrict fluid_value,          \
+      __global const uchar *restrict fluid_loaded_node
+#define GATHER_CE4_PASS , ce4_value, fluid_value, fluid_loaded_node
 #else
 #define GATHER_CE4_ARGS , __global const real2 *restrict ce4_value
 #define GATHER_CE4_PASS , ce4_value
@@ -64,7 +69,8 @@ inline real2 gathered_sum(const uint i, GATHER_ARGS) {
   const uint ce4_first = k;
   for (; k < last; ++k) sum += ce4_value[GATHER_SLOT(node_slot[k])];  // the rest are CE4 entries
 #if GATHER_FLUID
-  for (uint q = ce4_first; q < last; ++q) sum += fluid_value[GATHER_SLOT(node_slot[q])];
+  if (fluid_loaded_node[i] != 0)
+    for (uint q = ce4_first; q < last; ++q) sum += fluid_value[GATHER_SLOT(node_slot[q])];
 #endif
 #endif
 #if GATHER_CONTACT

@@ -85,7 +85,7 @@ std::optional<Integrate::Gather> step_gather(const ClContext& cl, size_t nodes, 
                                              ContactForces* contact, FluidFlow* fluid) {
   if (cl.info().is_gpu && nodes > kFusedGatherNodes) return std::nullopt;
   return Integrate::Gather{cohesive ? &cohesive->slots() : nullptr, contact ? contact->force_scale() : 0.0,
-                           fluid ? &fluid->slots() : nullptr};
+                           fluid ? &fluid->slots() : nullptr, fluid ? &fluid->loaded_nodes() : nullptr};
 }
 
 }  // namespace
@@ -237,7 +237,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
                        triangle_excavation(model)),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,
-              fluid_ ? &fluid_->slots() : nullptr),
+              fluid_ ? &fluid_->slots() : nullptr, fluid_ ? &fluid_->loaded_nodes() : nullptr),
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled,
                       fluid_ && model.fluid.gas ? &fluid_->gas_hole() : nullptr),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),

@@ -592,6 +592,23 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
     for (int c = 0; c < 4; ++c) CHECK(worst[c] <= tolerance[c]);
     CHECK(force_scale > 0);
     CHECK(force_worst <= tolerance[2]);
+    // The gather reads a node's fluid slots only where the stage flagged the node: every
+    // node of a carrying CE4 and no other, and no slot that holds a force is at an
+    // unflagged node (a dry node's slots are the +0s they were made with).
+    const auto flags = download<cl_uchar>(cl, stage.loaded_nodes(), m.num_nodes());
+    std::vector<cl_uchar> expected(m.num_nodes(), 0);
+    for (size_t e = 0; e < n_ce4; ++e)
+      if (carries[e])
+        for (int k = 0; k < 4; ++k) expected[m.ce4[e][k]] = 1;
+    size_t flagged = 0, wrong_flags = 0, forces_unflagged = 0;
+    for (size_t n = 0; n < m.num_nodes(); ++n) flagged += flags[n], wrong_flags += flags[n] != expected[n];
+    for (size_t e = 0; e < n_ce4; ++e)
+      for (int k = 0; k < 4; ++k)
+        if ((slots[4 * e + k].x != 0 || slots[4 * e + k].y != 0) && flags[m.ce4[e][k]] == 0) ++forces_unflagged;
+    CAPTURE(flagged);
+    CHECK(flagged > 0);
+    CHECK(wrong_flags == 0);
+    CHECK(forces_unflagged == 0);
   }
 }
 

@@ -15,6 +15,7 @@ namespace fdem {
 
 MemoryPlan FluidFlow::plan(const Model& model) {
   const size_t ce4 = std::max<size_t>(model.ce4.size(), 1), v = std::max<size_t>(model.fluid.vertices, 1);
+  const size_t nodes = std::max<size_t>(model.num_nodes(), 1);
   return MemoryPlan()
       .add("fluid ce4_nodes", ce4 * sizeof(cl_uint4))
       .add("fluid seg_vertex", ce4 * sizeof(cl_uint2))
@@ -28,6 +29,7 @@ MemoryPlan FluidFlow::plan(const Model& model) {
       .add("fluid net_count", 2 * sizeof(cl_uint))
       .add("fluid back", v * sizeof(real2))
       .add("fluid slots", 4 * ce4 * sizeof(real2))
+      .add("fluid loaded_node", nodes * sizeof(cl_uchar))
       .add("fluid vertex_start", (v + 1) * sizeof(cl_uint))
       .add("fluid vertex_end", 2 * ce4 * sizeof(cl_uint))
       .add("fluid source", v * sizeof(cl_uchar))
@@ -64,7 +66,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   front_ = make("fluid front"), back_ = make("fluid back"), wet_ = make("fluid wet");
   wet_count_ = make("fluid wet_count");
   in_net_ = make("fluid in_net"), net_vertices_ = make("fluid net_vertices"), net_count_ = make("fluid net_count");
-  slots_ = make("fluid slots"), vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
+  slots_ = make("fluid slots"), loaded_node_ = make("fluid loaded_node");
+  vertex_start_ = make("fluid vertex_start"), vertex_end_ = make("fluid vertex_end");
   source_ = make("fluid source"), vertex_state_ = make("fluid vertex_state");
   vertex_energy_ = make("fluid vertex_energy"), too_wide_ = make("fluid too_wide");
   seg_exposed_ = make("fluid seg_exposed"), vertex_leak_ = make("fluid vertex_leak");
@@ -85,6 +88,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   upload(cl, wet_, std::vector<cl_uint>(vertices_, 0));
   upload(cl, wet_count_, std::vector<cl_uint>(4, 0));
   upload(cl, slots_, std::vector<real2>(4 * ce4_));
+  upload(cl, loaded_node_, std::vector<cl_uchar>(std::max<size_t>(model.num_nodes(), 1), 0));
   upload(cl, vertex_start_, fluid_.vertex_start);
   upload(cl, vertex_end_, fluid_.vertex_end);
   std::vector<cl_uchar> source(vertices_, 0);
@@ -280,7 +284,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     else
       f("dt_sub", dt_sub);
     f("vertex_rate", vertex_rate_)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)(
-        "back", back_)("wet_count", wet_count_)("wet", wet_)("fluid_slots", slots_)
+        "back", back_)("wet_count", wet_count_)("wet", wet_)("fluid_slots", slots_)(
+        "fluid_loaded_node", loaded_node_)
         .done();
   }
 
@@ -290,7 +295,7 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
        "seg_h", seg_h_)("vertex_state", vertex_state_);
   g("vertex_rate", vertex_rate_);
   if (fluid_.gas) g("residual", real(fluid_.residual_aperture));
-  g("thickness", thickness)("fluid_slots", slots_).done();
+  g("thickness", thickness)("fluid_slots", slots_)("fluid_loaded_node", loaded_node_).done();
 
   if (fluid_.gas) {
     upload(cl, hole_polygon_, fluid_.hole_polygon);

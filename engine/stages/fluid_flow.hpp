@@ -37,6 +37,10 @@ class FluidFlow {
   // flow sub-steps over [t, t + dt], the pressures' forces into slots(). Never waits.
   void enqueue(double time, long step);
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 (i, j, j', i') [N]
+  // uchar per node: 1 once some CE4 at the node has had its fluid forces written (the
+  // gather reads the fluid slots only there; elsewhere they are the +0s they were made
+  // with). Only ever set, by the step's forces pass, before the gather reads it.
+  compute::buffer& loaded_nodes() { return loaded_node_; }
   // [fluid.gas]: the hole's gas, one real4 (p [Pa], V [m³], V₀ left [m³], U [J]) as the
   // end of the last step left it (BoundaryLoads' LOAD_GAS edges read p).
   compute::buffer& gas_hole() { return gas_hole_; }
@@ -78,7 +82,7 @@ class FluidFlow {
   KernelArg<cl_int> step_;
   KernelArg<real> source_value_[2], sub_time_[2];
   compute::buffer nodes_, seg_vertex_, seg_h_, seg_geom_, front_, back_, wet_, wet_count_, vertex_start_, vertex_end_, source_,
-      vertex_state_, vertex_energy_, too_wide_, slots_;
+      vertex_state_, vertex_energy_, too_wide_, slots_, loaded_node_;
   compute::buffer seg_exposed_;  // per CE4: Carter's exposure time [s], -1 before (leak-off only)
   compute::buffer vertex_leak_;  // per vertex: leaked V₀ [m³], the energy it took [J], cumulative
   compute::kernel hole_kernel_;  // gas_hole_state ([fluid.gas])

@@ -94,7 +94,9 @@ Integrate::Integrate(ClContext& cl, DeviceArrays& a, std::array<double, 2> gravi
   upload(cl, partials_, std::vector<real>(partials_.size() / sizeof(real)));
   KernelArgs args(kernel_);
   args("n_nodes", static_cast<cl_uint>(count_));
-  if (gather) NodeGather::bind_force_sources(args, a, gather->ce4_slots, gather->contact_force_scale, gather->fluid_slots);
+  if (gather)
+    NodeGather::bind_force_sources(args, a, gather->ce4_slots, gather->contact_force_scale, gather->fluid_slots,
+                                   gather->fluid_nodes);
   args("position", a.position)("velocity", a.velocity)(
       "node_force", a.node_force)("node_mass", a.node_mass)("bc_group", a.node_group)("bc_table", a.group_table)(
       "gx", static_cast<real>(gravity[0]))("gy", static_cast<real>(gravity[1]))(

@@ -28,6 +28,7 @@ class Integrate {
     const compute::buffer* ce4_slots = nullptr;  // NodeGather's arguments
     double contact_force_scale = 0;
     const compute::buffer* fluid_slots = nullptr;  // FluidFlow::slots(), through the CE4 map
+    const compute::buffer* fluid_nodes = nullptr;  // FluidFlow::loaded_nodes(): where they are read
   };
   Integrate(ClContext& cl, DeviceArrays& arrays, std::array<double, 2> gravity, double local_damping, double dt,
             bool prescribed, bool account = true, ContactSkin* skin = nullptr, std::optional<Gather> gather = std::nullopt);

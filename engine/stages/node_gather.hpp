@@ -18,9 +18,10 @@ class NodeGather {
   // contact_acc / contact_force_scale (0: no contact). The mass gather adds the corner
   // values only.
   // `fluid_slots` (FluidFlow::slots(), 4 real2 per CE4 in the CE4 slots' order; null: no
-  // [fluid]) are added through the same node → CE4-slot map.
+  // [fluid]) are added through the same node → CE4-slot map at the nodes that
+  // `fluid_nodes` (FluidFlow::loaded_nodes(), a byte a node) flags.
   NodeGather(ClContext& cl, DeviceArrays& arrays, const compute::buffer* ce4_slots, double contact_force_scale,
-             const compute::buffer* fluid_slots = nullptr);
+             const compute::buffer* fluid_slots = nullptr, const compute::buffer* fluid_nodes = nullptr);
   // node_force = Σ corner_force + Σ edge_force + Σ CE4 slots + contact. Never waits.
   // (The Solver's step leaves this to Integrate, which gathers the same sum itself.)
   void enqueue_forces();
@@ -31,7 +32,8 @@ class NodeGather {
                                                           double contact_force_scale,
                                                           const compute::buffer* fluid_slots = nullptr);
   static void bind_force_sources(KernelArgs& args, const DeviceArrays& arrays, const compute::buffer* ce4_slots,
-                                 double contact_force_scale, const compute::buffer* fluid_slots = nullptr);
+                                 double contact_force_scale, const compute::buffer* fluid_slots = nullptr,
+                                 const compute::buffer* fluid_nodes = nullptr);
   // sums = Σ corner values per node (real2: the corner masses and stiffnesses written by
   // LumpedMass, into its set-up array). Never waits.
   void enqueue_corner_sums_into(const compute::buffer& sums);
