@@ -978,7 +978,7 @@ __kernel void fluid_network_scan(const uint n_ce4,
 
 // The liquid's whole step in one launch of one work-group (FUSED: each of the stage's four
 // launches cost about what a small model's mechanics costs on a GPU, issue 32's fluid
-// rows): the new carriers' ends join the network, then work-item l does the carriers l,
+// rows): the new carriers' ends join the network (in the segments' pass), then work-item l does the carriers l,
 // l + FLUID_GROUP, ... of fluid_segments, the network's vertices likewise of
 // fluid_vertices, the sub-steps of fluid_substeps_group and the carriers of fluid_forces,
 // a barrier between the passes. A CE4 that does not carry and a vertex outside the
@@ -1038,9 +1038,8 @@ void fluid_step_group(__global const uint* restrict carriers,
     join_network(ab.y, in_net, net_vertices, net_count);
   }
   if (l == 0) reset_wet_count(wet_count);
-  barrier(CLK_GLOBAL_MEM_FENCE);
-  if (l == 0) net_count[1] = n_carriers;  // (every item read the old value above)
-  const uint n_network = net_count[0];
+  // The segments do not read what the joins write (in_net, net_vertices, net_count), so
+  // both passes share one barrier: their memory latencies overlap.
   for (uint i = l; i < n_carriers; i += FLUID_GROUP)
     segment_item(carriers[i], ce4_nodes, position, status,
 #if DAMAGED_SEGMENTS
@@ -1048,6 +1047,8 @@ void fluid_step_group(__global const uint* restrict carriers,
 #endif
                  seg_h, thickness, residual, max_aperture, viscosity, step, seg_geom, too_wide);
   barrier(CLK_GLOBAL_MEM_FENCE);
+  if (l == 0) net_count[1] = n_carriers;  // (every item read the old value above)
+  const uint n_network = net_count[0];
   for (uint i = l; i < n_network; i += FLUID_GROUP)
     vertex_item(net_vertices[i], vertex_start, vertex_end, seg_geom, bulk, source, vertex_rate, vertex_state,
                 vertex_energy, front, wet_count, wet);
