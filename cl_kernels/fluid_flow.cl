@@ -978,10 +978,10 @@ __kernel void fluid_network_scan(const uint n_ce4,
 
 // The liquid's whole step in one launch of one work-group (FUSED: each of the stage's four
 // launches cost about what a small model's mechanics costs on a GPU, issue 32's fluid
-// rows): the new carriers' ends join the network (in the segments' pass), then work-item l does the carriers l,
-// l + FLUID_GROUP, ... of fluid_segments, the network's vertices likewise of
-// fluid_vertices, the sub-steps of fluid_substeps_group and the carriers of fluid_forces,
-// a barrier between the passes. A CE4 that does not carry and a vertex outside the
+// rows): the new carriers' ends join the network in the segments' pass, work-item l
+// doing the carriers l, l + FLUID_GROUP, ... of fluid_segments; then the network's
+// vertices likewise of fluid_vertices, the sub-steps of fluid_substeps_group and the
+// carriers of fluid_forces, a barrier between the passes. A CE4 that does not carry and a vertex outside the
 // network do nothing in those kernels, and each item's work is theirs on the same
 // operands: the same bits as the four launches, at a cost that follows the network, not
 // the model.
