@@ -139,8 +139,9 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
   if (lanes_) {
     defines["CONTACT_LANES"] = "1";
     // Above this many overlapping couples the lanes kernel takes one work-item a couple
-    // (H200 measurements, docs/performance-notes.md); FDEM_CONTACT_LANES_UP_TO overrides it.
-    unsigned long up_to = kLanesUpTo;
+    // (lanes_up_to: H100 and H200 measurements, docs/performance-notes.md);
+    // FDEM_CONTACT_LANES_UP_TO overrides it.
+    unsigned long up_to = lanes_up_to(cl.info().compute_units);
     if (const char* env = std::getenv("FDEM_CONTACT_LANES_UP_TO"); env && *env) {
       char* end = nullptr;
       up_to = std::strtoul(env, &end, 10);
