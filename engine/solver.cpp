@@ -349,21 +349,10 @@ void Solver::step_forces(bool energy_row) {
     }
     if (contact_sent_) contact_sent_();
   }
-  // With the fused liquid step beside them (FluidFlow::beside, a GPU), the boundary loads
-  // and the triangles follow the CE4s and the fluid, so that they run while the fluid's one
-  // work-group does; each stage writes only its own slots, so the order moves no bit.
-  const bool beside = fluid_ && fluid_->beside();
-  if (!beside) {
-    boundary_loads_.enqueue(t, static_cast<int>(steps_));
-    triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
-  }
+  boundary_loads_.enqueue(t, static_cast<int>(steps_));
+  triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
   if (fluid_) fluid_->enqueue(t, steps_);  // after the CE4s: it reads their status of this step
-  if (beside) {
-    boundary_loads_.enqueue(t, static_cast<int>(steps_));
-    triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
-    cl_.join();  // the gather reads the fluid's slots
-  }
   if (contact_received_) contact_received_();
   // Small models: the integration gathers the nodes' forces itself (step_gather).
   if (!integrate_.gathers()) gather_.enqueue_forces();

@@ -612,14 +612,13 @@ TEST_CASE("fluid: the stage's kernels against the plain C++ reference (broken, s
   }
 }
 
-TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and the whole step in one (fused, also "
-          "on the side queue beside the triangles), give the launches' bits (KGD rate, held pressure)") {
+TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and the whole step in one (fused), give "
+          "the launches' bits (KGD rate, held pressure)") {
   // FDEM_FLUID_GROUP=0 keeps one launch a sub-step; =1 takes the group whatever the size.
   // FDEM_FLUID_LOCAL=0 keeps the group on its global path; by default a small wet network
   // (at most 256 wet vertices of at most 12 CE4 ends) takes the local one.
   // FDEM_FLUID_FUSED=1 takes the whole step in one work-group (a GPU's default for small
-  // models), =0 the stage's four launches. FDEM_FLUID_BESIDE=1 runs that launch on a side
-  // queue with the triangle and boundary stages enqueued after it (a GPU's default).
+  // models), =0 the stage's four launches.
   struct Run {
     std::string path;
     std::vector<std::string> sets;
@@ -635,33 +634,29 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
       unsetenv("FDEM_FLUID_GROUP");
       unsetenv("FDEM_FLUID_LOCAL");
       unsetenv("FDEM_FLUID_FUSED");
-      unsetenv("FDEM_FLUID_BESIDE");
     }
   } unset;
   for (const auto& r : runs) {
     CAPTURE(r.path);
     const PreparedCase p = prepare_case(r.path, r.sets);
-    // The local path's limits hold, so the third, fifth and sixth runs take it.
+    // The local path's limits hold, so the third and fifth runs take it.
     uint32_t degree = 0;
     for (size_t v = 0; v < p.model.fluid.vertices; ++v)
       degree = std::max(degree, p.model.fluid.vertex_start[v + 1] - p.model.fluid.vertex_start[v]);
     CHECK(degree <= 12);
-    constexpr int kWays = 6;
+    constexpr int kWays = 5;
     std::vector<real2> x[kWays];
     std::vector<real4> state[kWays];
-    const char* group[kWays] = {"0", "1", "1", "1", "1", "1"};
-    const char* local[kWays] = {"1", "0", "1", "0", "1", "1"};
-    const char* fused[kWays] = {"0", "0", "0", "1", "1", "1"};
-    const char* beside[kWays] = {"0", "0", "0", "0", "0", "1"};
+    const char* group[kWays] = {"0", "1", "1", "1", "1"};
+    const char* local[kWays] = {"1", "0", "1", "0", "1"};
+    const char* fused[kWays] = {"0", "0", "0", "1", "1"};
     for (int way = 0; way < kWays; ++way) {
       setenv("FDEM_FLUID_GROUP", group[way], 1);
       setenv("FDEM_FLUID_LOCAL", local[way], 1);
       setenv("FDEM_FLUID_FUSED", fused[way], 1);
-      setenv("FDEM_FLUID_BESIDE", beside[way], 1);
       Solver solver(test::context(), p.model, p.dt);
       CHECK(solver.fluid()->one_group() == (way > 0));
       CHECK(solver.fluid()->fused() == (way > 2));
-      CHECK(solver.fluid()->beside() == (way == 5));
       for (long k = 0; k < r.steps; ++k) solver.step(false);
       x[way] = solver.positions();
       state[way] = solver.fluid()->vertex_state();

@@ -272,49 +272,9 @@ void ClContext::add_host_time(const std::string& name, double seconds) {
 void ClContext::finish() {
   try {
     queue_.finish();
-    if (side_queue_.get()) side_queue_.finish();
   } catch (const compute::opencl_error& e) {
     throw DeviceError(std::string("device queue failed: ") + e.what());
   }
-}
-
-void ClContext::fork() {
-  try {
-    if (!side_queue_.get())
-      side_queue_ = compute::command_queue(context_, device_, profiling_ ? compute::command_queue::enable_profiling : 0);
-    cl_event mark = nullptr;
-    const cl_int status = clEnqueueMarkerWithWaitList(queue_.get(), 0, nullptr, &mark);
-    if (status != CL_SUCCESS) throw compute::opencl_error(status);
-    forked_ = compute::event(mark, false);  // takes the reference the enqueue returned
-    clFlush(queue_.get());  // a queue that waits on another's event needs that one flushed
-  } catch (const compute::opencl_error& e) {
-    throw DeviceError(std::string("the side queue's fork failed: ") + e.what());
-  }
-}
-
-void ClContext::enqueue_side(const compute::kernel& kernel, std::size_t n, std::size_t group) {
-  if (!forked_.get()) throw DeviceError("enqueue_side of kernel '" + kernel.name() + "' without a fork()");
-  const std::size_t local = group ? group : group_size_;
-  const std::size_t global = (std::max<std::size_t>(n, 1) + local - 1) / local * local;
-  cl_event done = nullptr, after = forked_.get();
-  const cl_int status =
-      clEnqueueNDRangeKernel(side_queue_.get(), kernel.get(), 1, nullptr, &global, &local, 1, &after, &done);
-  if (status != CL_SUCCESS)
-    throw DeviceError("enqueue of kernel '" + kernel.name() + "' on the side queue failed: " +
-                      compute::opencl_error::to_string(status));
-  side_done_ = compute::event(done, false);
-  forked_ = compute::event();
-  clFlush(side_queue_.get());  // the side queue starts without waiting for a later finish
-  if (profiling_) pending_.emplace_back(kernel.name(), side_done_);
-}
-
-void ClContext::join() {
-  if (!side_done_.get()) return;
-  cl_event after = side_done_.get();
-  const cl_int status = clEnqueueBarrierWithWaitList(queue_.get(), 1, &after, nullptr);
-  if (status != CL_SUCCESS)
-    throw DeviceError(std::string("the side queue's join failed: ") + compute::opencl_error::to_string(status));
-  side_done_ = compute::event();
 }
 
 }  // namespace fdem

@@ -84,18 +84,7 @@ class ClContext {
   std::size_t device_bytes_peak() const { return live_->peak.load(); }
   void restart_device_bytes_peak() { live_->peak.store(live_->bytes.load()); }
 
-  void finish();  // waits for the queue (and the side queue); DeviceError on failure
-
-  // A side queue (a second in-order queue on the same device) for one kernel to run beside
-  // the main queue's next ones, where the two read and write disjoint arrays: fork() marks
-  // the main queue's position, enqueue_side() launches a kernel on the side queue after
-  // that mark, join() makes every later command of the main queue wait for it. Used by
-  // the fused liquid step (FluidFlow): one work-group, a chain of memory round trips,
-  // which leaves the rest of a GPU idle unless another stage runs beside it. None of the
-  // three waits on the host; a fork without a join is joined by finish().
-  void fork();
-  void enqueue_side(const compute::kernel& kernel, std::size_t n, std::size_t local);
-  void join();
+  void finish();  // waits for the queue; DeviceError on failure
 
   // Kernel profiling (only with `profiling` at construction): every enqueue() keeps its
   // event; collect_profile() adds the finished ones' device times per kernel name.
@@ -114,8 +103,6 @@ class ClContext {
   compute::device device_;
   compute::context context_;
   compute::command_queue queue_;
-  compute::command_queue side_queue_;  // made at the first fork()
-  compute::event forked_, side_done_;  // the main queue's mark, the side kernel's end
   DeviceInfo info_;
   std::size_t group_size_ = 64;
   bool profiling_ = false;

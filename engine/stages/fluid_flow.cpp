@@ -154,17 +154,6 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   // launches (tests/test_fluid.cpp); FDEM_FLUID_FUSED=0 keeps the launches.
   const char* fused_env = std::getenv("FDEM_FLUID_FUSED");
   fused_ = one_group_ && !fluid_.gas && carriers != nullptr && !(fused_env && std::string(fused_env) == "0");
-  // On a GPU the fused step (one work-group) runs on a side queue beside the triangle and
-  // boundary-load stages, which the solver then enqueues after it (Solver::step_forces):
-  // it reads the positions and this step's CE4 states and writes only its own arrays, as
-  // they write theirs, so the order between them moves no bit (tests/test_fluid.cpp).
-  // FDEM_FLUID_BESIDE=0/1 turns it off or on (on any device, to compare the two).
-  beside_ = fused_ && cl.info().is_gpu;
-  if (const char* env = std::getenv("FDEM_FLUID_BESIDE"); env && *env) {
-    if (std::string(env) != "0" && std::string(env) != "1")
-      throw DeviceError(std::string("FDEM_FLUID_BESIDE=") + env + " is neither 0 nor 1");
-    beside_ = fused_ && *env == '1';
-  }
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
@@ -332,12 +321,7 @@ void FluidFlow::enqueue(double time, long step) {
       rescan_ = false;
     }
     fused_step_.set(static_cast<cl_int>(step));
-    if (beside_) {  // joined by the solver once the stages beside it are enqueued
-      cl_.fork();
-      cl_.enqueue_side(fused_kernel_, fluid_group_, fluid_group_);
-    } else {
-      cl_.enqueue(fused_kernel_, fluid_group_, fluid_group_);
-    }
+    cl_.enqueue(fused_kernel_, fluid_group_, fluid_group_);
     return;
   }
   step_.set(static_cast<cl_int>(step));

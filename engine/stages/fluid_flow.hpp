@@ -65,7 +65,6 @@ class FluidFlow {
   long substeps() const { return substeps_; }
   bool one_group() const { return one_group_; }  // the sub-steps in one work-group's launch
   bool fused() const { return fused_; }          // the whole step in one work-group's launch
-  bool beside() const { return beside_; }        // that launch on the side queue (ClContext::fork)
   bool adaptive() const { return adaptive_; }     // as many sub-steps as the network's rate asks
 
   void save_state(StateWriter& out) const;
@@ -92,7 +91,7 @@ class FluidFlow {
   // fluid_step_group (FUSED): the liquid's whole step in one work-group over the network's
   // lists; fluid_network_clear and fluid_network_scan rebuild them (rescan_) before the
   // first step and after a checkpoint is restored.
-  bool fused_ = false, rescan_ = true, beside_ = false;
+  bool fused_ = false, rescan_ = true;
   compute::kernel fused_kernel_, network_clear_, network_scan_;
   KernelArg<cl_int> fused_step_;
   compute::buffer in_net_, net_vertices_, net_count_;  // per vertex: in the network; the list; (length, carriers joined)
