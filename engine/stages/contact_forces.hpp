@@ -66,6 +66,13 @@ class ContactForces {
   // sleeping couples). Waits.
   long lean_classifications();
   bool sleepers() const { return sleepers_; }
+  // GPUs: contact_forces_lanes takes the lanes for at most this many overlapping couples
+  // (one work-item a couple above): 64 a compute unit, 8,448 on a 132-SM H100 or H200,
+  // about one and a half waves of the lanes' work-groups (six of 64 items an SM at the
+  // kernel's 168 registers). On an H100 the blasting row (up to 8,153 touching) ran 7%
+  // faster than with session 11's fixed 4,096, the whole blasting run (tens of thousands
+  // touching late) as fast (docs/performance-notes.md, "Session 27").
+  static unsigned long lanes_up_to(unsigned compute_units) { return 64ul * std::max(1u, compute_units); }
   // The history pool: `rows` rows of CONTACT_HISTORY reals and one stored energy each. A
   // couple takes a row at its first history write (a touching couple, or one that waits)
   // and keeps it until the next detection, which carries the histories over (ContactCarry)
@@ -211,15 +218,6 @@ class ContactForces {
   size_t capacity_ = 0, count_ = 0, list_capacity_ = 0, pool_rows_ = 0, triangles_ = 0;
   bool shared_keys_ = false, monitored_ = false;
   bool lanes_ = false;  // contact_forces_lanes (eight work-items a couple) instead of contact_forces
-  // Lanes for at most this many overlapping couples: 64 a compute unit (8,448 on a
-  // 132-SM H100 or H200), about one and a half waves of the lanes kernel's work-groups
-  // (six of 64 items an SM at its 168 registers). Measured on an H100 (session 27,
-  // docs/performance-notes.md): the blasting row's contact stage gains 9% over the fixed
-  // 4,096 of session 11, the whole blasting run (tens of thousands touching late) as fast.
- public:
-  static unsigned long lanes_up_to(unsigned compute_units) { return 64ul * std::max(1u, compute_units); }
-
- private:
   bool carry_ready_ = false;  // carry_before_detection() ran for the next new list
   size_t carried_ = 0;        // what it carried
   cl_uint joined_since_last_list() const;
