@@ -244,6 +244,10 @@ __kernel void cohesive_forces(const uint n_ce4,
                               , __global uint* restrict fluid_carriers,
                               __global uint* restrict fluid_carrier_count
 #endif
+#ifdef ACTIVATE_ON_BREAK
+                              , __global const uint2* restrict ce4_triangles,
+                              __global uint* restrict active
+#endif
                               ) {
   const uint e = get_global_id(0);
   if (e >= n_ce4) return;
@@ -542,6 +546,17 @@ __kernel void cohesive_forces(const uint n_ce4,
       const uint2 v = (uint2)(node_origin[nd.x], node_origin[nd.y]);  // its mesh nodes
       if (mesh_node_state[v.x] == 0) mesh_node_state[v.x] = 2 + step;
       if (mesh_node_state[v.y] == 0) mesh_node_state[v.y] = 2 + step;
+    }
+#endif
+#ifdef ACTIVATE_ON_BREAK
+    // Activation "fractured" (the work of contact_activation.cl, done where the break
+    // happens): its two triangles become contact candidates from the next step, with that
+    // step's join stamp, step + 3 (ContactActivation::join_stamp(step + 1)). Every CE4
+    // breaking next to a triangle in this step writes the same value.
+    if (broke_now) {
+      const uint2 pair = ce4_triangles[e];
+      if (active[pair.x] == 0u) active[pair.x] = (uint)step + 3u;
+      if (active[pair.y] == 0u) active[pair.y] = (uint)step + 3u;
     }
 #endif
     if (broke_now) {  // broke in this step: append its record (see the kernel's comment)

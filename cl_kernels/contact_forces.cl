@@ -948,19 +948,27 @@ __kernel void contact_forces(CONTACT_FORCES_ARGS) {
 // from measurements, docs/performance-notes.md) the device is busy anyway and one
 // work-item per couple is faster: the launch then does what contact_forces does.
 #define LANES 8
-#define LANE_COUPLES 8  // couples per work-group of 64
+#ifndef LANES_NARROW
+#define LANES_NARROW 4
+#endif
+#ifndef LANES_NARROW_FROM
+#define LANES_NARROW_FROM 4294967295u
+#endif
+#define LANE_COUPLES (64 / LANES_NARROW)  // at most this many couples a work-group of 64
 __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lanes(CONTACT_FORCES_ARGS) {
   __local real pass_i0[LANE_COUPLES][6], pass_i1[LANE_COUPLES][6], pass_inside[LANE_COUPLES][6];
   __local real pass_lost[LANE_COUPLES][6], pass_pending[LANE_COUPLES][6], pass_spring[LANE_COUPLES][6];
   __local real pass_slip[LANE_COUPLES][6], overlap[LANE_COUPLES];
   __local int pass_did[LANE_COUPLES][6];
-  const uint lane = get_local_id(0) % LANES, k = get_local_id(0) / LANES;
   const uint count = min(n_couples, counters[list_counter]);
   if (count > LANES_UP_TO) {  // the same for every work-item of the launch
     if (get_global_id(0) < count) contact_couple(overlap_list[get_global_id(0)], CONTACT_FORCES_PASS);
     return;
   }
-  for (uint base = get_group_id(0) * LANE_COUPLES; base < count; base += get_num_groups(0) * LANE_COUPLES) {
+  const uint lanes = count > LANES_NARROW_FROM ? LANES_NARROW : LANES;  // the same for the whole launch
+  const uint per_group = 64 / lanes;
+  const uint lane = get_local_id(0) % lanes, k = get_local_id(0) / lanes;
+  for (uint base = get_group_id(0) * per_group; base < count; base += get_num_groups(0) * per_group) {
     const uint entry = base + k;
     const bool valid = entry < count;
     uint c = 0, tri[2], nodes[2][3];
@@ -972,14 +980,16 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
       couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
       barycentric_values(x, lv);
       round_off = couple_round_off(x);
-      if (lane < 6) {
-        real i0, i1, in;
-        pass_integrals(lane / 3, lane % 3, lv, round_off, &i0, &i1, &in);
-        pass_i0[k][lane] = i0;
-        pass_i1[k][lane] = i1;
-        pass_inside[k][lane] = in;
-      } else if (lane == 6) {
-        overlap[k] = overlap_area(x);
+      for (uint p = lane; p < 7; p += lanes) {
+        if (p < 6) {
+          real i0, i1, in;
+          pass_integrals(p / 3, p % 3, lv, round_off, &i0, &i1, &in);
+          pass_i0[k][p] = i0;
+          pass_i1[k][p] = i1;
+          pass_inside[k][p] = in;
+        } else {
+          overlap[k] = overlap_area(x);
+        }
       }
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -1030,41 +1040,43 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
           area_forces(x, ratio, Pn, thickness, potential, area_force);
           const bool friction = mu != (real)0 && Ptan != (real)0;
           const real kn = ratio * Pn * thickness;
-          if (lane < 6) {
-            const int dir = lane / 3, e = lane % 3, A = dir, B = 1 - dir;
-            real2 xo[2][3];
-            real lvo[2][3][3];
-            if (friction && hist[lane] != (real)0) {  // old_spring's geometry: this pass only needs it
-              for (int q = 0; q < 2; ++q)
-                for (int a = 0; a < 3; ++a) xo[q][a] = x[q][a] - v[q][a] * dt;
-              barycentric_values(xo, lvo);
-            }
-            real slip, lost = (real)0, pend = (real)0, spring = (real)0;
-            real2 fA0, fA1, fB[3];
-            const int did = edge_pass(dir, e, x, lv, v, xo, lvo, I0[lane], I1[lane], kn, mu, Ptan, thickness, dt,
-                                      round_off, friction, hist[lane], &slip, &lost, &pend, &spring, &fA0, &fA1, fB);
-            pass_slip[k][lane] = slip;
-            pass_lost[k][lane] = lost;
-            pass_pending[k][lane] = pend;
-            pass_spring[k][lane] = spring;
-            pass_did[k][lane] = did;
-            if (did & PASS_ACTS) {
-              // B's area force rides with the first acting pass of this direction.
-              bool first = true;
-              for (int p = 3 * dir; p < (int)lane; ++p) first = first && !(I0[p] + I1[p] > (real)0);
-              if (first)
-                for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
-              add_force(contact_acc, nodes[A][e], fA0, force_scale);
-              add_force(contact_acc, nodes[A][(e + 1) % 3], fA1, force_scale);
-              for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], fB[m], force_scale);
-            }
-          } else if (lane == 6) {
-            // A triangle that no pass wrote as B (no acting pass of the other direction).
-            for (int q = 0; q < 2; ++q) {
-              bool due = true;
-              for (int p = 3 * (1 - q); p < 3 * (1 - q) + 3; ++p) due = due && !(I0[p] + I1[p] > (real)0);
-              if (due)
-                for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[q][a], area_force[q][a], force_scale);
+          for (uint p = lane; p < 7; p += lanes) {
+            if (p < 6) {
+              const int dir = p / 3, e = p % 3, A = dir, B = 1 - dir;
+              real2 xo[2][3];
+              real lvo[2][3][3];
+              if (friction && hist[p] != (real)0) {  // old_spring's geometry: this pass only needs it
+                for (int q = 0; q < 2; ++q)
+                  for (int a = 0; a < 3; ++a) xo[q][a] = x[q][a] - v[q][a] * dt;
+                barycentric_values(xo, lvo);
+              }
+              real slip, lost = (real)0, pend = (real)0, spring = (real)0;
+              real2 fA0, fA1, fB[3];
+              const int did = edge_pass(dir, e, x, lv, v, xo, lvo, I0[p], I1[p], kn, mu, Ptan, thickness, dt,
+                                        round_off, friction, hist[p], &slip, &lost, &pend, &spring, &fA0, &fA1, fB);
+              pass_slip[k][p] = slip;
+              pass_lost[k][p] = lost;
+              pass_pending[k][p] = pend;
+              pass_spring[k][p] = spring;
+              pass_did[k][p] = did;
+              if (did & PASS_ACTS) {
+                // B's area force rides with the first acting pass of this direction.
+                bool first = true;
+                for (int q = 3 * dir; q < (int)p; ++q) first = first && !(I0[q] + I1[q] > (real)0);
+                if (first)
+                  for (int m = 0; m < 3; ++m) fB[m] += area_force[B][m];
+                add_force(contact_acc, nodes[A][e], fA0, force_scale);
+                add_force(contact_acc, nodes[A][(e + 1) % 3], fA1, force_scale);
+                for (int m = 0; m < 3; ++m) add_force(contact_acc, nodes[B][m], fB[m], force_scale);
+              }
+            } else {
+              // A triangle that no pass wrote as B (no acting pass of the other direction).
+              for (int q = 0; q < 2; ++q) {
+                bool due = true;
+                for (int r = 3 * (1 - q); r < 3 * (1 - q) + 3; ++r) due = due && !(I0[r] + I1[r] > (real)0);
+                if (due)
+                  for (int a = 0; a < 3; ++a) add_force(contact_acc, nodes[q][a], area_force[q][a], force_scale);
+              }
             }
           }
         }

@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <climits>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "base/errors.hpp"
 #include "engine/parallel/transport.hpp"
@@ -106,6 +108,15 @@ Solver::Parts Solver::parts(const Model& model, bool account) {
   p.skin = p.contact && model.contact.rebuild_skin;
   // Without a skin detection runs every step and nobody reads the join flags in the ring.
   p.activation = p.contact && p.ce4 && !model.contact_active.empty();
+  // Nobody reads the ring's join flag when couples are listed ahead of joins, so the CE4
+  // stage can mark the candidates itself; a split run's ghost CE4s break on their owners'
+  // ranks, so there every rank keeps the activation's launch.
+  p.activation_on_break = p.activation && p.skin && model.contact.list_ahead && model.ce4_owned.empty();
+  if (const char* env = std::getenv("FDEM_ACTIVATE_ON_BREAK"); env && *env) {
+    if (std::string(env) != "0" && std::string(env) != "1")
+      throw DeviceError(std::string("FDEM_ACTIVATE_ON_BREAK=") + env + " is neither 0 nor 1");
+    if (*env == '0') p.activation_on_break = false;
+  }
   p.viscous = account && std::any_of(model.materials.begin(), model.materials.end(),
                                      [](const MaterialConstants& m) { return m.viscosity != 0; });
   p.prescribed = model.groups.size() > 1;
@@ -201,6 +212,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
                          [&] {
                            CohesiveModel m = cohesive_model(model);
                            m.dt = dt;
+                           m.activate_on_break = parts_.activation_on_break;
                            return std::make_unique<CohesiveForces>(cl, m, arrays_.position, arrays_.velocity,
                                                                    DeviceArrays::reference_positions(model),
                                                                    in_situ_ce4_gaps(model));
@@ -247,6 +259,7 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       row_reads_(cl),
       ce4_count_(model.ce4.size()) {
   list_ahead_ = model.contact.list_ahead;
+  if (parts_.activation_on_break) cohesive_->join_on_break(fragments_->ce4_triangles(), detection_->active_mask());
   // `skin = "auto"`: picked at each detection. A split run keeps its first skin: its
   // contact ghosts reach as far as that skin allows (engine/scale_out.cpp).
   if (skin_ && model.contact.skin_auto && model.node_owned.empty())
@@ -319,7 +332,7 @@ void Solver::step_forces(bool energy_row) {
     // Detection every step, or with a skin once some node may have moved more than half
     // of it since the last detection (no couple can have appeared before that), or when
     // triangles next to newly broken CE4s joined the candidates ("fractured").
-    if (activation_) activation_->enqueue(steps_);
+    if (activation_ && (!parts_.activation_on_break || steps_ == activation_catch_up_)) activation_->enqueue(steps_);
     ContactSkin::Due due =
         !skin_ || rebuilds_ == 0 || detect_after_load_ ? ContactSkin::Due::Moved : skin_->rebuild_due(steps_);
     detect_after_load_ = false;
@@ -570,6 +583,7 @@ void Solver::save_state(StateWriter& out) {
 
 void Solver::load_state(StateReader& in) {
   steps_ = static_cast<long>(in.integer("step"));
+  activation_catch_up_ = steps_;  // CE4s that broke before the checkpoint (a no-op for this build's own)
   rebuilds_ = static_cast<long>(in.integer("contact_rebuilds"));
   cl_long extensions = 0;
   if (in.has("contact_extensions")) in.host<cl_long>("contact_extensions", &extensions, 1);

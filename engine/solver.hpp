@@ -50,6 +50,11 @@ class Solver {
     bool contact = false;     // MonitorRing, ContactDetection, ContactForces
     bool skin = false;        // ContactSkin (contact with rebuild = "skin")
     bool activation = false;  // ContactActivation (contact, activation "fractured", CE4s)
+    // The activation done by the CE4 stage where a CE4 breaks (CohesiveModel::
+    // activate_on_break): activation with couples listed ahead of joins, on one rank, unless
+    // FDEM_ACTIVATE_ON_BREAK=0. ContactActivation then runs only in the first step and the
+    // first after a restore (for CE4s that start broken or broke before the checkpoint).
+    bool activation_on_break = false;
     bool viscous = false;     // TriangleForces accounts viscous work (account on, a viscous material)
     bool prescribed = false;  // some node has a prescribed velocity (a BC group besides 0)
     bool account_work = false;  // Integrate accounts reactions' and damping work
@@ -240,6 +245,7 @@ class Solver {
   // the checkpoint's "contact_extensions" word, 0 in new runs.
   long extensions_ = 0;
   bool list_ahead_ = false;      // Model's contact.list_ahead: joins never need a new list
+  long activation_catch_up_ = 0;  // with Parts::activation_on_break: the step ContactActivation runs in
   bool detect_after_load_ = false;  // a checkpoint from before list_ahead: detect at the next step
   long energy_row_step_ = 0;
   double strain_round_off_ = 0;  // Σ ½ C (4 ε |x|max / h)² A t over the triangles [J]

@@ -66,6 +66,11 @@ struct CohesiveModel {
   // fluid stage reads (CohesiveForces::fluid_carriers): 1 where a broken CE4 carries, 2
   // where a softened one does too (fluid.segments = "damaged"); 0 without [fluid].
   int fluid_carriers = 0;
+  // Contact activation "fractured" with couples listed ahead of joins, on one rank: the
+  // CE4 that breaks marks its two triangles as contact candidates itself
+  // (ACTIVATE_ON_BREAK), in place of ContactActivation's launch in every step; the
+  // solver binds the arrays (CohesiveForces::join_on_break).
+  bool activate_on_break = false;
 };
 
 // The property sets the stage holds for `model`'s CE4s: one per set of `fracture`, plus

@@ -287,6 +287,7 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (extrinsic_) defines["EXTRINSIC"] = "1";
   if (excavation_) defines["EXCAVATION"] = "1";
   if (model.fluid_carriers != 0) defines["FLUID_CARRIERS"] = std::to_string(model.fluid_carriers);
+  if (model.activate_on_break) defines["ACTIVATE_ON_BREAK"] = "1";
   // NVIDIA: the kernel takes 160 registers a work-item when free to, which leaves room for
   // one work-group of 256 per SM; at 128 two fit. H200, 1.08M TRI3: 0.557 → 0.405 ms a
   // step (48: 0.891, 64: 0.584, 96: 0.478; docs/performance-notes.md, session 7).
@@ -307,6 +308,12 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   if (excavation_)
     args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("excavation_energy", excavation_energy_);
   if (model.fluid_carriers != 0) args("fluid_carriers", carriers_.list)("fluid_carrier_count", carriers_.count);
+  if (model.activate_on_break) {
+    // Bound by join_on_break once the arrays exist (enqueue refuses to run before).
+    join_triangles_ = args.later("ce4_triangles", compute::buffer());
+    join_active_ = args.later("active", compute::buffer());
+    activate_on_break_ = true;
+  }
   args.done();
   partials_kernel_ = compute::kernel(program, "cohesive_energy_partials");
   bind_args(partials_kernel_)("n_ce4", static_cast<cl_uint>(count_))("n_partials", static_cast<cl_uint>(partials_))(
@@ -315,7 +322,16 @@ CohesiveForces::CohesiveForces(ClContext& cl, const CohesiveModel& model, comput
   program_ = program;
 }
 
+void CohesiveForces::join_on_break(const compute::buffer& ce4_triangles, compute::buffer& active) {
+  if (!activate_on_break_) throw DeviceError("cohesive forces: join_on_break without CohesiveModel::activate_on_break");
+  join_triangles_.set(ce4_triangles);
+  join_active_.set(active);
+  joins_bound_ = true;
+}
+
 void CohesiveForces::enqueue(double time, long step) {
+  if (activate_on_break_ && !joins_bound_)
+    throw DeviceError("cohesive forces: activate_on_break set but join_on_break never called");
   time_.set(static_cast<real>(time));
   // A released CE4 records 2 + its step in a 32-bit status word (the contact stage tells
   // the release of the last step from older ones); past 2³¹ − 3 steps the word saturates.

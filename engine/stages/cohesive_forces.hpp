@@ -51,6 +51,11 @@ class CohesiveForces {
   // test; `time` [s] is recorded for the CE4s that break in this step, `step` for those
   // that are released (a broken CE4 stays closed until its faces open). Never waits.
   void enqueue(double time, long step);
+  // CohesiveModel::activate_on_break: the CE4s' triangle pairs (uint2 each,
+  // FragmentLabels::ce4_triangles()) and the detection's candidate mask (uint per
+  // triangle) that a breaking CE4 writes its triangles' join stamps into. Once, before
+  // the first enqueue.
+  void join_on_break(const compute::buffer& ce4_triangles, compute::buffer& active);
 
   compute::buffer& slots() { return slots_; }  // real2 ×4 per CE4 [N]
   // int2 per CE4: (state, mode); state 0 intact, 1 broken and closed, 2 + n broken and
@@ -164,6 +169,8 @@ class CohesiveForces {
   size_t output_bytes_ = 0;    // the output array "ce4_output" (one column)
   compute::buffer nodes_, length_, gp_state_, gp_slip_, status_, slots_, status_step_;
   FluidCarriers carriers_;  // [fluid] only
+  KernelArg<compute::buffer> join_triangles_, join_active_;  // activate_on_break only
+  bool activate_on_break_ = false, joins_bound_ = false;
   compute::buffer energy_, partial_;  // three reals per CE4; real2 per partial
   compute::buffer position_;          // the nodes' positions (bound to the step; cohesive_output reads them)
   // The break log: a uint counter, int2 (CE4, mode) and real4 (time, x, y, energy) per

@@ -149,6 +149,13 @@ ContactForces::ContactForces(ClContext& cl, DeviceArrays& a, const Model& model,
         throw DeviceError(std::string("FDEM_CONTACT_LANES_UP_TO=") + env + " is not a count of couples");
     }
     defines["LANES_UP_TO"] = std::to_string(up_to) + "u";
+    if (const char* env = std::getenv("FDEM_CONTACT_LANES_NARROW_FROM"); env && *env) {
+      char* end = nullptr;
+      const unsigned long from = std::strtoul(env, &end, 10);
+      if (*end != '\0' || from > 0xffffffffUL)
+        throw DeviceError(std::string("FDEM_CONTACT_LANES_NARROW_FROM=") + env + " is not a count of couples");
+      defines["LANES_NARROW_FROM"] = std::to_string(from) + "u";
+    }
   }
   defines["GROUP_SIZE"] = std::to_string(cl.group_size());
   defines["NO_SLOT"] = std::to_string(ContactCarry::kNoSlot) + "u";
