@@ -289,8 +289,40 @@ __kernel void triangle_forces(const uint n_triangles,
                               , __global const int* restrict excavation_of,
                               __global const real* restrict excavation_time, __global real2* restrict excavation_energy
 #endif
+#ifdef BOUNDARY_TAIL
+                              , const uint triangle_groups,
+                              const uint n_edges,
+                              __global const uint2* restrict edge_nodes,
+                              __global const uint* restrict edge_load,
+                              __global const real4* restrict load_table,
+                              __global const real2* restrict pressure_points,
+                              __global const real2* restrict edge_ref_position,
+                              const real time,
+                              __global real2* restrict edge_force,
+                              __global real2* restrict edge_energy
+#ifdef GAS_LOADS
+                              , __global const real4* restrict gas_hole
+#endif
+#endif
                               ) {
   __local real4 energy_scratch[GROUP_SIZE];
+#ifdef BOUNDARY_TAIL
+  // The boundary loads in the same launch (BoundaryLoads fused into TriangleForces: one
+  // launch a step less): the work-groups after the triangles' take one loaded edge a
+  // work-item, as boundary_loads does (boundary_loads.cl, built ahead of this file). A
+  // whole group leaves here, so no barrier below is skipped by part of one.
+  if (get_group_id(0) >= triangle_groups) {
+    const uint e = get_global_id(0) - triangle_groups * GROUP_SIZE;
+    if (e < n_edges)
+      boundary_edge(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position, position,
+                    velocity, thickness, time, edge_force, dt, step, edge_energy
+#ifdef GAS_LOADS
+                    , gas_hole
+#endif
+                    );
+    return;
+  }
+#endif
   const uint t = get_global_id(0);
   real4 energy = (real4)(0, 0, 0, 0);
   if (t < n_triangles)

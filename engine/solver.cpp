@@ -92,6 +92,17 @@ std::optional<Integrate::Gather> step_gather(const ClContext& cl, size_t nodes, 
 
 }  // namespace
 
+// The boundary loads ride in the triangle stage's launch (BoundaryLoads::bind_tail): one
+// launch a step less wherever edges are loaded. FDEM_BOUNDARY_FUSED=0 launches them on
+// their own, for the test that compares the two (tests/test_contact_lanes.cpp).
+static bool boundary_fused() {
+  const char* env = std::getenv("FDEM_BOUNDARY_FUSED");
+  if (!env || !*env) return true;
+  if (std::string(env) != "0" && std::string(env) != "1")
+    throw DeviceError(std::string("FDEM_BOUNDARY_FUSED=") + env + " is neither 0 nor 1");
+  return *env == '1';
+}
+
 std::unique_ptr<ContactDetection> Solver::build_detection(bool wanted, ClContext& cl, DeviceArrays& arrays,
                                                           const Model& model) {
   if (!wanted) return nullptr;
@@ -246,12 +257,12 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       fluid_(build_if(parts_.fluid,
                       [&] { return std::make_unique<FluidFlow>(cl, model, arrays_.position, cohesive_->status(),
                                                                cohesive_->gauss_state(), dt, cohesive_->fluid_carriers()); })),
-      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
-                       triangle_excavation(model)),
-      gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,
-              fluid_ ? &fluid_->slots() : nullptr, fluid_ ? &fluid_->loaded_nodes() : nullptr),
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled,
                       fluid_ && model.fluid.gas ? &fluid_->gas_hole() : nullptr),
+      triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
+                       triangle_excavation(model), boundary_fused() ? &boundary_loads_ : nullptr),
+      gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,
+              fluid_ ? &fluid_->slots() : nullptr, fluid_ ? &fluid_->loaded_nodes() : nullptr),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
                  step_gather(cl, model.num_nodes(), cohesive_.get(), contact_.get(), fluid_.get())),
       extrinsic_(build_if(parts_.extrinsic, [&] { return std::make_unique<Extrinsic>(cl, arrays_, model, *cohesive_); })),

@@ -232,9 +232,9 @@ class Solver {
   std::unique_ptr<ContactActivation> activation_;  // contact with activation "fractured" and CE4s
   std::unique_ptr<ContactForces> contact_;       // contact
   std::unique_ptr<FluidFlow> fluid_;             // [fluid]
+  BoundaryLoads boundary_loads_;    // launched by triangle_forces_ (fused) unless FDEM_BOUNDARY_FUSED=0
   TriangleForces triangle_forces_;
   NodeGather gather_;
-  BoundaryLoads boundary_loads_;
   Integrate integrate_;
   std::unique_ptr<Extrinsic> extrinsic_;  // extrinsic CE4s: ties and insertions after the integration
   OrderedSums ordered_;  // the energy account's sums in item order (engine/energy/energy.hpp)

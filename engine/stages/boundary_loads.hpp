@@ -1,6 +1,9 @@
 // Stage: tractions, pressures (constant, tabulated, blast) and absorbing tractions on
 // boundary edges (cl_kernels/boundary_loads.cl), with their work for the energy account.
 #pragma once
+#include <map>
+#include <string>
+
 #include "engine/device/device_arrays.hpp"
 #include "engine/device/kernel_args.hpp"
 #include "engine/device/checkpoint.hpp"
@@ -22,6 +25,19 @@ class BoundaryLoads {
   // `step`, and the loads' work over the step before. Never waits; does nothing when no
   // edge is loaded.
   void enqueue(double time, int step);
+
+  // Fused into TriangleForces' launch (one launch a step less; the step's order allows
+  // it: neither stage reads what the other writes): tail_defines() go into that
+  // program's build, with boundary_loads.cl as a library, and bind_tail binds this
+  // stage's arguments after the triangle kernel's own (BOUNDARY_TAIL in
+  // triangle_forces.cl). enqueue then sets the time and edge count and launches nothing;
+  // quiet_tail() keeps the next launch of that kernel (the output's stress pass) off the
+  // edges until enqueue sets them again.
+  std::map<std::string, std::string> tail_defines() const;
+  void bind_tail(KernelArgs& args);
+  void quiet_tail();
+  bool fused() const { return fused_; }
+  size_t count() const { return count_; }
   // Load work and absorbed energy from t = 0 up to the last step, summed per edge by `sums` (waits).
   void add_energy(EnergyTotals& totals, const ItemSums& sums = all_items) { queue_energy(sums)(totals); }
   EnergyPart queue_energy(const ItemSums& sums);  // the same, added once `sums` have landed
@@ -37,6 +53,11 @@ class BoundaryLoads {
   KernelArg<real> time_;
   KernelArg<cl_int> step_;
   compute::buffer edge_energy_;  // real2 per loaded edge: (load work, absorbed energy) so far
+  DeviceArrays& arrays_;
+  compute::buffer* gas_hole_;
+  bool in_situ_, fused_ = false;
+  KernelArg<real> tail_time_;
+  KernelArg<cl_uint> tail_edges_;
 };
 
 }  // namespace fdem

@@ -37,7 +37,7 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous,
                                const std::vector<std::array<double, 3>>& initial_stress,
-                               const TriangleExcavation& excavation)
+                               const TriangleExcavation& excavation, BoundaryLoads* boundary)
     : cl_(cl),
       arrays_(a),
       count_(a.num_triangles),
@@ -61,6 +61,12 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
   // 1.08M TRI3: 0.082 → 0.079 ms a step (64: 0.104, with spills; docs/performance-notes.md).
   std::vector<const KernelSource*> libraries;
   if (excavation_) libraries.push_back(&kernel_source::excavation);
+  if (boundary && boundary->count() > 0) {
+    boundary_ = boundary;
+    defines["BOUNDARY_TAIL"] = "1";
+    for (const auto& [name, value] : boundary->tail_defines()) defines[name] = value;
+    libraries.push_back(&kernel_source::boundary_loads);
+  }
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, libraries, 80), "triangle_forces");
   const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size(), true);
   group_energy_ = arrays.allocate(cl, "triangle group_energy");
@@ -113,6 +119,10 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
     args("excavation_of", excavation_of_)("excavation_time", excavation_time_)("excavation_energy",
                                                                                 excavation_energy_);
   }
+  if (boundary_) {
+    args("triangle_groups", static_cast<cl_uint>(groups_));
+    boundary_->bind_tail(args);
+  }
   args.done();
 }
 
@@ -121,7 +131,8 @@ void TriangleForces::enqueue(int step, bool energy_row) {
   stress_.set(stress_placeholder_);
   step_.set(step);
   energy_mode_.set((viscous_ ? 1 : 0) | (energy_row ? 2 : 0));
-  cl_.enqueue(kernel_, count_, local_);
+  // With the boundary loads fused: the triangles' groups, then one item a loaded edge.
+  cl_.enqueue(kernel_, boundary_ ? groups_ * local_ + boundary_->count() : count_, local_);
 }
 
 void TriangleForces::keep_energy_rows() {
@@ -138,6 +149,7 @@ void TriangleForces::enqueue_stress(int step) {
   stress_.set(arrays_.output_stress(cl_));
   step_.set(step);
   energy_mode_.set(0);
+  if (boundary_) boundary_->quiet_tail();  // the output's pass: no loads (the groups past the triangles' are not launched)
   cl_.enqueue(kernel_, count_, local_);
 }
 

@@ -9,6 +9,7 @@
 #include "engine/device/kernel_args.hpp"
 #include "engine/device/checkpoint.hpp"
 #include "engine/energy/energy.hpp"
+#include "engine/stages/boundary_loads.hpp"
 
 namespace fdem {
 
@@ -27,9 +28,11 @@ class TriangleForces {
   // `initial_stress`: per triangle the in-situ reference stress (σxx, σyy, σxy) [Pa]
   // (in_situ_triangle_stress), or empty for none: then the kernel has no such argument
   // and the stage holds no such array.
+  // `boundary` (optional, with loaded edges): the boundary loads ride in this stage's
+  // launch (BoundaryLoads::bind_tail); its enqueue must come before this stage's in a step.
   TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous,
                  const std::vector<std::array<double, 3>>& initial_stress = {},
-                 const TriangleExcavation& excavation = {});
+                 const TriangleExcavation& excavation = {}, BoundaryLoads* boundary = nullptr);
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `item_rows`: a split run's rank, which keeps the energy rows' per-triangle values,
   // keep_energy_rows()).
@@ -92,6 +95,7 @@ class TriangleForces {
   // excavation (start, duration) (real2), per triangle (W of the last step, strain energy
   // released so far) (real2).
   compute::buffer excavation_of_, excavation_time_, excavation_energy_;
+  BoundaryLoads* boundary_ = nullptr;  // fused into this launch (its edges after the triangles' groups)
 };
 
 }  // namespace fdem
