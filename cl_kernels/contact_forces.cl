@@ -947,14 +947,21 @@ __kernel void contact_forces(CONTACT_FORCES_ARGS) {
 // couple's shared work, so where many couples touch (more than LANES_UP_TO, a host define
 // from measurements, docs/performance-notes.md) the device is busy anyway and one
 // work-item per couple is faster: the launch then does what contact_forces does.
+// Narrow lanes (LANES_NARROW_FROM, a host define only where FDEM_CONTACT_LANES_NARROW_FROM
+// asks for it: not yet measured on a GPU): above that many touching couples a couple gets
+// LANES_NARROW lanes and lane l does tasks l, l + LANES_NARROW, ... (task p < 6 pass p, task
+// 6 the area), half the repeated shared work for the same couples. Without it `lanes` is
+// the constant 8 and LANE_TASKS the one task a lane the kernel always had (clang's PTX for
+// that path is the earlier kernel's, but for one load's place).
 #define LANES 8
 #ifndef LANES_NARROW
 #define LANES_NARROW 4
 #endif
-#ifndef LANES_NARROW_FROM
-#define LANES_NARROW_FROM 4294967295u
-#endif
+#ifdef LANES_NARROW_FROM
 #define LANE_COUPLES (64 / LANES_NARROW)  // at most this many couples a work-group of 64
+#else
+#define LANE_COUPLES (64 / LANES)  // eight lanes always: `lanes` a constant (one task a lane)
+#endif
 __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lanes(CONTACT_FORCES_ARGS) {
   __local real pass_i0[LANE_COUPLES][6], pass_i1[LANE_COUPLES][6], pass_inside[LANE_COUPLES][6];
   __local real pass_lost[LANE_COUPLES][6], pass_pending[LANE_COUPLES][6], pass_spring[LANE_COUPLES][6];
@@ -965,7 +972,13 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
     if (get_global_id(0) < count) contact_couple(overlap_list[get_global_id(0)], CONTACT_FORCES_PASS);
     return;
   }
+#ifdef LANES_NARROW_FROM
   const uint lanes = count > LANES_NARROW_FROM ? LANES_NARROW : LANES;  // the same for the whole launch
+#define LANE_TASKS(p) for (uint p = lane; p < 7; p += lanes)
+#else
+  const uint lanes = LANES;
+#define LANE_TASKS(p) const uint p = lane; if (p < 7)  // one task a lane (lane 7 none)
+#endif
   const uint per_group = 64 / lanes;
   const uint lane = get_local_id(0) % lanes, k = get_local_id(0) / lanes;
   for (uint base = get_group_id(0) * per_group; base < count; base += get_num_groups(0) * per_group) {
@@ -980,7 +993,7 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
       couple_nodes(keys[c], tri_nodes, position, tri, nodes, x);
       barycentric_values(x, lv);
       round_off = couple_round_off(x);
-      for (uint p = lane; p < 7; p += lanes) {
+      LANE_TASKS(p) {
         if (p < 6) {
           real i0, i1, in;
           pass_integrals(p / 3, p % 3, lv, round_off, &i0, &i1, &in);
@@ -1040,7 +1053,7 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
           area_forces(x, ratio, Pn, thickness, potential, area_force);
           const bool friction = mu != (real)0 && Ptan != (real)0;
           const real kn = ratio * Pn * thickness;
-          for (uint p = lane; p < 7; p += lanes) {
+          LANE_TASKS(p) {
             if (p < 6) {
               const int dir = p / 3, e = p % 3, A = dir, B = 1 - dir;
               real2 xo[2][3];
@@ -1100,6 +1113,7 @@ __kernel __attribute__((reqd_work_group_size(64, 1, 1))) void contact_forces_lan
     barrier(CLK_LOCAL_MEM_FENCE);  // the next round reuses the local arrays
   }
 }
+#undef LANE_TASKS
 #endif
 
 // One work-item per couple of the previous list, at a new detection: a couple that is

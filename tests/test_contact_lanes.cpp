@@ -76,7 +76,7 @@ void require_same_state(Solver& reference, Solver& other) {
 // work-item a couple); compares them every 10 steps. Returns the number of touching
 // couples seen at the comparisons.
 long compare_kernels(const PreparedCase& p, int steps) {
-  auto one = solver_with_lanes(p, "0"), lanes = solver_with_lanes(p, "1", "1000000", "1000000"),
+  auto one = solver_with_lanes(p, "0"), lanes = solver_with_lanes(p, "1", "1000000"),
        narrow = solver_with_lanes(p, "1", "1000000", "0"), above = solver_with_lanes(p, "1", "0");
   long touching = 0;
   for (int s = 1; s <= steps; ++s) {
