@@ -976,60 +976,52 @@ __kernel void fluid_network_scan(const uint n_ce4,
   if (i < n_vertices && source[i]) join_network(i, in_net, net_vertices, net_count);
 }
 
-// The liquid's whole step in one launch of one work-group (FUSED: each of the stage's four
-// launches cost about what a small model's mechanics costs on a GPU, issue 32's fluid
-// rows): the new carriers' ends join the network in the segments' pass, work-item l
-// doing the carriers l, l + FLUID_GROUP, ... of fluid_segments; then the network's
-// vertices likewise of fluid_vertices, the sub-steps of fluid_substeps_group and the
-// carriers of fluid_forces, a barrier between the passes. A CE4 that does not carry and a vertex outside the
-// network do nothing in those kernels, and each item's work is theirs on the same
-// operands: the same bits as the four launches, at a cost that follows the network, not
-// the model.
-__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
-void fluid_step_group(__global const uint* restrict carriers,
-                      __global const uint* restrict carrier_count,
-                      __global uint* in_net,
-                      __global uint* net_vertices,
-                      __global uint* net_count,
-                      __global const uint4* restrict ce4_nodes,
-                      __global const real2* restrict position,
-                      __global const int2* restrict status,
+// The fused step's arguments, but for the four a kernel that carries the step as its
+// first work-group shares with it (position, thickness, step and, ADAPTIVE, dt):
+// fluid_step_group below, and triangle_forces.cl's FLUID_HEAD (the step in the triangle
+// stage's launch). FLUID_STEP_PASS passes them on in the same order.
 #if DAMAGED_SEGMENTS
-                      __global const real* restrict gp_state,
-#endif
-                      __global const real* restrict seg_h,
-                      const real thickness,
-                      const real residual,
-                      const real max_aperture,
-                      const real viscosity,
-                      const int step,
-                      __global real4* seg_geom,
-                      __global int* too_wide,
-                      __global const uint* restrict vertex_start,
-                      __global const uint* restrict vertex_end,
-                      __global const uint2* restrict seg_vertex,
-                      const real bulk,
-                      __global const uchar* restrict source,
-                      const real source_value,
-                      const uint planned,
-#if ADAPTIVE
-                      const real dt,
-                      const real safety,
+#define FLUID_STEP_GP_ARG __global const real* restrict gp_state,
+#define FLUID_STEP_GP_PASS gp_state,
 #else
-                      const real dt_sub,
+#define FLUID_STEP_GP_ARG
+#define FLUID_STEP_GP_PASS
 #endif
-                      __global real* vertex_rate,
-                      __global real4* vertex_state,
-                      __global real4* vertex_energy,
-                      __global real2* front,
-                      __global real2* back,
-                      __global uint* wet_count,
-                      __global uint* wet,
-                      __global real2* fluid_slots,
-                      __global uchar* fluid_loaded_node) {
-  __local real hole_local[3];
-  __local real2 local_copy[2 * FLUID_GROUP];
-  __local uint too_many;
+#if ADAPTIVE
+#define FLUID_STEP_DT_ARG const real safety,
+#define FLUID_STEP_DT_PASS safety,
+#else
+#define FLUID_STEP_DT_ARG const real dt_sub,
+#define FLUID_STEP_DT_PASS dt_sub,
+#endif
+#define FLUID_STEP_ARGS                                                                                            \
+  __global const uint *restrict carriers, __global const uint *restrict carrier_count, __global uint *in_net,     \
+      __global uint *net_vertices, __global uint *net_count, __global const uint4 *restrict ce4_nodes,             \
+      __global const int2 *restrict status, FLUID_STEP_GP_ARG __global const real *restrict seg_h,                 \
+      const real residual, const real max_aperture, const real viscosity, __global real4 *seg_geom,                \
+      __global int *too_wide, __global const uint *restrict vertex_start, __global const uint *restrict vertex_end, \
+      __global const uint2 *restrict seg_vertex, const real bulk, __global const uchar *restrict source,            \
+      const real source_value, const uint planned, FLUID_STEP_DT_ARG __global real *vertex_rate,                   \
+      __global real4 *vertex_state, __global real4 *vertex_energy, __global real2 *front, __global real2 *back,     \
+      __global uint *wet_count, __global uint *wet, __global real2 *fluid_slots, __global uchar *fluid_loaded_node
+#define FLUID_STEP_PASS                                                                                           \
+  carriers, carrier_count, in_net, net_vertices, net_count, ce4_nodes, status, FLUID_STEP_GP_PASS seg_h, residual, \
+      max_aperture, viscosity, seg_geom, too_wide, vertex_start, vertex_end, seg_vertex, bulk, source,             \
+      source_value, planned, FLUID_STEP_DT_PASS vertex_rate, vertex_state, vertex_energy, front, back, wet_count,  \
+      wet, fluid_slots, fluid_loaded_node
+
+// The liquid's whole step by one work-group of FLUID_GROUP items (FUSED: each of the
+// stage's four launches cost about what a small model's mechanics costs on a GPU, issue
+// 32's fluid rows): the new carriers' ends join the network in the segments' pass,
+// work-item l doing the carriers l, l + FLUID_GROUP, ... of fluid_segments; then the
+// network's vertices likewise of fluid_vertices, the sub-steps of fluid_substeps_group and
+// the carriers of fluid_forces, a barrier between the passes. A CE4 that does not carry
+// and a vertex outside the network do nothing in those kernels, and each item's work is
+// theirs on the same operands: the same bits as the four launches, at a cost that follows
+// the network, not the model. Its local memory is the calling kernel's (hole_local 3
+// reals, local_copy 2 × FLUID_GROUP real2, too_many one word); `dt` is read only ADAPTIVE.
+inline void fluid_step(__global const real2* restrict position, const real thickness, const int step, const real dt,
+                       FLUID_STEP_ARGS, __local real* hole_local, __local real2* local_copy, __local uint* too_many) {
   const uint l = get_local_id(0);
   const uint n_carriers = carrier_count[0], joined = net_count[1];
   for (uint i = joined + l; i < n_carriers; i += FLUID_GROUP) {
@@ -1060,10 +1052,28 @@ void fluid_step_group(__global const uint* restrict carriers,
 #else
                     dt_sub,
 #endif
-                    vertex_state, vertex_energy, back, hole_local, local_copy, &too_many);
+                    vertex_state, vertex_energy, back, hole_local, local_copy, too_many);
   barrier(CLK_GLOBAL_MEM_FENCE);
   for (uint i = l; i < n_carriers; i += FLUID_GROUP)
     forces_item(carriers[i], ce4_nodes, position, seg_vertex, seg_geom, seg_h, vertex_state, vertex_rate, thickness,
                 fluid_slots, fluid_loaded_node);
+}
+
+// One work-group of FLUID_GROUP items: the liquid's step (fluid_step), on its own launch.
+__kernel __attribute__((reqd_work_group_size(FLUID_GROUP, 1, 1)))
+void fluid_step_group(__global const real2* restrict position,
+                      const real thickness,
+                      const int step,
+#if ADAPTIVE
+                      const real dt,
+#endif
+                      FLUID_STEP_ARGS) {
+  __local real hole_local[3];
+  __local real2 local_copy[2 * FLUID_GROUP];
+  __local uint too_many;
+#if !ADAPTIVE
+  const real dt = 0;  // (read only ADAPTIVE)
+#endif
+  fluid_step(position, thickness, step, dt, FLUID_STEP_PASS, hole_local, local_copy, &too_many);
 }
 #endif

@@ -304,15 +304,40 @@ __kernel void triangle_forces(const uint n_triangles,
                               , __global const real4* restrict gas_hole
 #endif
 #endif
+#ifdef FLUID_HEAD
+                              , const uint fluid_head, FLUID_STEP_ARGS
+#endif
                               ) {
   __local real4 energy_scratch[GROUP_SIZE];
+#ifdef FLUID_HEAD
+  // The liquid's step in the same launch (FluidFlow's fused step as its first work-group,
+  // fluid_head = 1; 0 on the output's stress pass): one compute unit walks the network
+  // while the others take the triangles, which neither read what it writes nor write
+  // what it reads (fluid_flow.cl, built ahead of this file). Its local copies are the
+  // energy scratch's bytes (2 × FLUID_GROUP real2 = GROUP_SIZE real4).
+#if FLUID_GROUP != GROUP_SIZE
+#error "FLUID_HEAD needs the fluid's work-group to be the triangle stage's"
+#endif
+  __local real fluid_hole_local[3];
+  __local uint fluid_too_many;
+  if (get_group_id(0) < fluid_head) {  // the whole group: no barrier below is skipped by part of one
+    fluid_step(position, thickness, step, dt, FLUID_STEP_PASS, fluid_hole_local, (__local real2*)energy_scratch,
+               &fluid_too_many);
+    return;
+  }
+  const uint group = get_group_id(0) - fluid_head;
+  const uint t = get_global_id(0) - fluid_head * GROUP_SIZE;
+#else
+  const uint group = get_group_id(0);
+  const uint t = get_global_id(0);
+#endif
 #ifdef BOUNDARY_TAIL
   // The boundary loads in the same launch (BoundaryLoads fused into TriangleForces: one
   // launch a step less): the work-groups after the triangles' take one loaded edge a
   // work-item, as boundary_loads does (boundary_loads.cl, built ahead of this file). A
   // whole group leaves here, so no barrier below is skipped by part of one.
-  if (get_group_id(0) >= triangle_groups) {
-    const uint e = get_global_id(0) - triangle_groups * GROUP_SIZE;
+  if (group >= triangle_groups) {
+    const uint e = t - triangle_groups * GROUP_SIZE;
     if (e < n_edges)
       boundary_edge(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position, position,
                     velocity, thickness, time, edge_force, dt, step, edge_energy
@@ -323,7 +348,6 @@ __kernel void triangle_forces(const uint n_triangles,
     return;
   }
 #endif
-  const uint t = get_global_id(0);
   real4 energy = (real4)(0, 0, 0, 0);
   if (t < n_triangles)
     energy = triangle(t, tri_nodes, ref_inverse, tri_material, materials, position, velocity, thickness, write_stress,
@@ -361,10 +385,10 @@ __kernel void triangle_forces(const uint n_triangles,
     barrier(CLK_LOCAL_MEM_FENCE);  // the blocks are summed before the scratch is reused
     const real4 sum = group_sum4(energy_scratch, energy);
     if (lid == 0) {
-      real2 slot = group_energy[get_group_id(0)];
+      real2 slot = group_energy[group];
       slot.x = sum.x;
       if (energy_mode & 1) slot.y = sum.y;
-      group_energy[get_group_id(0)] = slot;
+      group_energy[group] = slot;
     }
   }
 }

@@ -260,7 +260,8 @@ Solver::Solver(ClContext& cl, const Model& model, double dt, bool account)
       boundary_loads_(cl, arrays_, model.thickness, dt, model.in_situ.enabled,
                       fluid_ && model.fluid.gas ? &fluid_->gas_hole() : nullptr),
       triangle_forces_(cl, arrays_, model.thickness, dt, parts_.viscous, in_situ_triangle_stress(model),
-                       triangle_excavation(model), boundary_fused() ? &boundary_loads_ : nullptr),
+                       triangle_excavation(model), boundary_fused() ? &boundary_loads_ : nullptr,
+                       fluid_ && fluid_->headed() ? fluid_.get() : nullptr),
       gather_(cl, arrays_, cohesive_ ? &cohesive_->slots() : nullptr, contact_ ? contact_->force_scale() : 0.0,
               fluid_ ? &fluid_->slots() : nullptr, fluid_ ? &fluid_->loaded_nodes() : nullptr),
       integrate_(cl, arrays_, model.gravity, model.local_damping, dt, parts_.prescribed, account, skin_.get(),
@@ -374,9 +375,14 @@ void Solver::step_forces(bool energy_row) {
     if (contact_sent_) contact_sent_();
   }
   boundary_loads_.enqueue(t, static_cast<int>(steps_));
-  triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
+  // With the liquid's step in the triangle stage's launch (FluidFlow::headed) that launch
+  // comes after the CE4s and the fluid's list rescans, whose results the step reads; the
+  // triangles read nothing the CE4s write, so the order moves no bit.
+  const bool fluid_headed = fluid_ && fluid_->headed();
+  if (!fluid_headed) triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (cohesive_) cohesive_->enqueue(t, steps_);
   if (fluid_) fluid_->enqueue(t, steps_);  // after the CE4s: it reads their status of this step
+  if (fluid_headed) triangle_forces_.enqueue(static_cast<int>(steps_), energy_row);
   if (contact_received_) contact_received_();
   // Small models: the integration gathers the nodes' forces itself (step_gather).
   if (!integrate_.gathers()) gather_.enqueue_forces();

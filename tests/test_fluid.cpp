@@ -618,7 +618,8 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
   // FDEM_FLUID_LOCAL=0 keeps the group on its global path; by default a small wet network
   // (at most 256 wet vertices of at most 12 CE4 ends) takes the local one.
   // FDEM_FLUID_FUSED=1 takes the whole step in one work-group (a GPU's default for small
-  // models), =0 the stage's four launches.
+  // models), =0 the stage's four launches. FDEM_FLUID_HEAD=1 runs that work-group as the
+  // first of the triangle stage's launch (a GPU's default), =0 on its own launch.
   struct Run {
     std::string path;
     std::vector<std::string> sets;
@@ -634,6 +635,7 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
       unsetenv("FDEM_FLUID_GROUP");
       unsetenv("FDEM_FLUID_LOCAL");
       unsetenv("FDEM_FLUID_FUSED");
+      unsetenv("FDEM_FLUID_HEAD");
     }
   } unset;
   for (const auto& r : runs) {
@@ -644,20 +646,27 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
     for (size_t v = 0; v < p.model.fluid.vertices; ++v)
       degree = std::max(degree, p.model.fluid.vertex_start[v + 1] - p.model.fluid.vertex_start[v]);
     CHECK(degree <= 12);
-    constexpr int kWays = 5;
+    constexpr int kWays = 7;
     std::vector<real2> x[kWays];
     std::vector<real4> state[kWays];
-    const char* group[kWays] = {"0", "1", "1", "1", "1"};
-    const char* local[kWays] = {"1", "0", "1", "0", "1"};
-    const char* fused[kWays] = {"0", "0", "0", "1", "1"};
+    const char* group[kWays] = {"0", "1", "1", "1", "1", "1", "1"};
+    const char* local[kWays] = {"1", "0", "1", "0", "1", "0", "1"};
+    const char* fused[kWays] = {"0", "0", "0", "1", "1", "1", "1"};
+    const char* head[kWays] = {"0", "0", "0", "0", "0", "1", "1"};
     for (int way = 0; way < kWays; ++way) {
       setenv("FDEM_FLUID_GROUP", group[way], 1);
       setenv("FDEM_FLUID_LOCAL", local[way], 1);
       setenv("FDEM_FLUID_FUSED", fused[way], 1);
+      setenv("FDEM_FLUID_HEAD", head[way], 1);
       Solver solver(test::context(), p.model, p.dt);
       CHECK(solver.fluid()->one_group() == (way > 0));
       CHECK(solver.fluid()->fused() == (way > 2));
-      for (long k = 0; k < r.steps; ++k) solver.step(false);
+      CHECK(solver.fluid()->headed() == (way > 4));
+      // The stress pass between steps (an output frame) launches no step of the liquid.
+      for (long k = 0; k < r.steps; ++k) {
+        solver.step(false);
+        if (k % 500 == 250) solver.enqueue_stress();
+      }
       x[way] = solver.positions();
       state[way] = solver.fluid()->vertex_state();
     }

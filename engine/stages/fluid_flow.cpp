@@ -10,6 +10,7 @@
 #include <climits>
 
 #include "base/errors.hpp"
+#include "engine/stages/triangle_forces.hpp"
 
 namespace fdem {
 
@@ -154,6 +155,17 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   // launches (tests/test_fluid.cpp); FDEM_FLUID_FUSED=0 keeps the launches.
   const char* fused_env = std::getenv("FDEM_FLUID_FUSED");
   fused_ = one_group_ && !fluid_.gas && carriers != nullptr && !(fused_env && std::string(fused_env) == "0");
+  // The fused step as the first work-group of the triangle stage's launch (TriangleForces,
+  // FLUID_HEAD: neither reads what the other writes, so the step's chain of memory waits on
+  // one compute unit runs beside the triangles' on the others, and one launch a step less).
+  // Wherever the step is fused and its work-group is the triangle stage's size (a GPU's
+  // 256); FDEM_FLUID_HEAD=1 takes it on any device (the step then takes the triangle
+  // stage's work-group size: the bits do not depend on it), =0 keeps the step's own launch.
+  const char* head_env = std::getenv("FDEM_FLUID_HEAD");
+  const std::string head_choice = head_env ? head_env : "";
+  const size_t triangle_group = TriangleForces::group_size(cl.group_size());
+  if (fused_ && head_choice == "1") fluid_group_ = triangle_group;
+  headed_ = fused_ && head_choice != "0" && fluid_group_ == triangle_group;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
@@ -190,6 +202,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     defines["FLUID_GROUP"] = std::to_string(fluid_group_);
     program = cl.build(kernel_source::fluid_flow, defines, libraries);
   }
+  defines_ = defines;  // the program's defines (the triangle stage's build takes them with FLUID_HEAD)
+  headed_ = headed_ && fluid_group_ == triangle_group;
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
   s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status);
@@ -256,6 +270,9 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
 
   if (fused_) {
     const double value = fluid_source_value(fluid_.history, 0.0);
+    step_operands_ = StepOperands{carriers, status, gauss_state,
+                                  static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_),
+                                  dt_sub, bulk};
     network_clear_ = compute::kernel(program, "fluid_network_clear");
     bind_args(network_clear_)("n_vertices", cl_uint(vertices_))("in_net", in_net_)("net_count", net_count_)(
         "carrier_count", carriers->count)
@@ -269,24 +286,11 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
         .done();
     fused_kernel_ = compute::kernel(program, "fluid_step_group");
     KernelArgs f(fused_kernel_);
-    f("carriers", carriers->list)("carrier_count", carriers->count)("in_net", in_net_)("net_vertices", net_vertices_)(
-        "net_count", net_count_)("ce4_nodes", nodes_)("position", position)("status", status);
-    if (fluid_.damaged_segments) f("gp_state", gauss_state);
-    f("seg_h", seg_h_)("thickness", thickness)("residual", real(fluid_.residual_aperture))(
-        "max_aperture", real(fluid_.max_aperture))("viscosity", real(fluid_.viscosity));
+    f("position", position)("thickness", thickness);
     fused_step_ = f.later("step", cl_int(0));
-    f("seg_geom", seg_geom_)("too_wide", too_wide_)("vertex_start", vertex_start_)("vertex_end", vertex_end_)(
-        "seg_vertex", seg_vertex_)("bulk", bulk)("source", source_)(
-        "source_value", static_cast<real>(fluid_.pressure_source ? value : value * thickness_ * source_share_))(
-        "planned", cl_uint(substeps_));
-    if (adaptive_)
-      f("dt", real(dt))("safety", real(fluid_.safety));
-    else
-      f("dt_sub", dt_sub);
-    f("vertex_rate", vertex_rate_)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)(
-        "back", back_)("wet_count", wet_count_)("wet", wet_)("fluid_slots", slots_)(
-        "fluid_loaded_node", loaded_node_)
-        .done();
+    if (adaptive_) f("dt", real(dt));
+    bind_step(f);
+    f.done();
   }
 
   forces_ = compute::kernel(program, "fluid_forces");
@@ -313,6 +317,29 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   }
 }
 
+void FluidFlow::bind_step(KernelArgs& f) const {
+  const StepOperands& o = step_operands_;
+  f("carriers", o.carriers->list)("carrier_count", o.carriers->count)("in_net", in_net_)("net_vertices", net_vertices_)(
+      "net_count", net_count_)("ce4_nodes", nodes_)("status", o.status);
+  if (fluid_.damaged_segments) f("gp_state", o.gauss_state);
+  f("seg_h", seg_h_)("residual", real(fluid_.residual_aperture))("max_aperture", real(fluid_.max_aperture))(
+      "viscosity", real(fluid_.viscosity))("seg_geom", seg_geom_)("too_wide", too_wide_)("vertex_start", vertex_start_)(
+      "vertex_end", vertex_end_)("seg_vertex", seg_vertex_)("bulk", o.bulk)("source", source_)(
+      "source_value", o.source_value)("planned", cl_uint(substeps_));
+  if (adaptive_)
+    f("safety", real(fluid_.safety));
+  else
+    f("dt_sub", o.dt_sub);
+  f("vertex_rate", vertex_rate_)("vertex_state", vertex_state_)("vertex_energy", vertex_energy_)("front", front_)(
+      "back", back_)("wet_count", wet_count_)("wet", wet_)("fluid_slots", slots_)("fluid_loaded_node", loaded_node_);
+}
+
+std::map<std::string, std::string> FluidFlow::head_defines() const {
+  std::map<std::string, std::string> defines = defines_;
+  defines["FLUID_HEAD"] = "1";
+  return defines;
+}
+
 void FluidFlow::enqueue(double time, long step) {
   if (fused_) {  // the liquid's whole step in one work-group
     if (rescan_) {  // the lists anew from the CE4s' state (the first step, or after a restore)
@@ -320,6 +347,7 @@ void FluidFlow::enqueue(double time, long step) {
       cl_.enqueue(network_scan_, std::max(ce4_, vertices_));
       rescan_ = false;
     }
+    if (headed_) return;  // the triangle stage's launch, next in the queue, takes the step
     fused_step_.set(static_cast<cl_int>(step));
     cl_.enqueue(fused_kernel_, fluid_group_, fluid_group_);
     return;

@@ -4,6 +4,7 @@
 // written into four slots per CE4 that the node gather adds through the CE4 map.
 #pragma once
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,15 @@ class FluidFlow {
   bool one_group() const { return one_group_; }  // the sub-steps in one work-group's launch
   bool fused() const { return fused_; }          // the whole step in one work-group's launch
   bool adaptive() const { return adaptive_; }     // as many sub-steps as the network's rate asks
+  // The fused step rides as the first work-group of the triangle stage's launch
+  // (TriangleForces, cl_kernels/triangle_forces.cl FLUID_HEAD): that program is built with
+  // head_defines() and fluid_laws.cl and fluid_flow.cl as libraries, binds its own
+  // position, thickness, step and (adaptive) dt, then bind_step's arguments
+  // (FLUID_STEP_ARGS). enqueue() then launches only the lists' rescans, so it must come
+  // before the triangle stage's enqueue in a step.
+  bool headed() const { return headed_; }
+  std::map<std::string, std::string> head_defines() const;
+  void bind_step(KernelArgs& args) const;
 
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
@@ -91,7 +101,15 @@ class FluidFlow {
   // fluid_step_group (FUSED): the liquid's whole step in one work-group over the network's
   // lists; fluid_network_clear and fluid_network_scan rebuild them (rescan_) before the
   // first step and after a checkpoint is restored.
-  bool fused_ = false, rescan_ = true;
+  bool fused_ = false, rescan_ = true, headed_ = false;
+  // What bind_step binds beside the stage's own arrays: the cohesive stage's carriers,
+  // status and Gauss-point state, and the step's constants.
+  struct StepOperands {
+    const FluidCarriers* carriers = nullptr;
+    compute::buffer status, gauss_state;
+    real source_value = 0, dt_sub = 0, bulk = 0;
+  } step_operands_;
+  std::map<std::string, std::string> defines_;  // the stage program's
   compute::kernel fused_kernel_, network_clear_, network_scan_;
   KernelArg<cl_int> fused_step_;
   compute::buffer in_net_, net_vertices_, net_count_;  // per vertex: in the network; the list; (length, carriers joined)

@@ -1,5 +1,7 @@
 #include "engine/stages/triangle_forces.hpp"
 
+#include "engine/stages/fluid_flow.hpp"
+
 #include <functional>
 #include <map>
 #include <string>
@@ -37,7 +39,7 @@ MemoryPlan TriangleForces::plan(size_t triangles, size_t group_size, bool viscou
 
 TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness, double dt, bool viscous,
                                const std::vector<std::array<double, 3>>& initial_stress,
-                               const TriangleExcavation& excavation, BoundaryLoads* boundary)
+                               const TriangleExcavation& excavation, BoundaryLoads* boundary, FluidFlow* fluid)
     : cl_(cl),
       arrays_(a),
       count_(a.num_triangles),
@@ -66,6 +68,12 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
     defines["BOUNDARY_TAIL"] = "1";
     for (const auto& [name, value] : boundary->tail_defines()) defines[name] = value;
     libraries.push_back(&kernel_source::boundary_loads);
+  }
+  if (fluid && fluid->headed()) {
+    fluid_head_on_ = true;
+    for (const auto& [name, value] : fluid->head_defines()) defines[name] = value;
+    libraries.push_back(&kernel_source::fluid_laws);
+    libraries.push_back(&kernel_source::fluid_flow);
   }
   kernel_ = compute::kernel(cl.build(kernel_source::triangle_forces, defines, libraries, 80), "triangle_forces");
   const MemoryPlan arrays = plan(count_, cl.group_size(), viscous_, in_situ, excavation.times.size(), true);
@@ -123,6 +131,10 @@ TriangleForces::TriangleForces(ClContext& cl, DeviceArrays& a, double thickness,
     args("triangle_groups", static_cast<cl_uint>(groups_));
     boundary_->bind_tail(args);
   }
+  if (fluid_head_on_) {
+    fluid_head_ = args.later("fluid_head", cl_uint(1));
+    fluid->bind_step(args);
+  }
   args.done();
 }
 
@@ -131,8 +143,11 @@ void TriangleForces::enqueue(int step, bool energy_row) {
   stress_.set(stress_placeholder_);
   step_.set(step);
   energy_mode_.set((viscous_ ? 1 : 0) | (energy_row ? 2 : 0));
-  // With the boundary loads fused: the triangles' groups, then one item a loaded edge.
-  cl_.enqueue(kernel_, boundary_ ? groups_ * local_ + boundary_->count() : count_, local_);
+  // With the liquid's step: its work-group first. With the boundary loads fused: the
+  // triangles' groups, then one item a loaded edge.
+  const size_t head = fluid_head_on_ ? local_ : 0;
+  if (fluid_head_on_) fluid_head_.set(1);
+  cl_.enqueue(kernel_, head + (boundary_ ? groups_ * local_ + boundary_->count() : count_), local_);
 }
 
 void TriangleForces::keep_energy_rows() {
@@ -150,6 +165,7 @@ void TriangleForces::enqueue_stress(int step) {
   step_.set(step);
   energy_mode_.set(0);
   if (boundary_) boundary_->quiet_tail();  // the output's pass: no loads (the groups past the triangles' are not launched)
+  if (fluid_head_on_) fluid_head_.set(0);  // nor the liquid's step
   cl_.enqueue(kernel_, count_, local_);
 }
 

@@ -13,6 +13,8 @@
 
 namespace fdem {
 
+class FluidFlow;
+
 // [[excavation]] as the stage takes it (cl_kernels/triangle_forces.cl, EXCAVATION): per
 // triangle the excavation that removes it (-1: none) and per excavation (start,
 // duration) [s]. Empty: no excavation (the kernel has no such arguments).
@@ -30,9 +32,13 @@ class TriangleForces {
   // and the stage holds no such array.
   // `boundary` (optional, with loaded edges): the boundary loads ride in this stage's
   // launch (BoundaryLoads::bind_tail); its enqueue must come before this stage's in a step.
+  // `fluid` (optional, FluidFlow::headed()): the liquid's fused step rides as this launch's
+  // first work-group (FluidFlow::bind_step); its enqueue, and the cohesive stage's, whose
+  // carriers and status it reads, must come before this stage's in a step.
   TriangleForces(ClContext& cl, DeviceArrays& arrays, double thickness, double dt, bool viscous,
                  const std::vector<std::array<double, 3>>& initial_stress = {},
-                 const TriangleExcavation& excavation = {}, BoundaryLoads* boundary = nullptr);
+                 const TriangleExcavation& excavation = {}, BoundaryLoads* boundary = nullptr,
+                 FluidFlow* fluid = nullptr);
   // The arrays the constructor allocates (`group_size`: ClContext::group_size();
   // `item_rows`: a split run's rank, which keeps the energy rows' per-triangle values,
   // keep_energy_rows()).
@@ -96,6 +102,10 @@ class TriangleForces {
   // released so far) (real2).
   compute::buffer excavation_of_, excavation_time_, excavation_energy_;
   BoundaryLoads* boundary_ = nullptr;  // fused into this launch (its edges after the triangles' groups)
+  // The liquid's step as this launch's first work-group: fluid_head_ 1 on force steps, 0
+  // on the output's stress pass (then no such group is launched).
+  bool fluid_head_on_ = false;
+  KernelArg<cl_uint> fluid_head_;
 };
 
 }  // namespace fdem
