@@ -147,62 +147,45 @@ inline real4 edge_load_forces(const uint e,
   return (real4)(work, 0, 0, 0);
 }
 
+// The loaded edges' own arguments: the boundary_loads kernel's, but for the six a kernel
+// that carries the edges as its tail shares with it (materials, position, velocity,
+// thickness, dt, step): the kernel below and triangle_forces.cl's BOUNDARY_TAIL.
+// BOUNDARY_EDGE_PASS passes them on in the same order.
+#ifdef GAS_LOADS
+#define BOUNDARY_GAS_ARG , __global const real4 *restrict gas_hole
+#define BOUNDARY_GAS_PASS , gas_hole
+#else
+#define BOUNDARY_GAS_ARG
+#define BOUNDARY_GAS_PASS
+#endif
+#define BOUNDARY_EDGE_ARGS                                                                                      \
+  __global const uint2 *restrict edge_nodes, __global const uint *restrict edge_load,                          \
+      __global const real4 *restrict load_table, __global const real2 *restrict pressure_points,               \
+      __global const real2 *restrict edge_ref_position, const real time, __global real2 *restrict edge_force,  \
+      __global real2 *restrict edge_energy BOUNDARY_GAS_ARG
+#define BOUNDARY_EDGE_PASS \
+  edge_nodes, edge_load, load_table, pressure_points, edge_ref_position, time, edge_force, edge_energy BOUNDARY_GAS_PASS
+
 // Edge e's nodal forces and its share of the energy account (what one work-item of
 // boundary_loads does; triangle_forces.cl's BOUNDARY_TAIL runs it in the same launch).
-inline void boundary_edge(const uint e,
-                          __global const uint2* restrict edge_nodes,
-                          __global const uint* restrict edge_load,
-                          __global const real4* restrict load_table,
-                          __global const real2* restrict pressure_points,
-                          __global const real* restrict materials,
-                          __global const real2* restrict edge_ref_position,
-                          __global const real2* restrict position,
-                          __global const real2* restrict velocity,
-                          const real thickness,
-                          const real time,
-                          __global real2* restrict edge_force,
-                          const real dt,
-                          const int step,
-                          __global real2* restrict edge_energy
-#ifdef GAS_LOADS
-                          , __global const real4* restrict gas_hole
-#endif
-                          ) {
+inline void boundary_edge(const uint e, __global const real* restrict materials, __global const real2* restrict position,
+                          __global const real2* restrict velocity, const real thickness, const real dt, const int step,
+                          BOUNDARY_EDGE_ARGS) {
   const real4 energy = edge_load_forces(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position,
-                                        position, velocity, thickness, time, edge_force, dt, step
-#ifdef GAS_LOADS
-                                        , gas_hole
-#endif
-                                        );
+                                        position, velocity, thickness, time, edge_force, dt, step BOUNDARY_GAS_PASS);
   edge_energy[e] += energy.xy;
 }
 
 // One work-item per loaded edge e: its nodal forces and its share of the energy account.
 __kernel void boundary_loads(const uint n_edges,
-                             __global const uint2* restrict edge_nodes,
-                             __global const uint* restrict edge_load,
-                             __global const real4* restrict load_table,
-                             __global const real2* restrict pressure_points,
                              __global const real* restrict materials,
-                             __global const real2* restrict edge_ref_position,
                              __global const real2* restrict position,
                              __global const real2* restrict velocity,
                              const real thickness,
-                             const real time,
-                             __global real2* restrict edge_force,
                              const real dt,
                              const int step,
-                             __global real2* restrict edge_energy
-#ifdef GAS_LOADS
-                             , __global const real4* restrict gas_hole
-#endif
-                             ) {
+                             BOUNDARY_EDGE_ARGS) {
   const uint e = get_global_id(0);
   if (e >= n_edges) return;
-  boundary_edge(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position, position, velocity,
-                thickness, time, edge_force, dt, step, edge_energy
-#ifdef GAS_LOADS
-                , gas_hole
-#endif
-                );
+  boundary_edge(e, materials, position, velocity, thickness, dt, step, BOUNDARY_EDGE_PASS);
 }

@@ -290,19 +290,7 @@ __kernel void triangle_forces(const uint n_triangles,
                               __global const real* restrict excavation_time, __global real2* restrict excavation_energy
 #endif
 #ifdef BOUNDARY_TAIL
-                              , const uint triangle_groups,
-                              const uint n_edges,
-                              __global const uint2* restrict edge_nodes,
-                              __global const uint* restrict edge_load,
-                              __global const real4* restrict load_table,
-                              __global const real2* restrict pressure_points,
-                              __global const real2* restrict edge_ref_position,
-                              const real time,
-                              __global real2* restrict edge_force,
-                              __global real2* restrict edge_energy
-#ifdef GAS_LOADS
-                              , __global const real4* restrict gas_hole
-#endif
+                              , const uint triangle_groups, const uint n_edges, BOUNDARY_EDGE_ARGS
 #endif
 #ifdef FLUID_HEAD
                               , const uint fluid_head, FLUID_STEP_ARGS
@@ -339,12 +327,7 @@ __kernel void triangle_forces(const uint n_triangles,
   if (group >= triangle_groups) {
     const uint e = t - triangle_groups * GROUP_SIZE;
     if (e < n_edges)
-      boundary_edge(e, edge_nodes, edge_load, load_table, pressure_points, materials, edge_ref_position, position,
-                    velocity, thickness, time, edge_force, dt, step, edge_energy
-#ifdef GAS_LOADS
-                    , gas_hole
-#endif
-                    );
+      boundary_edge(e, materials, position, velocity, thickness, dt, step, BOUNDARY_EDGE_PASS);
     return;
   }
 #endif

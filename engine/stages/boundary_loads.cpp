@@ -27,16 +27,20 @@ BoundaryLoads::BoundaryLoads(ClContext& cl, DeviceArrays& a, double thickness, d
   edge_energy_ = plan(count_, cl.group_size()).allocate(cl, "boundary_loads edge_energy");
   upload(cl, edge_energy_, std::vector<real2>(std::max<size_t>(1, count_)));
   KernelArgs args(kernel_);
-  args("n_edges", static_cast<cl_uint>(count_))("edge_nodes", a.edge_nodes)("edge_load", a.edge_load)(
-      "load_table", a.load_table)("pressure_points", a.pressure_points)("materials", a.materials)(
-      "edge_ref_position", a.edge_ref_position)("position", a.position)("velocity", a.velocity)(
-      "thickness", static_cast<real>(thickness));
-  time_ = args.later("time", real(0));
-  args("edge_force", a.edge_force)("dt", static_cast<real>(dt));
+  args("n_edges", static_cast<cl_uint>(count_))("materials", a.materials)("position", a.position)("velocity", a.velocity)(
+      "thickness", static_cast<real>(thickness))("dt", static_cast<real>(dt));
   step_ = args.later("step", cl_int(0));
-  args("edge_energy", edge_energy_);
-  if (gas_hole) args("gas_hole", *gas_hole);
+  time_ = bind_edges(args);
   args.done();
+}
+
+KernelArg<real> BoundaryLoads::bind_edges(KernelArgs& args) {
+  args("edge_nodes", arrays_.edge_nodes)("edge_load", arrays_.edge_load)("load_table", arrays_.load_table)(
+      "pressure_points", arrays_.pressure_points)("edge_ref_position", arrays_.edge_ref_position);
+  const KernelArg<real> time = args.later("time", real(0));
+  args("edge_force", arrays_.edge_force)("edge_energy", edge_energy_);
+  if (gas_hole_) args("gas_hole", *gas_hole_);
+  return time;
 }
 
 std::map<std::string, std::string> BoundaryLoads::tail_defines() const {
@@ -48,11 +52,7 @@ std::map<std::string, std::string> BoundaryLoads::tail_defines() const {
 
 void BoundaryLoads::bind_tail(KernelArgs& args) {
   tail_edges_ = args.later("n_edges", static_cast<cl_uint>(0));
-  args("edge_nodes", arrays_.edge_nodes)("edge_load", arrays_.edge_load)("load_table", arrays_.load_table)(
-      "pressure_points", arrays_.pressure_points)("edge_ref_position", arrays_.edge_ref_position);
-  tail_time_ = args.later("time", real(0));
-  args("edge_force", arrays_.edge_force)("edge_energy", edge_energy_);
-  if (gas_hole_) args("gas_hole", *gas_hole_);
+  tail_time_ = bind_edges(args);
   fused_ = true;
 }
 

@@ -47,6 +47,9 @@ class BoundaryLoads {
   void load_state(StateReader& in) { in.buffer<real>("load_edge_energy", edge_energy_, count_, 2); }
 
  private:
+  // The loaded edges' own arguments (BOUNDARY_EDGE_ARGS), after the ones a kernel shares
+  // with them; returns the time's.
+  KernelArg<real> bind_edges(KernelArgs& args);
   ClContext& cl_;
   size_t count_, groups_;
   compute::kernel kernel_;
