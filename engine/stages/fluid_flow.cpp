@@ -158,14 +158,15 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   // The fused step as the first work-group of the triangle stage's launch (TriangleForces,
   // FLUID_HEAD: neither reads what the other writes, so the step's chain of memory waits on
   // one compute unit runs beside the triangles' on the others, and one launch a step less).
-  // Wherever the step is fused and its work-group is the triangle stage's size (a GPU's
-  // 256); FDEM_FLUID_HEAD=1 takes it on any device (the step then takes the triangle
-  // stage's work-group size: the bits do not depend on it), =0 keeps the step's own launch.
+  // FDEM_FLUID_HEAD=1 takes it wherever the step is fused, on any device (the step then
+  // takes the triangle stage's work-group size, a GPU's 256 as before: the bits do not
+  // depend on it). Off by default until a GPU has measured it (no GPU could be had in the
+  // session that wrote it: docs/performance-notes.md, "Session 29").
   const char* head_env = std::getenv("FDEM_FLUID_HEAD");
   const std::string head_choice = head_env ? head_env : "";
   const size_t triangle_group = TriangleForces::group_size(cl.group_size());
   if (fused_ && head_choice == "1") fluid_group_ = triangle_group;
-  headed_ = fused_ && head_choice != "0" && fluid_group_ == triangle_group;
+  headed_ = fused_ && head_choice == "1" && fluid_group_ == triangle_group;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},

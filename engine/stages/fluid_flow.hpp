@@ -72,7 +72,7 @@ class FluidFlow {
   // head_defines() and fluid_laws.cl and fluid_flow.cl as libraries, binds its own
   // position, thickness, step and (adaptive) dt, then bind_step's arguments
   // (FLUID_STEP_ARGS). enqueue() then launches only the lists' rescans, so it must come
-  // before the triangle stage's enqueue in a step.
+  // before the triangle stage's enqueue in a step. FDEM_FLUID_HEAD=1 only, for now.
   bool headed() const { return headed_; }
   std::map<std::string, std::string> head_defines() const;
   void bind_step(KernelArgs& args) const;
