@@ -166,7 +166,6 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
   const std::string head_choice = head_env ? head_env : "";
   const size_t triangle_group = TriangleForces::group_size(cl.group_size());
   if (fused_ && head_choice == "1") fluid_group_ = triangle_group;
-  headed_ = fused_ && head_choice == "1" && fluid_group_ == triangle_group;
   std::map<std::string, std::string> defines{{"PRESSURE_SOURCE", fluid_.pressure_source ? "1" : "0"},
                                              {"LEAK_OFF", leak ? "1" : "0"},
                                              {"DAMAGED_SEGMENTS", fluid_.damaged_segments ? "1" : "0"},
@@ -204,7 +203,8 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     program = cl.build(kernel_source::fluid_flow, defines, libraries);
   }
   defines_ = defines;  // the program's defines (the triangle stage's build takes them with FLUID_HEAD)
-  headed_ = headed_ && fluid_group_ == triangle_group;
+  // (after the build: a group the compiled step cannot take falls back to kFluidGroup above)
+  headed_ = fused_ && head_choice == "1" && fluid_group_ == triangle_group;
   segments_ = compute::kernel(program, "fluid_segments");
   KernelArgs s(segments_);
   s("n_ce4", cl_uint(ce4_))("ce4_nodes", nodes_)("position", position)("status", status);
@@ -285,13 +285,15 @@ FluidFlow::FluidFlow(ClContext& cl, const Model& model, compute::buffer& positio
     n("source", source_)("carriers", carriers->list)("carrier_count", carriers->count)("in_net", in_net_)(
         "net_vertices", net_vertices_)("net_count", net_count_)
         .done();
-    fused_kernel_ = compute::kernel(program, "fluid_step_group");
-    KernelArgs f(fused_kernel_);
-    f("position", position)("thickness", thickness);
-    fused_step_ = f.later("step", cl_int(0));
-    if (adaptive_) f("dt", real(dt));
-    bind_step(f);
-    f.done();
+    if (!headed_) {  // headed, the triangle stage's launch takes the step (bind_step)
+      fused_kernel_ = compute::kernel(program, "fluid_step_group");
+      KernelArgs f(fused_kernel_);
+      f("position", position)("thickness", thickness);
+      fused_step_ = f.later("step", cl_int(0));
+      if (adaptive_) f("dt", real(dt));
+      bind_step(f);
+      f.done();
+    }
   }
 
   forces_ = compute::kernel(program, "fluid_forces");
