@@ -111,6 +111,7 @@ __kernel void integrate(const uint n_nodes,
     const real2 v_before = velocity[i];
     real2 v = v_before;
 #if GATHER_IN_STEP
+    GATHER_PREFETCH(i, n_nodes);
     const real2 gathered = gathered_sum(i, GATHER_PASS);
 #else
     const real2 gathered = node_force[i];

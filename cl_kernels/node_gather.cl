@@ -79,9 +79,26 @@ inline real2 gathered_sum(const uint i, GATHER_ARGS) {
   return sum;
 }
 
+// CPU devices (FDEM_CPU_PREFETCH, set by the host where the device is not a GPU): PoCL runs
+// a group's work-items one after the other, and a node's CE4 slots lie where their CE4s
+// are numbered, not near the node, so each slot read waits on memory. Node i asks for the
+// CE4 slots of node i + GATHER_AHEAD while it sums its own. No value changes.
+#define GATHER_AHEAD 32u
+#if defined(FDEM_CPU_PREFETCH) && GATHER_CE4
+#define GATHER_PREFETCH(i, n_nodes)                                                                \
+  if ((i) + GATHER_AHEAD < (n_nodes)) {                                                            \
+    const uint ahead_last = node_start[(i) + GATHER_AHEAD + 1u];                                   \
+    for (uint ahead = node_start[(i) + GATHER_AHEAD]; ahead < ahead_last; ++ahead)                 \
+      if (GATHER_PART(node_slot[ahead]) == 2u) __builtin_prefetch(ce4_value + GATHER_SLOT(node_slot[ahead])); \
+  }
+#else
+#define GATHER_PREFETCH(i, n_nodes)
+#endif
+
 // One work-item per node: node_sum[i] = gathered_sum(i).
 __kernel void gather_node_sums(const uint n_nodes, GATHER_ARGS, __global real2* restrict node_sum) {
   const uint i = get_global_id(0);
   if (i >= n_nodes) return;
+  GATHER_PREFETCH(i, n_nodes);
   node_sum[i] = gathered_sum(i, GATHER_PASS);
 }

@@ -165,6 +165,12 @@ compute::program ClContext::build(const KernelSource& stage, const std::map<std:
   std::ostringstream text;
   text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
+  // CPU devices: the kernels ask for the scattered node records of the work-items a few
+  // places on (__builtin_prefetch), since PoCL runs a group's items one after the other and
+  // each such read would wait on memory (docs/performance-notes.md, "Session 30"); no value
+  // changes. FDEM_CPU_PREFETCH=0 leaves them out (for comparisons).
+  if (const char* prefetch = std::getenv("FDEM_CPU_PREFETCH"); !info_.is_gpu && !(prefetch && std::string(prefetch) == "0"))
+    text << "#define FDEM_CPU_PREFETCH 1\n";
   for (const auto& [name, value] : layout::defines()) text << "#define " << name << " " << value << "\n";
   text << kernel_source::common.text << "\n";
   for (const auto& [name, value] : defines) text << "#define " << name << " " << value << "\n";
