@@ -165,6 +165,11 @@ compute::program ClContext::build(const KernelSource& stage, const std::map<std:
   std::ostringstream text;
   text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
+  // CPU devices run a work-group's items one after the other (FDEM_CPU_DEVICE: some group
+  // reductions take a plain loop there, cl_kernels/common.cl; FDEM_CPU_SERIAL=0 leaves them
+  // as on GPUs, for comparisons).
+  if (const char* serial = std::getenv("FDEM_CPU_SERIAL"); !info_.is_gpu && !(serial && std::string(serial) == "0"))
+    text << "#define FDEM_CPU_DEVICE 1\n";
   // CPU devices: the kernels ask for the scattered node records of the work-items a few
   // places on (__builtin_prefetch), since PoCL runs a group's items one after the other and
   // each such read would wait on memory (docs/performance-notes.md, "Session 30"); no value
