@@ -619,7 +619,9 @@ TEST_CASE("fluid: the sub-steps in one work-group's launch, global or local, and
   // (at most 256 wet vertices of at most 12 CE4 ends) takes the local one.
   // FDEM_FLUID_FUSED=1 takes the whole step in one work-group (a GPU's default for small
   // models), =0 the stage's four launches. FDEM_FLUID_HEAD=1 runs that work-group as the
-  // first of the triangle stage's launch, =0 (the default) on its own launch.
+  // first of the triangle stage's launch, =0 (the default) on its own launch; it always
+  // takes the global path (FluidFlow::head_defines), so the seventh way asks for the local
+  // one and must still give the launches' bits.
   struct Run {
     std::string path;
     std::vector<std::string> sets;

@@ -72,7 +72,8 @@ class FluidFlow {
   // head_defines() and fluid_laws.cl and fluid_flow.cl as libraries, binds its own
   // position, thickness, step and (adaptive) dt, then bind_step's arguments
   // (FLUID_STEP_ARGS). enqueue() then launches only the lists' rescans, so it must come
-  // before the triangle stage's enqueue in a step. FDEM_FLUID_HEAD=1 only, for now.
+  // before the triangle stage's enqueue in a step. FDEM_FLUID_HEAD=1 only, for now; the
+  // headed step always takes the group's global path (head_defines()).
   bool headed() const { return headed_; }
   std::map<std::string, std::string> head_defines() const;
   void bind_step(KernelArgs& args) const;
