@@ -1077,3 +1077,6 @@ void fluid_step_group(__global const real2* restrict position,
   fluid_step(position, thickness, step, dt, FLUID_STEP_PASS, hole_local, local_copy, &too_many);
 }
 #endif
+#ifdef FLUID_NO_CONTRACT
+#pragma OPENCL FP_CONTRACT ON
+#endif

@@ -1,3 +1,11 @@
+// FLUID_NO_CONTRACT (an experiment's build option, -DFLUID_NO_CONTRACT on the fluid_flow and
+// triangle_forces stages through FDEM_CL_OPTIONS): no a·b + c of the fluid's code contracted
+// into one rounding, so the compiler's choice of where to fuse cannot differ between the
+// kernels that inline the same function (the fluid head's open question,
+// docs/performance-notes.md "Session 30"); fluid_flow.cl's end turns contraction back on.
+#ifdef FLUID_NO_CONTRACT
+#pragma OPENCL FP_CONTRACT OFF
+#endif
 // The fluid's state laws and the segments' geometry, pure functions of their arguments:
 // the liquid's p = K_f max(V₀/V - 1, 0) and its stored energy, the mid-step room, and with
 // GAS the polytropic gas's pressure, energy and enthalpy, its smooth aperture and the open

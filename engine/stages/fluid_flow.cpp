@@ -344,8 +344,10 @@ std::map<std::string, std::string> FluidFlow::head_defines() const {
   // inside the triangle launch gave other bits than the four launches (tests/test_fluid.cpp,
   // "one work-group": 4,807 values of the KGD rate case, 350 of Sneddon's), the global path
   // and the local path on the fluid's own launch the same; PoCL gave the same bits on both.
-  // The cause is not found (docs/performance-notes.md, "Session 30").
-  defines["FLUID_LOCAL"] = "0";
+  // The cause is not found (docs/performance-notes.md, "Session 30"); FDEM_FLUID_HEAD_LOCAL=1
+  // keeps the local path, for the experiments that look for it.
+  const char* keep_local = std::getenv("FDEM_FLUID_HEAD_LOCAL");
+  if (!(keep_local && std::string(keep_local) == "1")) defines["FLUID_LOCAL"] = "0";
   return defines;
 }
 
