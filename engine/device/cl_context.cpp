@@ -165,17 +165,19 @@ compute::program ClContext::build(const KernelSource& stage, const std::map<std:
   std::ostringstream text;
   text << "// stage: " << stage.stage << "\n";
   if (kDoublePrecision) text << "#define FDEM_DOUBLE 1\n";
-  // CPU devices run a work-group's items one after the other (FDEM_CPU_DEVICE: some group
-  // reductions take a plain loop there, cl_kernels/common.cl; FDEM_CPU_SERIAL=0 leaves them
-  // as on GPUs, for comparisons).
-  if (const char* serial = std::getenv("FDEM_CPU_SERIAL"); !info_.is_gpu && !(serial && std::string(serial) == "0"))
-    text << "#define FDEM_CPU_DEVICE 1\n";
-  // CPU devices: the kernels ask for the scattered node records of the work-items a few
-  // places on (__builtin_prefetch), since PoCL runs a group's items one after the other and
-  // each such read would wait on memory (docs/performance-notes.md, "Session 30"); no value
-  // changes. FDEM_CPU_PREFETCH=0 leaves them out (for comparisons).
-  if (const char* prefetch = std::getenv("FDEM_CPU_PREFETCH"); !info_.is_gpu && !(prefetch && std::string(prefetch) == "0"))
-    text << "#define FDEM_CPU_PREFETCH 1\n";
+  // CPU devices run a work-group's items one after the other (docs/performance-notes.md,
+  // "Session 30"): FDEM_CPU_DEVICE takes some group reductions as one loop there
+  // (cl_kernels/common.cl), FDEM_CPU_PREFETCH has the kernels ask for the scattered node
+  // records of the items a few places on. Neither moves a bit; FDEM_CPU_SERIAL=0 and
+  // FDEM_CPU_PREFETCH=0 leave them out, for comparisons.
+  if (!info_.is_gpu) {
+    auto switched_off = [](const char* name) {
+      const char* value = std::getenv(name);
+      return value && std::string(value) == "0";
+    };
+    if (!switched_off("FDEM_CPU_SERIAL")) text << "#define FDEM_CPU_DEVICE 1\n";
+    if (!switched_off("FDEM_CPU_PREFETCH")) text << "#define FDEM_CPU_PREFETCH 1\n";
+  }
   for (const auto& [name, value] : layout::defines()) text << "#define " << name << " " << value << "\n";
   text << kernel_source::common.text << "\n";
   for (const auto& [name, value] : defines) text << "#define " << name << " " << value << "\n";
